@@ -1,0 +1,18 @@
+"""lcs_exact: an exact engine for linear complementarity systems (Heemels, Schumacher, Weiland 2000)."""
+from __future__ import annotations
+
+from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, NotAutonomous, NotRational,
+                     ShapeError, UnresolvedSign, ZenoDetected)
+from .lcp import all_solutions, is_p_matrix, solve_lcp
+from .modes import Mode
+from .rational import RationalFunction, RationalMatrix
+from .system import LCS, WellPosedness
+
+__all__ = [
+    "LCS", "Mode", "WellPosedness", "RationalFunction", "RationalMatrix",
+    "solve_lcp", "all_solutions", "is_p_matrix",
+    "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
+    "ZenoDetected", "UnresolvedSign", "LimitExceeded",
+]
+
+__version__ = "0.1.0"

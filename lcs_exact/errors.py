@@ -1,0 +1,52 @@
+"""Exceptions of lcs_exact: one root, :class:`LCSError`, mixed with the matching builtin.
+
+Every message names the object and the reason (``mode {0, 2} is not autonomous: G_II(s) is
+singular``).  Errors raised by a run that stops early carry what was computed so far in
+``.trajectory`` (marked partial); errors of the algebra layer carry ``None`` there.
+"""
+from __future__ import annotations
+
+__all__ = [
+    "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
+    "ZenoDetected", "UnresolvedSign", "LimitExceeded",
+]
+
+
+class LCSError(Exception):
+    """Root of every error raised by lcs_exact."""
+
+    def __init__(self, message: str, *, trajectory=None):
+        super().__init__(message)
+        self.trajectory = trajectory
+
+
+class ShapeError(LCSError, ValueError):
+    """A matrix or vector has the wrong shape (names the object, the shape and the expected one)."""
+
+
+class NotRational(LCSError, TypeError):
+    """An entry cannot be read as an exact rational number."""
+
+
+class NotAutonomous(LCSError, ValueError):
+    """A mode I is not autonomous (Lemma 3.3 fails); the message says which condition fails."""
+
+
+class IllPosed(LCSError, ValueError):
+    """The conditions of Theorem 6.3 / 6.9 fail where a computation requires them."""
+
+
+class Deadlock(LCSError):
+    """S(z) is empty: no initial solution exists from the current state (Remark 7.2 (1))."""
+
+
+class ZenoDetected(LCSError):
+    """Event times accumulate, or re-initializations do not terminate (Remark 7.2 (2), (3))."""
+
+
+class UnresolvedSign(LCSError, ArithmeticError):
+    """A sign decision could be neither certified by a ball nor proven zero by structure."""
+
+
+class LimitExceeded(LCSError):
+    """A user limit (events, wall-clock time) was reached before t_end."""

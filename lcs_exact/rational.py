@@ -1,0 +1,586 @@
+"""Exact rationals, rational matrices and rational functions in Q(s).
+
+Representation
+--------------
+* Scalars are ``flint.fmpq``; matrices are ``flint.fmpq_mat``; vectors are n x 1 ``fmpq_mat``.
+  User input is converted once, here (:func:`to_fmpq`, :func:`to_matrix`, :func:`to_vector`).
+* A rational function in Q(s) is :class:`RationalFunction`: a pair of ``fmpq_poly`` with the
+  denominator monic and coprime to the numerator (the zero function is 0/1).
+* :class:`RationalMatrix` is a small dense matrix of :class:`RationalFunction` (G(s), R(s), 5.3).
+
+Signs at s = oo
+---------------
+Section 5: a rational function is nonnegative for all large real s iff its sequence of Laurent
+coefficients at s = oo (5.6) is lexicographically nonnegative (5.7, Lemma 5.1).  In mode
+selection those coefficients are *linear forms* in the state x0 (row vectors ell with value
+ell . x0).  :func:`sign_of_form` is the one place where such a sign is decided: an identically
+zero form is an exact zero; a rational point gives an exact sign; any other point (an exact real
+vector) must decide the sign itself through its ``sign_of_form`` method, which certifies it or
+raises :class:`~lcs_exact.errors.UnresolvedSign`.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+from numbers import Integral, Rational
+from typing import Any, Iterable, Sequence, Union
+
+import flint
+from flint import fmpq, fmpq_mat, fmpq_poly, fmpz
+
+from .errors import NotRational, ShapeError
+
+__all__ = [
+    "RationalLike", "to_fmpq", "to_matrix", "to_vector", "is_rational_vector",
+    "zeros", "identity", "is_zero", "hstack", "vstack", "submatrix", "column", "mat_rows", "mat_equal",
+    "RationalFunction", "RationalMatrix", "laurent_coefficients", "sign_of_form", "lex_sign",
+    "fmpq_to_sympy", "matrix_to_sympy",
+]
+
+RationalLike = Union[int, str, Fraction, fmpq, fmpz, Rational, float]
+
+# ---------------------------------------------------------------------------------------------
+# coercion of user input
+# ---------------------------------------------------------------------------------------------
+
+
+def to_fmpq(x: Any, what: str = "entry") -> fmpq:
+    """Read one exact rational from user input.
+
+    Accepts int, ``"p/q"`` or decimal strings, Fraction, sympy Rational, fmpq, fmpz, numpy
+    integers, and floats (read as their shortest decimal repr: ``0.1 -> 1/10``).
+
+    >>> to_fmpq("3/4"), to_fmpq(0.1), to_fmpq(2)
+    (3/4, 1/10, 2)
+    """
+    if isinstance(x, fmpq):
+        return x
+    if isinstance(x, bool):
+        raise NotRational(f"{what} is a bool ({x!r}), not a number")
+    if isinstance(x, (int, fmpz)):
+        return fmpq(int(x))
+    if isinstance(x, Fraction):
+        return fmpq(x.numerator, x.denominator)
+    if isinstance(x, float):
+        if x != x or x in (float("inf"), float("-inf")):
+            raise NotRational(f"{what} is {x!r}, not a finite number")
+        f = Fraction(repr(x))
+        return fmpq(f.numerator, f.denominator)
+    if isinstance(x, str):
+        try:
+            f = Fraction(x.strip())
+        except (ValueError, ZeroDivisionError):
+            raise NotRational(f"{what} {x!r} is not a rational number (expected 'p/q' or a decimal)") from None
+        return fmpq(f.numerator, f.denominator)
+    # sympy Rational/Integer and other numbers.Rational (numpy ints are Integral)
+    if isinstance(x, Integral):
+        return fmpq(int(x))
+    if isinstance(x, Rational):
+        return fmpq(int(x.numerator), int(x.denominator))
+    mod = type(x).__module__
+    if mod.startswith("sympy"):
+        if getattr(x, "is_Rational", False):
+            return fmpq(int(x.p), int(x.q))
+        raise NotRational(f"{what} {x} is a SymPy {type(x).__name__}, not a rational number")
+    if mod.startswith("numpy") and hasattr(x, "item"):
+        return to_fmpq(x.item(), what)
+    raise NotRational(f"{what} {x!r} of type {type(x).__name__} is not an exact rational number")
+
+
+def _rows_of(data: Any, name: str) -> list[list[Any]]:
+    if isinstance(data, fmpq_mat) or isinstance(data, flint.fmpz_mat):
+        return [[data[i, j] for j in range(data.ncols())] for i in range(data.nrows())]
+    if hasattr(data, "tolist"):  # numpy arrays, sympy matrices
+        data = data.tolist()
+    if isinstance(data, (str, bytes)) or not isinstance(data, Iterable):
+        raise ShapeError(f"{name} must be a matrix (a list of rows), got {type(data).__name__}")
+    rows = [r.tolist() if hasattr(r, "tolist") else r for r in data]
+    return [list(r) if isinstance(r, Iterable) and not isinstance(r, (str, bytes)) else [r]
+            for r in rows]
+
+
+def to_matrix(data: Any, name: str = "matrix", shape: tuple[int | None, int | None] | None = None
+              ) -> fmpq_mat:
+    """Read a matrix (list of rows, sympy/numpy matrix, fmpq_mat) into an ``fmpq_mat``.
+
+    ``shape`` may fix either dimension (``None`` leaves it free).  Raises
+    :class:`~lcs_exact.errors.ShapeError` for ragged or wrong-sized input and
+    :class:`~lcs_exact.errors.NotRational` for an entry that is not an exact rational.
+
+    >>> to_matrix([[1, "1/2"], [0, 0.25]])
+    [1, 1/2]
+    [0, 1/4]
+    """
+    if isinstance(data, fmpq_mat):
+        m = data
+    else:
+        rows = _rows_of(data, name)
+        widths = {len(r) for r in rows}
+        if len(widths) > 1:
+            raise ShapeError(f"{name} has rows of different lengths {sorted(widths)}")
+        ncols = widths.pop() if widths else 0
+        entries = [to_fmpq(e, f"{name}[{i}, {j}]") for i, r in enumerate(rows) for j, e in enumerate(r)]
+        m = fmpq_mat(len(rows), ncols, entries)
+    if shape is not None:
+        want_r, want_c = shape
+        if (want_r is not None and m.nrows() != want_r) or (want_c is not None and m.ncols() != want_c):
+            exp = f"{'?' if want_r is None else want_r}x{'?' if want_c is None else want_c}"
+            raise ShapeError(f"{name} has shape {m.nrows()}x{m.ncols()}, expected {exp}")
+    return m
+
+
+def to_vector(data: Any, n: int, name: str = "x0") -> fmpq_mat:
+    """Read a rational vector of length n into an n x 1 ``fmpq_mat`` (flat or column input)."""
+    if isinstance(data, fmpq_mat):
+        if data.ncols() == 1 and data.nrows() == n:
+            return data
+        if data.nrows() == 1 and data.ncols() == n:
+            return data.transpose()
+        raise ShapeError(f"{name} has shape {data.nrows()}x{data.ncols()}, expected a vector of length {n}")
+    if hasattr(data, "tolist"):
+        data = data.tolist()
+    if isinstance(data, (str, bytes)) or not isinstance(data, Iterable):
+        raise ShapeError(f"{name} must be a vector of length {n}, got {type(data).__name__}")
+    flat: list[Any] = []
+    for e in data:
+        if isinstance(e, (list, tuple)):
+            if len(e) != 1:
+                raise ShapeError(f"{name} must be a vector of length {n}, got a row of length {len(e)}")
+            flat.append(e[0])
+        else:
+            flat.append(e)
+    if len(flat) != n:
+        raise ShapeError(f"{name} has length {len(flat)}, expected {n}")
+    return fmpq_mat(n, 1, [to_fmpq(e, f"{name}[{i}]") for i, e in enumerate(flat)])
+
+
+def is_rational_vector(x: Any) -> bool:
+    """True for an ``fmpq_mat`` column (the exact-rational case of a state)."""
+    return isinstance(x, fmpq_mat) and x.ncols() == 1
+
+
+# ---------------------------------------------------------------------------------------------
+# small fmpq_mat helpers (flint has no slicing or stacking)
+# ---------------------------------------------------------------------------------------------
+
+
+def zeros(r: int, c: int) -> fmpq_mat:
+    return fmpq_mat(r, c)
+
+
+def identity(n: int) -> fmpq_mat:
+    m = fmpq_mat(n, n)
+    for i in range(n):
+        m[i, i] = 1
+    return m
+
+
+def mat_rows(m: fmpq_mat) -> list[list[fmpq]]:
+    return [[m[i, j] for j in range(m.ncols())] for i in range(m.nrows())]
+
+
+def submatrix(m: fmpq_mat, rows: Sequence[int] | None = None, cols: Sequence[int] | None = None) -> fmpq_mat:
+    """m[rows, cols] (``None`` keeps all)."""
+    rows = range(m.nrows()) if rows is None else list(rows)
+    cols = range(m.ncols()) if cols is None else list(cols)
+    return fmpq_mat(len(rows), len(cols), [m[i, j] for i in rows for j in cols])
+
+
+def column(m: fmpq_mat, j: int) -> fmpq_mat:
+    return submatrix(m, None, [j])
+
+
+def hstack(*ms: fmpq_mat, nrows: int | None = None) -> fmpq_mat:
+    """[m1 m2 ...]; ``nrows`` is needed only when no block is given."""
+    r = ms[0].nrows() if ms else (nrows or 0)
+    if any(m.nrows() != r for m in ms):
+        raise ShapeError("hstack: blocks have different numbers of rows")
+    c = sum(m.ncols() for m in ms)
+    out = fmpq_mat(r, c)
+    off = 0
+    for m in ms:
+        for i in range(r):
+            for j in range(m.ncols()):
+                out[i, off + j] = m[i, j]
+        off += m.ncols()
+    return out
+
+
+def vstack(*ms: fmpq_mat, ncols: int | None = None) -> fmpq_mat:
+    """[m1; m2; ...]; ``ncols`` is needed only when no block is given."""
+    c = ms[0].ncols() if ms else (ncols or 0)
+    if any(m.ncols() != c for m in ms):
+        raise ShapeError("vstack: blocks have different numbers of columns")
+    entries = [m[i, j] for m in ms for i in range(m.nrows()) for j in range(c)]
+    return fmpq_mat(sum(m.nrows() for m in ms), c, entries)
+
+
+def is_zero(m: fmpq_mat) -> bool:
+    """All entries zero (fmpq_mat has no is_zero)."""
+    return all(m[i, j] == 0 for i in range(m.nrows()) for j in range(m.ncols()))
+
+
+def mat_equal(a: fmpq_mat, b: fmpq_mat) -> bool:
+    return a.nrows() == b.nrows() and a.ncols() == b.ncols() and a == b
+
+
+def fmpq_to_sympy(q: fmpq):
+    import sympy
+    return sympy.Rational(int(q.p), int(q.q))
+
+
+def matrix_to_sympy(m: fmpq_mat):
+    import sympy
+    return sympy.Matrix(m.nrows(), m.ncols(), lambda i, j: fmpq_to_sympy(m[i, j]))
+
+
+# ---------------------------------------------------------------------------------------------
+# Q(s)
+# ---------------------------------------------------------------------------------------------
+
+_S = fmpq_poly([0, 1])
+
+
+def _poly(p: Any) -> fmpq_poly:
+    if isinstance(p, fmpq_poly):
+        return p
+    if isinstance(p, (list, tuple)):
+        return fmpq_poly([to_fmpq(c) for c in p])
+    return fmpq_poly([to_fmpq(p)])
+
+
+class RationalFunction:
+    """An element p(s)/q(s) of Q(s), normalized: q monic, gcd(p, q) = 1, zero is 0/1.
+
+    >>> s = RationalFunction.s()
+    >>> f = 1 + s / (s**2 + 1)
+    >>> f
+    RationalFunction('(s^2 + s + 1)/(s^2 + 1)')
+    >>> [str(c) for c in f.laurent(4)]
+    ['1', '1', '0', '-1']
+    """
+
+    __slots__ = ("num", "den")
+
+    def __init__(self, num: Any = 0, den: Any = 1):
+        p, q = _poly(num), _poly(den)
+        if q.is_zero():
+            raise ZeroDivisionError("rational function with zero denominator")
+        if p.is_zero():
+            self.num, self.den = fmpq_poly([]), fmpq_poly([1])
+            return
+        g = p.gcd(q)
+        if g.degree() > 0:
+            p, q = p / g, q / g  # exact division
+            p, q = fmpq_poly(p), fmpq_poly(q)
+        lc = q.leading_coefficient()
+        self.num, self.den = p / lc, q / lc
+
+    @staticmethod
+    def s() -> "RationalFunction":
+        """The indeterminate s."""
+        return RationalFunction(_S)
+
+    @staticmethod
+    def _coerce(x: Any) -> "RationalFunction":
+        return x if isinstance(x, RationalFunction) else RationalFunction(x)
+
+    # arithmetic ------------------------------------------------------------------------------
+    def __add__(self, o):
+        o = self._coerce(o)
+        if self.den == o.den:
+            return RationalFunction(self.num + o.num, self.den)
+        return RationalFunction(self.num * o.den + o.num * self.den, self.den * o.den)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        r = RationalFunction.__new__(RationalFunction)
+        r.num, r.den = -self.num, self.den
+        return r
+
+    def __sub__(self, o):
+        return self + (-self._coerce(o))
+
+    def __rsub__(self, o):
+        return self._coerce(o) - self
+
+    def __mul__(self, o):
+        o = self._coerce(o)
+        return RationalFunction(self.num * o.num, self.den * o.den)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        o = self._coerce(o)
+        if o.is_zero():
+            raise ZeroDivisionError("division by the zero rational function")
+        return RationalFunction(self.num * o.den, self.den * o.num)
+
+    def __rtruediv__(self, o):
+        return self._coerce(o) / self
+
+    def __pow__(self, e: int):
+        if e < 0:
+            return RationalFunction(1) / (self ** (-e))
+        return RationalFunction(self.num ** e, self.den ** e)
+
+    def __eq__(self, o):
+        if not isinstance(o, RationalFunction):
+            try:
+                o = RationalFunction(o)
+            except Exception:
+                return NotImplemented
+        return self.num == o.num and self.den == o.den
+
+    def __hash__(self):
+        return hash((str(self.num), str(self.den)))
+
+    def __call__(self, s0: Any) -> fmpq:
+        """Exact value at a rational point (raises ZeroDivisionError at a pole)."""
+        s0 = to_fmpq(s0, "s")
+        d = self.den(s0)
+        if d == 0:
+            raise ZeroDivisionError(f"s = {s0} is a pole of {self}")
+        return self.num(s0) / d
+
+    # structure -------------------------------------------------------------------------------
+    def is_zero(self) -> bool:
+        return self.num.is_zero()
+
+    def is_proper(self) -> bool:
+        return self.is_zero() or self.num.degree() <= self.den.degree()
+
+    def is_strictly_proper(self) -> bool:
+        return self.is_zero() or self.num.degree() < self.den.degree()
+
+    def relative_degree(self) -> float | int:
+        """deg q - deg p (the first Laurent index, 5.6); +oo for the zero function."""
+        return float("inf") if self.is_zero() else self.den.degree() - self.num.degree()
+
+    def polynomial_part(self) -> fmpq_poly:
+        """The polynomial part (the impulsive part of the time function, section 5.1)."""
+        return fmpq_poly(self.num // self.den) if not self.is_zero() else fmpq_poly([])
+
+    def laurent(self, count: int) -> list[fmpq]:
+        """The first ``count`` Laurent coefficients at s = oo, starting at s^{-r}, r = relative degree.
+
+        f(s) = sum_{i >= r} f_i s^{-i} (5.6); returns [f_r, f_{r+1}, ...].
+        """
+        if self.is_zero():
+            return [fmpq(0)] * count
+        return laurent_coefficients(self.num.coeffs(), self.den.coeffs(), count)
+
+    def sign_at_infinity(self) -> int:
+        """Sign of f(sigma) for all large real sigma (Lemma 5.1): -1, 0 or +1."""
+        if self.is_zero():
+            return 0
+        return 1 if self.num.leading_coefficient() > 0 else -1
+
+    # display ---------------------------------------------------------------------------------
+    def to_sympy(self):
+        import sympy
+        s = sympy.Symbol("s")
+        num = sum(fmpq_to_sympy(c) * s**i for i, c in enumerate(self.num.coeffs()))
+        den = sum(fmpq_to_sympy(c) * s**i for i, c in enumerate(self.den.coeffs()))
+        return num / den
+
+    def __str__(self):
+        n, d = str(self.num).replace("x", "s"), str(self.den).replace("x", "s")
+        if self.den.degree() == 0:
+            return n
+        if self.num.degree() > 0 and ("+" in n or " - " in n):
+            n = f"({n})"
+        return f"{n}/({d})" if ("+" in d or " - " in d) else f"{n}/{d}"
+
+    def __repr__(self):
+        return f"RationalFunction('{self}')"
+
+    def _repr_latex_(self):
+        import sympy
+        return f"${sympy.latex(self.to_sympy())}$"
+
+
+def laurent_coefficients(num: Sequence[Any], den: Sequence[Any], count: int) -> list[Any]:
+    """Laurent coefficients at s = oo of N(s)/d(s) (5.6), starting at index deg d - deg N.
+
+    ``num`` are the coefficients N_0, N_1, ..., N_a (low degree first) and may be scalars or
+    row vectors (``fmpq_mat``: the numerator of a linear form in x0); ``den`` are the rational
+    coefficients of d, d_b != 0.  From N = f d, comparing the coefficients of s^{a-r}:
+    f_{b-a+r} = (N_{a-r} - sum_{q<b} d_q f_{q-a+r}) / d_b.
+    """
+    a, b = len(num) - 1, len(den) - 1
+    db = den[b]
+    zero = num[0] * 0
+    f: list[Any] = []  # f[r] = f_{b-a+r}
+    for r in range(count):
+        acc = num[a - r] if a - r >= 0 else zero
+        for q in range(b):
+            idx = q - b + r  # position of f_{q-a+r} in f
+            if idx >= 0:
+                acc = acc - f[idx] * den[q]
+        f.append(acc / db if db != 1 else acc)
+    return f
+
+
+# ---------------------------------------------------------------------------------------------
+# sign decisions (the single place)
+# ---------------------------------------------------------------------------------------------
+
+
+def sign_of_form(form: Any, x: Any = None) -> int:
+    """Exact sign of the linear form ``form`` at the point ``x``: -1, 0 or +1.
+
+    ``form`` is an ``fmpq`` (then ``x`` is None) or a 1 x n ``fmpq_mat`` row.  A zero form is an
+    exact zero by structure; a rational ``x`` (n x 1 ``fmpq_mat``) gives an exact sign; any other
+    ``x`` must provide ``x.sign_of_form(form)``, which certifies the sign or raises
+    :class:`~lcs_exact.errors.UnresolvedSign`.
+    """
+    if x is None:
+        v = form
+    else:
+        if form == 0 * form:  # identically zero linear form: exact zero whatever x is
+            return 0
+        if isinstance(x, fmpq_mat):
+            v = (form * x)[0, 0]
+        else:
+            return int(x.sign_of_form(form))
+    return (v > 0) - (v < 0)
+
+
+def lex_sign(seq: Iterable[Any], x: Any = None) -> int:
+    """Lexicographic sign of a sequence of forms at x (5.7): sign of the first nonzero term."""
+    for term in seq:
+        s = sign_of_form(term, x)
+        if s:
+            return s
+    return 0
+
+
+# ---------------------------------------------------------------------------------------------
+# matrices over Q(s)
+# ---------------------------------------------------------------------------------------------
+
+
+class RationalMatrix:
+    """A dense matrix over Q(s) (G(s), R(s), G_II(s)^{-1}, ...), rows of RationalFunction."""
+
+    __slots__ = ("rows",)
+
+    def __init__(self, rows: Sequence[Sequence[Any]]):
+        self.rows = [[RationalFunction._coerce(e) for e in r] for r in rows]
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (len(self.rows), len(self.rows[0]) if self.rows else 0)
+
+    def __getitem__(self, ij):
+        i, j = ij
+        return self.rows[i][j]
+
+    def sub(self, rows: Sequence[int], cols: Sequence[int]) -> "RationalMatrix":
+        return RationalMatrix([[self.rows[i][j] for j in cols] for i in rows])
+
+    def __mul__(self, o: "RationalMatrix") -> "RationalMatrix":
+        n, m = self.shape
+        m2, p = o.shape
+        if m != m2:
+            raise ShapeError(f"cannot multiply {n}x{m} by {m2}x{p}")
+        return RationalMatrix([[sum((self.rows[i][l] * o.rows[l][j] for l in range(m)), RationalFunction(0))
+                                for j in range(p)] for i in range(n)])
+
+    def __add__(self, o: "RationalMatrix") -> "RationalMatrix":
+        return RationalMatrix([[a + b for a, b in zip(r1, r2)] for r1, r2 in zip(self.rows, o.rows)])
+
+    def __neg__(self):
+        return RationalMatrix([[-a for a in r] for r in self.rows])
+
+    def __sub__(self, o):
+        return self + (-o)
+
+    def __eq__(self, o):
+        return isinstance(o, RationalMatrix) and self.rows == o.rows
+
+    def _eliminate(self, rhs: "RationalMatrix | None"):
+        """Gaussian elimination over Q(s); returns (det, solution of self X = rhs or None)."""
+        n, m = self.shape
+        if n != m:
+            raise ShapeError(f"square matrix over Q(s) expected, got {n}x{m}")
+        k = rhs.shape[1] if rhs is not None else 0
+        a = [list(self.rows[i]) + (list(rhs.rows[i]) if rhs is not None else []) for i in range(n)]
+        det = RationalFunction(1)
+        for c in range(n):
+            # pivot: nonzero entry of smallest numerator degree (keeps degrees low)
+            cand = [i for i in range(c, n) if not a[i][c].is_zero()]
+            if not cand:
+                return RationalFunction(0), None
+            p = min(cand, key=lambda i: (a[i][c].num.degree() + a[i][c].den.degree()))
+            if p != c:
+                a[c], a[p] = a[p], a[c]
+                det = -det
+            piv = a[c][c]
+            det = det * piv
+            inv = 1 / piv
+            a[c] = [e * inv for e in a[c]]
+            for i in range(n):
+                if i != c and not a[i][c].is_zero():
+                    f = a[i][c]
+                    a[i] = [e - f * g for e, g in zip(a[i], a[c])]
+        sol = RationalMatrix([r[n:] for r in a]) if rhs is not None else None
+        return det, sol
+
+    def det(self) -> RationalFunction:
+        """Determinant over Q(s) (zero iff the matrix is singular as a rational matrix)."""
+        if self.shape[0] == 0:
+            return RationalFunction(1)
+        return self._eliminate(None)[0]
+
+    def solve(self, rhs: "RationalMatrix") -> "RationalMatrix":
+        """X with self X = rhs over Q(s); raises ZeroDivisionError when self is singular."""
+        if self.shape[0] == 0:
+            return RationalMatrix([])
+        det, sol = self._eliminate(rhs)
+        if sol is None:
+            raise ZeroDivisionError("matrix over Q(s) is singular")
+        return sol
+
+    def row_forms(self, i: int) -> tuple[list[fmpq_mat], fmpq_poly]:
+        """Row i as one rational function whose numerator has row-vector coefficients.
+
+        Returns (numerator coefficients N_0..N_a as 1 x m ``fmpq_mat``, common denominator d):
+        row_i(s) . x = (sum_p (N_p . x) s^p) / d(s).
+        """
+        row = self.rows[i]
+        d = fmpq_poly([1])
+        for e in row:
+            d = d * e.den / d.gcd(e.den)
+            d = fmpq_poly(d)
+        nums = [fmpq_poly(e.num * fmpq_poly(d / e.den)) for e in row]
+        deg = max((p.degree() for p in nums), default=-1)
+        m = len(row)
+        coeffs = []
+        for p in range(max(deg, 0) + 1):
+            coeffs.append(fmpq_mat(1, m, [q.coeffs()[p] if p <= q.degree() else 0 for q in nums]))
+        return coeffs, d
+
+    def apply(self, x: fmpq_mat) -> list[RationalFunction]:
+        """self(s) x for a rational vector x: a list of rational functions."""
+        n, m = self.shape
+        return [sum((self.rows[i][j] * RationalFunction(x[j, 0]) for j in range(m)), RationalFunction(0))
+                for i in range(n)]
+
+    def to_sympy(self):
+        import sympy
+        return sympy.Matrix([[e.to_sympy() for e in r] for r in self.rows]) if self.rows else sympy.Matrix([])
+
+    def __repr__(self):
+        return "RationalMatrix([" + ", ".join("[" + ", ".join(f"'{e}'" for e in r) + "]" for r in self.rows) + "])"
+
+    def __str__(self):
+        return "\n".join("[" + ", ".join(str(e) for e in r) + "]" for r in self.rows)
+
+    def _repr_latex_(self):
+        import sympy
+        n, m = self.shape
+        if n * m > 64:
+            return None
+        return f"${sympy.latex(self.to_sympy())}$"

@@ -1,0 +1,451 @@
+"""Mode selection (section 5): RCP(x0), LDCP_kappa(x0), S(x0), the initial solution, regularity.
+
+Everything here is computed as *linear forms in the state*: for a mode I,
+
+    u_I(s) = W_I(s) x0,   W_I = -G_II(s)^{-1} R_I.(s),
+    y_Ic(s) = Z_I(s) x0,  Z_I = R_Ic.(s) + G_IcI(s) W_I(s)              (section 5.2)
+
+so the Laurent coefficients at s = oo (5.6) are rational row vectors (forms) that depend on the
+mode only and are cached on it.  A state enters only through
+:func:`~lcs_exact.rational.sign_of_form` (exact for rational states; certified or refused for
+exact-real states).  The same holds for LDCP_kappa: the unique solution of Theorems 6.9-6.10 is
+built as forms by a sequence of LCPs on Schur complements of N, each solved by Murty's method
+on forms.
+
+Results: :func:`rcp` -> list of :class:`RCPSolution`; :func:`ldcp` -> :class:`LDCPSolution`;
+:func:`select_modes` -> S(x0), a set of frozensets; :func:`initial_solution` ->
+:class:`InitialSolution` (impulse u^{-i} and x(0+) = x0 + sum A^i B u^{-i} (3.8), checked equal
+to P_I x0).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from itertools import combinations
+from typing import Any
+
+from flint import fmpq_mat
+
+from .errors import IllPosed, LCSError
+from .lcp import murty
+from .modes import format_mode
+from .rational import (RationalFunction, RationalMatrix, is_rational_vector, is_zero, laurent_coefficients,
+                       lex_sign, sign_of_form, submatrix, to_vector, zeros)
+
+__all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "LDCPSolution", "select_modes",
+           "initial_solution", "InitialSolution", "is_regular", "mode_admissible"]
+
+
+def as_state(lcs, x0: Any):
+    """A rational n x 1 ``fmpq_mat``, or an exact vector (anything with ``sign_of_form``)."""
+    if hasattr(x0, "sign_of_form") and not isinstance(x0, fmpq_mat):
+        if hasattr(x0, "rational"):  # an exact vector proven rational collapses to Q^n
+            r = x0.rational()
+            if r is not None:
+                return to_vector(r, lcs.n)
+        if len(x0) != lcs.n:
+            from .errors import ShapeError
+            raise ShapeError(f"x0 has length {len(x0)}, expected {lcs.n}")
+        return x0
+    return to_vector(x0, lcs.n, "x0")
+
+
+def _evaluate(forms: fmpq_mat, x):
+    """forms . x for a rational x; the forms themselves otherwise."""
+    return forms * x if is_rational_vector(x) else forms
+
+
+# ---------------------------------------------------------------------------------------------
+# RCP (5.3)-(5.5)
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _RowSeries:
+    """Laurent coefficients (forms) of one row of W_I or Z_I: f_start, f_start+1, ..."""
+
+    start: int
+    forms: tuple
+
+    def sign(self, x) -> int:
+        return lex_sign(self.forms, x)
+
+
+def _row_series(m: RationalMatrix, i: int) -> _RowSeries:
+    coeffs, d = m.row_forms(i)
+    a, b = len(coeffs) - 1, d.degree()
+    # a + 1 coefficients decide whether a numerator of degree <= a vanishes (N = f d)
+    forms = laurent_coefficients(coeffs, d.coeffs(), a + 1)
+    return _RowSeries(b - a, tuple(forms))
+
+
+def _rcp_data(mode) -> dict:
+    """W_I(s), Z_I(s), their Laurent forms and the impulse matrices of mode I (cached)."""
+    if "rcp" not in mode._cache:
+        mode.require_autonomous()
+        lcs = mode.lcs
+        G, R = lcs.G(), lcs.R()
+        I, Ic, n = mode.I, mode.Ic, lcs.n
+        if I:
+            W = -(G.sub(I, I).solve(R.sub(I, range(n))))
+            Z = R.sub(Ic, range(n)) + G.sub(Ic, I) * W if Ic else RationalMatrix([])
+        else:
+            W = RationalMatrix([])
+            Z = R
+        u_rows = [_row_series(W, r) for r in range(len(I))]
+        y_rows = [_row_series(Z, r) for r in range(len(Ic))]
+        # impulse u^{-p} (coefficient of s^p in u(s)) as k x n forms, p = 0..n-1
+        imp = [zeros(lcs.k, n) for _ in range(n)]
+        for r, i in enumerate(I):
+            for c in range(n):
+                poly = W[r, c].polynomial_part().coeffs()
+                for p, v in enumerate(poly):
+                    if p >= n:
+                        raise LCSError(f"internal inconsistency: u(s) of mode {format_mode(I)} has "
+                                       f"polynomial degree {p} >= n")
+                    imp[p][i, c] = v
+        mode._cache["rcp"] = {"W": W, "Z": Z, "u": u_rows, "y": y_rows, "impulse": imp}
+    return mode._cache["rcp"]
+
+
+def mode_admissible(mode, x) -> bool:
+    """I in S_RCP(x): u_I(s) >= 0 and y_Ic(s) >= 0 for all large s (5.4), by lexicographic signs."""
+    data = _rcp_data(mode)
+    return all(r.sign(x) >= 0 for r in data["u"]) and all(r.sign(x) >= 0 for r in data["y"])
+
+
+@dataclass(frozen=True)
+class RCPSolution:
+    """A solution (u(s), y(s)) of RCP(x0) in mode I (u_Ic = 0, y_I = 0), for a rational x0."""
+
+    mode: frozenset
+    u: tuple  # k RationalFunction
+    y: tuple  # k RationalFunction
+
+    @property
+    def is_strictly_proper(self) -> bool:
+        """True iff the initial solution is smooth (no impulse, Def. 6.7)."""
+        return all(f.is_strictly_proper() for f in self.u)
+
+    def __repr__(self):
+        us = ", ".join(str(f) for f in self.u)
+        ys = ", ".join(str(f) for f in self.y)
+        return f"RCPSolution(mode={format_mode(self.mode)}, u(s)=({us}), y(s)=({ys}))"
+
+    def _repr_latex_(self):
+        import sympy
+        u = sympy.latex(sympy.Matrix([f.to_sympy() for f in self.u]))
+        y = sympy.latex(sympy.Matrix([f.to_sympy() for f in self.y]))
+        name = format_mode(self.mode).replace("∅", "\\emptyset")
+        return rf"$I = {name}:\ u(s) = {u},\ y(s) = {y}$"
+
+
+def _all_modes(k: int):
+    for r in range(k + 1):
+        for c in combinations(range(k), r):
+            yield frozenset(c)
+
+
+def rcp(lcs, x0: Any) -> list[RCPSolution]:
+    """All solutions of RCP(x0), one per admissible mode (5.3)-(5.5), for a rational x0.
+
+    Enumerates the 2^k modes (each must be autonomous, Assumption 4.1); for small k.
+    """
+    x = as_state(lcs, x0)
+    if not is_rational_vector(x):
+        raise TypeError("rcp() displays u(s), y(s) for a rational x0; use select_modes for exact states")
+    out = []
+    for I in _all_modes(lcs.k):
+        mode = lcs.mode(I)
+        if mode_admissible(mode, x):
+            data = _rcp_data(mode)
+            uI, yIc = data["W"].apply(x), data["Z"].apply(x)
+            u = [RationalFunction(0)] * lcs.k
+            y = [RationalFunction(0)] * lcs.k
+            for r, i in enumerate(mode.I):
+                u[i] = uI[r]
+            for r, i in enumerate(mode.Ic):
+                y[i] = yIc[r]
+            out.append(RCPSolution(I, tuple(u), tuple(y)))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# LDCP_kappa (5.10)-(5.12) by the LCP sequence of Theorems 6.8-6.10
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass
+class LDCPSolution:
+    """The solution of LDCP_kappa(x0) (unique up to ``undetermined`` entries, Theorem 6.9).
+
+    ``u[j]``, ``y[i]`` (j, i = -n+1 .. kappa) are k x 1 vectors for a rational x0, or k x n
+    forms (value = form . x0) for an exact-real x0.  ``undetermined`` lists the (index, j) of
+    entries u^j_index that LDCP_kappa leaves free (set to 0 here).  ``modes`` is S^kappa_LDCP(x0).
+    """
+
+    lcs: Any
+    x0: Any
+    kappa: int
+    u: dict
+    y: dict
+    active: frozenset  # I: u lexicographically positive
+    inactive: frozenset  # J: y lexicographically positive
+    undecided: frozenset  # K: u and y zero so far
+    undetermined: frozenset
+    modes: set = field(default_factory=set)
+
+    @property
+    def impulse(self) -> dict:
+        """{i: u^{-i}} for i = 0..n-1: the impulsive part sum u^{-i} delta^{(i)} (3.6)."""
+        return {i: self.u[-i] for i in range(self.lcs.n)}
+
+    def equations(self) -> list[tuple]:
+        """The equations (5.10): a list of (i, c_i, {j: H_{i-j}}) meaning y^i = c_i + sum H_{i-j} u^j.
+
+        c_i = C A^{i-1} x0 for i >= 1 (k x 1, or k x n forms) and 0 for i <= 0; only nonzero
+        H_{i-j} are listed.
+        """
+        lcs, n = self.lcs, self.lcs.n
+        out = []
+        apow = None
+        for i in range(-n + 1, self.kappa + 1):
+            if i >= 1:
+                apow = lcs.C if i == 1 else apow * lcs.A
+                c = _evaluate(apow, self.x0)
+            else:
+                c = zeros(lcs.k, 1 if is_rational_vector(self.x0) else n)
+            coeffs = {j: lcs.markov(i - j) for j in range(-n + 1, i + 1) if not is_zero(lcs.markov(i - j))}
+            out.append((i, c, coeffs))
+        return out
+
+    def equations_text(self) -> str:
+        """The equations (5.10) as text, as printed in section 7 for k = 1."""
+        lines = []
+        for i, c, coeffs in self.equations():
+            terms = []
+            if is_rational_vector(self.x0) and self.lcs.k == 1:
+                if c[0, 0] != 0:
+                    terms.append(str(c[0, 0]))
+                for j in sorted(coeffs, reverse=True):
+                    h = coeffs[j][0, 0]
+                    mono = f"u^{j}"
+                    terms.append(mono if h == 1 else f"-{mono}" if h == -1 else f"{h}*{mono}")
+            else:
+                if not is_zero(c):
+                    terms.append("C A^%d x0" % (i - 1))
+                terms += [f"H{i - j} u^{j}" for j in sorted(coeffs, reverse=True)]
+            rhs = " + ".join(terms).replace("+ -", "- ") if terms else "0"
+            lines.append(f"y^{i} = {rhs}")
+        return "\n".join(lines)
+
+    def __repr__(self):
+        return (f"<LDCP_{self.kappa} solution: I = {format_mode(self.active)}, undecided K = "
+                f"{format_mode(self.undecided)}, S = {sorted(format_mode(m) for m in self.modes)}>")
+
+
+def _require_N_P(lcs):
+    wp = lcs.well_posedness()
+    if not wp.N_is_P:
+        why = "; ".join(wp.reasons) or "N is not a P-matrix"
+        raise IllPosed("LDCP_kappa is solved by the LCP sequence of Theorem 6.9, which needs the "
+                       f"leading column matrix N to be a P-matrix: {why}. Use select_modes(x0, method='rcp').")
+
+
+def ldcp(lcs, x0: Any, kappa: int) -> LDCPSolution:
+    """Solve LDCP_kappa(x0) (5.10)-(5.12) when N is a P-matrix (Theorems 6.9, 6.10).
+
+    Theorem 6.9 gives y^i = 0 for i <= 0 and u_l^j = 0 for j <= -eta_l.  The remaining unknowns
+    enter in stages i = 1..kappa: v_l = u_l^{i - eta_l} with column N_{.l}, so
+    y^i = z^i + N v with z^i known.  With I (u lexicographically positive), J (y positive) and
+    K (undecided) from the earlier stages, y_I = 0 and v_J = 0 leave an LCP on K with the Schur
+    complement N_KK - N_KI N_II^{-1} N_IK, a P-matrix (the proof of Theorem 6.8).
+    """
+    if kappa < -lcs.n + 1:
+        raise ValueError(f"kappa must be >= -n + 1 = {-lcs.n + 1}, got {kappa}")
+    _require_N_P(lcs)
+    x = as_state(lcs, x0)
+    n, k = lcs.n, lcs.k
+    eta = lcs.leading_column_indices()
+    N = lcs.leading_column_matrix()
+    U: dict[int, fmpq_mat] = {j: zeros(k, n) for j in range(-n + 1, kappa + 1)}  # u^j as forms
+    Y: dict[int, fmpq_mat] = {i: zeros(k, n) for i in range(-n + 1, kappa + 1)}
+    I: set[int] = set()
+    J: set[int] = set()
+    cap = lcs.C  # C A^{i-1}
+    for i in range(1, kappa + 1):
+        if i > 1:
+            cap = cap * lcs.A
+        z = fmpq_mat(cap)
+        for l in range(k):
+            for j in range(max(1 - eta[l], -n + 1), i - eta[l]):
+                h = lcs.markov(i - j)
+                col = submatrix(h, None, [l])
+                if not is_zero(col):
+                    z = z + col * submatrix(U[j], [l], None)
+        v = _stage_lcp(N, z, x, sorted(I), sorted(J))
+        for l in range(k):
+            j = i - eta[l]
+            if j >= -n + 1:
+                for c in range(n):
+                    U[j][l, c] = v[l, c]
+        Y[i] = z + N * v
+        for l in range(k):
+            if l in I or l in J:
+                continue
+            if sign_of_form(submatrix(v, [l], None), x) > 0:
+                I.add(l)
+            elif sign_of_form(submatrix(Y[i], [l], None), x) > 0:
+                J.add(l)
+    K = frozenset(range(k)) - I - J
+    undetermined = frozenset((l, j) for l in range(k) for j in range(max(kappa - eta[l] + 1, -n + 1), kappa + 1))
+    modes = {frozenset(I) | frozenset(c) for r in range(len(K) + 1) for c in combinations(sorted(K), r)}
+    return LDCPSolution(lcs, x, kappa, {j: _evaluate(f, x) for j, f in U.items()},
+                        {i: _evaluate(f, x) for i, f in Y.items()}, frozenset(I), frozenset(J), K,
+                        undetermined, modes)
+
+
+def _stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_mat:
+    """One stage of the LCP sequence: v with v_J = 0, (z + N v)_I = 0, LCP on K (forms, k x n)."""
+    k, n = z.nrows(), z.ncols()
+    K = [l for l in range(k) if l not in I and l not in J]
+    v = zeros(k, n)
+    vK = zeros(0, n)
+    if K:
+        if I:
+            # eliminate v_I = -N_II^{-1} (z_I + N_IK v_K): Schur complement LCP on K
+            NII = submatrix(N, I, I)
+            a = NII.solve(submatrix(z, I, None))  # N_II^{-1} z_I
+            b = NII.solve(submatrix(N, I, K))  # N_II^{-1} N_IK
+            q = submatrix(z, K, None) - submatrix(N, K, I) * a
+            M = submatrix(N, K, K) - submatrix(N, K, I) * b
+        else:
+            q, M = submatrix(z, K, None), submatrix(N, K, K)
+        _, vK, _ = murty(M, q, x)
+        for r, l in enumerate(K):
+            for c in range(n):
+                v[l, c] = vK[r, c]
+    if I:
+        NII = submatrix(N, I, I)
+        rhs = submatrix(z, I, None) + (submatrix(N, I, K) * vK if K else zeros(len(I), n))
+        vI = -NII.solve(rhs)
+        for r, l in enumerate(I):
+            for c in range(n):
+                v[l, c] = vI[r, c]
+    return v
+
+
+# ---------------------------------------------------------------------------------------------
+# S(x0), the initial solution, regular states
+# ---------------------------------------------------------------------------------------------
+
+
+def select_modes(lcs, x0: Any, method: str = "auto") -> set:
+    """S(x0) = S_RCP(x0) = S_LDCP^oo(x0) (Theorem 5.2), a set of frozensets (0-based).
+
+    ``"ldcp"``: LDCP_n(x0) by the LCP sequence (Theorem 6.10; needs N to be a P-matrix): the
+    unique initial solution evolves in mode I, and S(x0) = {I ∪ K' : K' ⊆ K} with K the indices
+    whose u and y vanish (Remarks 4.8, 6.11).  ``"rcp"``: every mode I is tested by the
+    lexicographic signs of u_I(s), y_Ic(s) (5.4).  ``"auto"``: LDCP when N is a P-matrix.
+
+    >>> from lcs_exact import LCS
+    >>> carts = LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]], [[0], [0], [1], [0]],
+    ...             [[1, 0, 0, 0]], [[0]])
+    >>> carts.select_modes([0, -1, -1, 0])
+    {frozenset({0})}
+    """
+    if method not in ("auto", "rcp", "ldcp"):
+        raise ValueError(f"method must be 'auto', 'rcp' or 'ldcp', got {method!r}")
+    x = as_state(lcs, x0)
+    if method == "ldcp" or (method == "auto" and lcs.well_posedness().N_is_P):
+        return ldcp(lcs, x, lcs.n).modes
+    return {I for I in _all_modes(lcs.k) if mode_admissible(lcs.mode(I), x)}
+
+
+@dataclass(frozen=True)
+class InitialSolution:
+    """The initial solution from x0 in mode I (Def. 4.7): impulse and re-initialized state.
+
+    ``impulse[i]`` = u^{-i} (k-vector: coefficient of delta^{(i)}), ``state_after`` = x(0+)
+    = x0 + sum_i A^i B u^{-i} (3.8) = P_I x0; ``smooth`` iff there is no impulse.
+    ``mode`` is the smallest admissible mode {i : u_i != 0} (Remark 4.8); ``modes`` is S(x0).
+    """
+
+    mode: frozenset
+    modes: frozenset
+    impulse: dict
+    state_after: Any
+    smooth: bool
+
+    def __repr__(self):
+        return (f"<InitialSolution mode={format_mode(self.mode)} "
+                f"{'smooth' if self.smooth else 'impulsive'} S={sorted(format_mode(m) for m in self.modes)}>")
+
+
+def _jump_forms(lcs, impulse_forms: list[fmpq_mat]) -> fmpq_mat:
+    """I + sum_i A^i B U^{-i}: the map x0 -> x(0+) of (3.8) for impulse forms U^{-i}."""
+    from .rational import identity
+    out = identity(lcs.n)
+    for i, u in enumerate(impulse_forms):
+        if not is_zero(u):
+            out = out + lcs.a_power_b(i) * u
+    return out
+
+
+def initial_solution(lcs, x0: Any, mode: Any = None) -> InitialSolution:
+    """The initial solution from x0 in ``mode`` (default: the smallest mode of S(x0)).
+
+    The impulse is the polynomial part of u_I(s) = W_I(s) x0; x(0+) from (3.8) is checked to be
+    P_I x0 as an identity of matrices (it holds for every x0), so the check is exact also for
+    exact-real states.  Raises :class:`~lcs_exact.errors.Deadlock` if S(x0) is empty.
+    """
+    from .errors import Deadlock
+    x = as_state(lcs, x0)
+    modes = select_modes(lcs, x)
+    if not modes:
+        raise Deadlock(f"S(x0) is empty: RCP(x0) has no solution at x0 = {_fmt_state(x)}")
+    I = frozenset(mode) if mode is not None else min(modes, key=lambda m: (len(m), sorted(m)))
+    if I not in modes:
+        raise ValueError(f"mode {format_mode(I)} is not in S(x0) = {sorted(format_mode(m) for m in modes)}")
+    m = lcs.mode(I)
+    data = _rcp_data(m)
+    jump = _jump_forms(lcs, data["impulse"])
+    P = m.projection()
+    if jump != P:
+        raise LCSError(f"internal inconsistency in mode {format_mode(I)}: x0 + sum A^i B u^(-i) != P_I x0")
+    impulse = {i: _evaluate(u, x) for i, u in enumerate(data["impulse"])}
+    smooth = all(sign_of_form(submatrix(u, [r], None), x) == 0
+                 for u in data["impulse"] for r in range(lcs.k))
+    return InitialSolution(I, frozenset(modes), impulse, _evaluate(P, x), smooth)
+
+
+def is_regular(lcs, x0: Any) -> bool:
+    """Def. 6.7: x0 admits a smooth initial solution.
+
+    With M a P-matrix, Theorem 6.8: iff (C_i x0, C_i A x0, ..., C_i A^{rho_i - 1} x0) is
+    lexicographically nonnegative for every i.  Otherwise: some admissible mode has a strictly
+    proper u(s).
+    """
+    x = as_state(lcs, x0)
+    wp = lcs.well_posedness()
+    if wp.M_is_P:
+        rho = lcs.leading_row_indices()
+        for i in range(lcs.k):
+            forms, row = [], submatrix(lcs.C, [i], None)
+            for _ in range(rho[i]):
+                forms.append(row)
+                row = row * lcs.A
+            if lex_sign(forms, x) < 0:
+                return False
+        return True
+    for I in select_modes(lcs, x, method="rcp"):
+        imp = _rcp_data(lcs.mode(I))["impulse"]
+        if all(sign_of_form(submatrix(u, [r], None), x) == 0 for u in imp for r in range(lcs.k)):
+            return True
+    return False
+
+
+def _fmt_state(x) -> str:
+    if is_rational_vector(x):
+        return "(" + ", ".join(str(x[i, 0]) for i in range(x.nrows())) + ")"
+    return repr(x)
+

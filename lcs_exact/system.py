@@ -1,0 +1,336 @@
+"""The linear complementarity system (4.1) and its exact system-theoretic data.
+
+    x' = A x + B u,   y = C x + D u,   0 <= y ⊥ u >= 0.
+
+:class:`LCS` holds A, B, C, D as ``fmpq_mat`` and computes, exactly and on demand (cached):
+the Markov parameters H_i (5.8), G(s) = C(sI - A)^{-1} B + D and R(s) = C(sI - A)^{-1} (5.3),
+the leading row/column indices and coefficient matrices (Def. 6.2, (6.1)), the well-posedness
+report of Theorem 6.3, and the modes I (``lcs.mode(I)``, built lazily; never all 2^k).
+Mode selection (section 5) is in :mod:`lcs_exact.selection`; the methods here delegate to it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Iterable
+
+from flint import fmpq_mat, fmpq_poly
+
+from .errors import IllPosed, ShapeError
+from .lcp import p_matrix_violation
+from .rational import (RationalFunction, RationalMatrix, identity, mat_rows, matrix_to_sympy,
+                       submatrix, to_matrix)
+
+__all__ = ["LCS", "WellPosedness"]
+
+
+def _as_column(data: Any, n: int) -> Any:
+    """A flat length-n list given for B (k = 1) is read as a column."""
+    if isinstance(data, (list, tuple)) and data and not isinstance(data[0], (list, tuple)) and n > 1:
+        return [[e] for e in data]
+    return data
+
+
+def _as_row(data: Any) -> Any:
+    if isinstance(data, (list, tuple)) and data and not isinstance(data[0], (list, tuple)):
+        return [list(data)]
+    return data
+
+
+class LCS:
+    """A linear complementarity system (4.1) with exact rational data.
+
+    Parameters
+    ----------
+    A, B, C, D : matrix-like
+        n x n, n x k, k x n, k x k.  Entries: int, ``"p/q"`` strings, Fraction, sympy Rational,
+        fmpq; a float is read as its shortest decimal repr (0.1 -> 1/10).  For k = 1, B and C may
+        be flat lists and D a scalar.
+    name : str, optional
+
+    Examples
+    --------
+    The two-carts system of section 2:
+
+    >>> carts = LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]],
+    ...             [[0], [0], [1], [0]], [[1, 0, 0, 0]], [[0]])
+    >>> carts.n, carts.k
+    (4, 1)
+    >>> [carts.markov(i)[0, 0] for i in range(3)]
+    [0, 0, 1]
+    >>> bool(carts.well_posedness())
+    True
+    """
+
+    def __init__(self, A: Any, B: Any, C: Any, D: Any, *, name: str | None = None):
+        self.A = to_matrix(A, "A")
+        n = self.A.nrows()
+        if n == 0 or self.A.ncols() != n:
+            raise ShapeError(f"A must be a nonempty square matrix, got shape {n}x{self.A.ncols()}")
+        self.B = to_matrix(_as_column(B, n), "B", (n, None))
+        k = self.B.ncols()
+        if k == 0:
+            raise ShapeError("B has no columns: an LCS needs at least one complementarity pair (k >= 1)")
+        self.C = to_matrix(_as_row(C), "C", (k, n))
+        if not isinstance(D, (list, tuple)) and not hasattr(D, "tolist") and not isinstance(D, fmpq_mat):
+            D = [[D]]
+        self.D = to_matrix(_as_row(D), "D", (k, k))
+        self.n, self.k = n, k
+        self.name = name
+        self._markov: list[fmpq_mat] = [self.D]
+        self._apow_b: list[fmpq_mat] = [self.B]  # A^i B
+        self._modes: dict[frozenset, Any] = {}
+        self._cache: dict[str, Any] = {}
+
+    # --- Markov parameters and transfer matrices --------------------------------------------
+    def markov(self, i: int) -> fmpq_mat:
+        """H_i (5.8): H_0 = D, H_i = C A^{i-1} B (exact, k x k)."""
+        if i < 0:
+            raise ValueError(f"Markov parameter index must be >= 0, got {i}")
+        while len(self._markov) <= i:
+            j = len(self._markov)  # H_j = C A^{j-1} B
+            while len(self._apow_b) < j:
+                self._apow_b.append(self.A * self._apow_b[-1])
+            self._markov.append(self.C * self._apow_b[j - 1])
+        return self._markov[i]
+
+    def a_power_b(self, i: int) -> fmpq_mat:
+        """A^i B (used for the state jump (3.8))."""
+        while len(self._apow_b) <= i:
+            self._apow_b.append(self.A * self._apow_b[-1])
+        return self._apow_b[i]
+
+    def charpoly(self) -> fmpq_poly:
+        """det(sI - A)."""
+        if "chi" not in self._cache:
+            self._cache["chi"] = self.A.charpoly()
+        return self._cache["chi"]
+
+    def _adjugate_coeffs(self) -> list[fmpq_mat]:
+        """adj(sI - A) = sum_j s^{n-1-j} B_j (Faddeev-LeVerrier: B_0 = I, B_j = A B_{j-1} + c_j I)."""
+        if "adj" not in self._cache:
+            c = self.charpoly().coeffs()[::-1]  # c[0] = 1, c[j] = coefficient of s^{n-j}
+            bs = [identity(self.n)]
+            for j in range(1, self.n):
+                bs.append(self.A * bs[-1] + identity(self.n) * c[j])
+            self._cache["adj"] = bs
+        return self._cache["adj"]
+
+    def _poly_matrix_over_chi(self, left: fmpq_mat, right: fmpq_mat | None) -> RationalMatrix:
+        bs, chi, n = self._adjugate_coeffs(), self.charpoly(), self.n
+        mats = [left * b * right if right is not None else left * b for b in bs]
+        r, c = mats[0].nrows(), mats[0].ncols()
+        rows = []
+        for i in range(r):
+            row = []
+            for j in range(c):
+                num = fmpq_poly([mats[n - 1 - d][i, j] for d in range(n)])  # coefficient of s^d
+                row.append(RationalFunction(num, chi))
+            rows.append(row)
+        return RationalMatrix(rows)
+
+    def R(self) -> RationalMatrix:
+        """R(s) = C (sI - A)^{-1}, k x n, strictly proper (section 5.2)."""
+        if "R" not in self._cache:
+            self._cache["R"] = self._poly_matrix_over_chi(self.C, None)
+        return self._cache["R"]
+
+    def G(self) -> RationalMatrix:
+        """G(s) = C (sI - A)^{-1} B + D, k x k, proper (5.3, 5.9)."""
+        if "G" not in self._cache:
+            g = self._poly_matrix_over_chi(self.C, self.B)
+            self._cache["G"] = RationalMatrix([[g[i, j] + RationalFunction(self.D[i, j]) for j in range(self.k)]
+                                               for i in range(self.k)])
+        return self._cache["G"]
+
+    # --- leading indices (Def. 6.2, (6.1)) --------------------------------------------------
+    def _leading(self, rows: bool) -> tuple:
+        out = []
+        for j in range(self.k):
+            idx: float | int = math.inf
+            for i in range(self.n + 1):  # Cayley-Hamilton: rho_j, eta_j <= n when finite
+                h = self.markov(i)
+                vals = [h[j, l] for l in range(self.k)] if rows else [h[l, j] for l in range(self.k)]
+                if any(v != 0 for v in vals):
+                    idx = i
+                    break
+            out.append(idx)
+        return tuple(out)
+
+    def leading_row_indices(self) -> tuple:
+        """(rho_1, ..., rho_k): rho_j = inf{i : H^i_{j.} != 0} (Def. 6.2); math.inf if never."""
+        if "rho" not in self._cache:
+            self._cache["rho"] = self._leading(True)
+        return self._cache["rho"]
+
+    def leading_column_indices(self) -> tuple:
+        """(eta_1, ..., eta_k): eta_j = inf{i : H^i_{.j} != 0} (Def. 6.2); math.inf if never."""
+        if "eta" not in self._cache:
+            self._cache["eta"] = self._leading(False)
+        return self._cache["eta"]
+
+    def leading_row_matrix(self) -> fmpq_mat:
+        """M (6.1): row j is row j of H_{rho_j}.  IllPosed if a row of G(s) is identically zero."""
+        rho = self.leading_row_indices()
+        if math.inf in rho:
+            j = rho.index(math.inf)
+            raise IllPosed(f"row {j} of G(s) is identically zero (all Markov parameters vanish in "
+                           f"row {j}): the leading row index rho_{j} is infinite and M is undefined")
+        return fmpq_mat(self.k, self.k, [self.markov(rho[j])[j, l] for j in range(self.k) for l in range(self.k)])
+
+    def leading_column_matrix(self) -> fmpq_mat:
+        """N (6.1): column j is column j of H_{eta_j}.  IllPosed if a column of G(s) is zero."""
+        eta = self.leading_column_indices()
+        if math.inf in eta:
+            j = eta.index(math.inf)
+            raise IllPosed(f"column {j} of G(s) is identically zero: the leading column index "
+                           f"eta_{j} is infinite and N is undefined")
+        return fmpq_mat(self.k, self.k, [self.markov(eta[l])[j, l] for j in range(self.k) for l in range(self.k)])
+
+    def well_posedness(self) -> "WellPosedness":
+        """Theorem 6.3: M and N both P-matrices => well-posed (and every mode autonomous, Lemma 6.6).
+
+        Returns a report that is truthy iff the conditions hold; it lists M, N, their P-matrix
+        verdicts and, when one fails, a principal minor that is not positive.
+        """
+        if "wp" not in self._cache:
+            self._cache["wp"] = WellPosedness.of(self)
+        return self._cache["wp"]
+
+    # --- modes and selection (delegated) -----------------------------------------------------
+    def _index_set(self, I: Iterable[int]) -> frozenset:
+        try:
+            s = frozenset(int(i) for i in I)
+        except TypeError:
+            raise ShapeError(f"a mode is a set of constraint indices, got {I!r}") from None
+        bad = [i for i in s if not 0 <= i < self.k]
+        if bad:
+            raise ShapeError(f"mode {set(sorted(s))} has indices {bad} outside 0..{self.k - 1} (indices are 0-based)")
+        return s
+
+    def mode(self, I: Iterable[int]):
+        """The mode I (0-based index set): V_I, T_I, P_I, F_I, autonomy.  Built once, on demand."""
+        from .modes import Mode
+        key = self._index_set(I)
+        m = self._modes.get(key)
+        if m is None:
+            m = self._modes[key] = Mode(self, key)
+        return m
+
+    def select_modes(self, x0: Any, method: str = "auto") -> set:
+        """S(x0) as a set of frozensets (Theorem 5.2: S = S_RCP = S_LDCP^oo).
+
+        ``method``: ``"rcp"`` solves RCP(x0) exactly for every mode; ``"ldcp"`` solves LDCP_n by
+        the LCP sequence of Theorems 6.9-6.10 (needs N to be a P-matrix); ``"auto"`` uses LDCP_n
+        when N is a P-matrix and RCP otherwise.  See :func:`lcs_exact.selection.select_modes`.
+        """
+        from .selection import select_modes
+        return select_modes(self, x0, method=method)
+
+    def rcp(self, x0: Any):
+        """All solutions of RCP(x0) (5.3)-(5.4), one per admissible mode; see selection.rcp."""
+        from .selection import rcp
+        return rcp(self, x0)
+
+    def ldcp(self, x0: Any, kappa: int | None = None):
+        """LDCP_kappa(x0) (5.10)-(5.12); kappa defaults to n.  See selection.ldcp."""
+        from .selection import ldcp
+        return ldcp(self, x0, self.n if kappa is None else kappa)
+
+    def initial_solution(self, x0: Any):
+        """The initial solution from x0 (unique when N is a P-matrix): mode, impulse, x(0+)."""
+        from .selection import initial_solution
+        return initial_solution(self, x0)
+
+    def is_regular(self, x0: Any) -> bool:
+        """Theorem 6.8: x0 admits a smooth initial solution."""
+        from .selection import is_regular
+        return is_regular(self, x0)
+
+    # --- display ------------------------------------------------------------------------------
+    def __repr__(self):
+        f = lambda m: "[" + ", ".join("[" + ", ".join(str(e) for e in r) + "]" for r in mat_rows(m)) + "]"  # noqa: E731
+        nm = f", name={self.name!r}" if self.name else ""
+        return f"LCS(A={f(self.A)}, B={f(self.B)}, C={f(self.C)}, D={f(self.D)}{nm})"
+
+    def __str__(self):
+        title = self.name or "LCS"
+        return f"{title}: n = {self.n} states, k = {self.k} complementarity pairs"
+
+    def _repr_latex_(self):
+        import sympy
+        if self.n * (self.n + self.k) > 400:
+            return None
+        L = lambda m: sympy.latex(matrix_to_sympy(m))  # noqa: E731
+        return (rf"$\dot x = {L(self.A)} x + {L(self.B)} u,\quad y = {L(self.C)} x + {L(self.D)} u,"
+                rf"\quad 0 \le y \perp u \ge 0$")
+
+
+@dataclass(frozen=True)
+class WellPosedness:
+    """Report of Theorem 6.3 (with Lemma 6.6).  ``bool(report)`` is ``report.well_posed``."""
+
+    rho: tuple
+    eta: tuple
+    M: fmpq_mat | None
+    N: fmpq_mat | None
+    M_is_P: bool
+    N_is_P: bool
+    M_violation: tuple | None
+    N_violation: tuple | None
+    reasons: tuple = field(default=())
+
+    @property
+    def well_posed(self) -> bool:
+        return self.M_is_P and self.N_is_P
+
+    def __bool__(self):
+        return self.well_posed
+
+    @classmethod
+    def of(cls, lcs: LCS) -> "WellPosedness":
+        rho, eta = lcs.leading_row_indices(), lcs.leading_column_indices()
+        reasons = []
+        M = N = None
+        mv = nv = None
+        try:
+            M = lcs.leading_row_matrix()
+            mv = p_matrix_violation(M)
+            if mv is not None:
+                reasons.append(f"M is not a P-matrix: principal minor on {set(mv)} is "
+                               f"{submatrix(M, mv, mv).det()} <= 0")
+        except IllPosed as e:
+            reasons.append(str(e))
+        try:
+            N = lcs.leading_column_matrix()
+            nv = p_matrix_violation(N)
+            if nv is not None:
+                reasons.append(f"N is not a P-matrix: principal minor on {set(nv)} is "
+                               f"{submatrix(N, nv, nv).det()} <= 0")
+        except IllPosed as e:
+            reasons.append(str(e))
+        return cls(rho, eta, M, N, M is not None and mv is None, N is not None and nv is None, mv, nv,
+                   tuple(reasons))
+
+    def __str__(self):
+        def fm(m):
+            return "undefined" if m is None else "[" + "; ".join(" ".join(str(e) for e in r) for r in mat_rows(m)) + "]"
+        lines = [f"Theorem 6.3 well-posedness: {'WELL-POSED' if self.well_posed else 'NOT ESTABLISHED'}",
+                 f"  leading row indices rho = {self._idx(self.rho)}, M = {fm(self.M)}: "
+                 f"{'P-matrix' if self.M_is_P else 'not a P-matrix'}",
+                 f"  leading column indices eta = {self._idx(self.eta)}, N = {fm(self.N)}: "
+                 f"{'P-matrix' if self.N_is_P else 'not a P-matrix'}"]
+        if self.well_posed:
+            lines.append("  every mode is autonomous (Lemma 6.6); each event has multiplicity <= 1")
+        lines += [f"  why not: {r}" for r in self.reasons]
+        return "\n".join(lines)
+
+    @staticmethod
+    def _idx(t):
+        return "(" + ", ".join("oo" if v == math.inf else str(v) for v in t) + ")"
+
+    def __repr__(self):
+        return f"<WellPosedness well_posed={self.well_posed} rho={self._idx(self.rho)} eta={self._idx(self.eta)}>"
+
+    def _repr_pretty_(self, p, cycle):
+        p.text(str(self))
