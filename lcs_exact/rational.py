@@ -385,7 +385,7 @@ class RationalFunction:
         return num / den
 
     def __str__(self):
-        n, d = str(self.num).replace("x", "s"), str(self.den).replace("x", "s")
+        n, d = _poly_str(self.num), _poly_str(self.den)
         if self.den.degree() == 0:
             return n
         if self.num.degree() > 0 and ("+" in n or " - " in n):
@@ -398,6 +398,24 @@ class RationalFunction:
     def _repr_latex_(self):
         import sympy
         return f"${sympy.latex(self.to_sympy())}$"
+
+
+def _poly_str(p: fmpq_poly, var: str = "s") -> str:
+    """s^2 - s + 1 style (high degree first)."""
+    terms = []
+    for d, c in reversed(list(enumerate(p.coeffs()))):
+        if c == 0:
+            continue
+        mono = "" if d == 0 else var if d == 1 else f"{var}^{d}"
+        a = abs(c)
+        body = str(a) if not mono else (mono if a == 1 else f"{a}*{mono}")
+        terms.append((c < 0, body))
+    if not terms:
+        return "0"
+    out = ("-" if terms[0][0] else "") + terms[0][1]
+    for neg, body in terms[1:]:
+        out += (" - " if neg else " + ") + body
+    return out
 
 
 def laurent_coefficients(num: Sequence[Any], den: Sequence[Any], count: int) -> list[Any]:
