@@ -1,0 +1,68 @@
+"""Modes: V_I (3.2), T_I (3.5), autonomy (Lemma 3.3), P_I (4.2), feedback F_I (4.1)."""
+from __future__ import annotations
+
+from fractions import Fraction
+
+from helpers import carts, hook, mat, matvec, same_span
+
+from lcs_exact import LCS
+
+
+def test_two_carts_mode_1_section_7():
+    m = carts().mode({0})
+    assert same_span(m.consistent_subspace(), [[0, 1, 0, 0], [0, 0, 0, 1]])  # V_{1} = Im[e2 e4]
+    assert same_span(m.jump_space(), [[1, 0, 0, 0], [0, 0, 1, 0]])  # T_{1} = Im[e1 e3]
+    assert m.is_autonomous is True
+    P = m.projection()
+    assert matvec(P, [0, -1, -1, 0]) == [0, -1, 0, 0]
+    assert matvec(P, [0, 1, -1, 0]) == [0, 1, 0, 0]
+    # on V_{1}: u = -2 x1 - x2 (section 7) = -x2 since x1 = 0; F T = 0
+    F = mat(m.feedback())
+    assert matvec(F, [0, 1, 0, 0]) == [-1] and matvec(F, [0, 0, 0, 1]) == [0]
+    assert matvec(F, [1, 0, 0, 0]) == [0] and matvec(F, [0, 0, 1, 0]) == [0]
+    # closed loop on V: x2'' = -x2, x1 = x3 = 0
+    AI = mat(m.closed_loop())
+    assert matvec(AI, [0, 1, 0, 0]) == [0, 0, 0, -1] and matvec(AI, [0, 0, 0, 1]) == [0, 1, 0, 0]
+
+
+def test_empty_mode_is_identity():
+    m = carts().mode(set())
+    assert mat(m.projection()) == [[int(i == j) for j in range(4)] for i in range(4)]
+    assert m.jump_space().ncols() == 0 and m.consistent_subspace().ncols() == 4
+
+
+def test_hook_modes_reinitialize_as_in_section_8():
+    h = hook()
+    # hook mode {2} (0-based {1}): (eps, eps, -2, 1) jumps to (eps, eps, -1/2, -1/2)
+    eps = Fraction(1, 1000)
+    assert matvec(h.mode({1}).projection(), [eps, eps, -2, 1]) == [eps, eps, Fraction(-1, 2), Fraction(-1, 2)]
+    # both constraints: V = {0}
+    assert h.mode({0, 1}).consistent_subspace().ncols() == 0
+    assert mat(h.mode({0, 1}).projection()) == [[0] * 4 for _ in range(4)]
+
+
+def test_modes_are_built_lazily_and_cached():
+    h = hook()
+    assert h._modes == {}
+    m = h.mode([1])
+    assert h.mode({1}) is m and set(h._modes) == {frozenset({1})}
+
+
+def test_non_autonomous_mode_reason():
+    # G_{11}(s) = 0: y = x2 has no dependence on u (B e1 only drives x1)
+    lcs = LCS([[0, 0], [0, 0]], [[1], [0]], [[0, 1]], [[0]])
+    m = lcs.mode({0})
+    assert m.is_autonomous is False
+    assert "G_II(s) is singular" in m.autonomy_reason
+
+
+def test_projection_is_idempotent_and_splits():
+    h = hook()
+    for I in ({0}, {1}, {0, 1}, set()):
+        P = mat(h.mode(I).projection())
+        PP = [[sum(P[i][l] * P[l][j] for l in range(4)) for j in range(4)] for i in range(4)]
+        assert PP == P
+        V = h.mode(I).consistent_subspace()
+        for j in range(V.ncols()):
+            v = [V[i, j] for i in range(4)]
+            assert matvec(P, v) == [Fraction(int(x.p), int(x.q)) for x in v]
