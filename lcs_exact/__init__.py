@@ -6,10 +6,13 @@ from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, NotAutonomous,
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
 from .rational import RationalFunction, RationalMatrix
+from .reals import ExactVector, Real, expm_action
+from .simulate import simulate
 from .system import LCS, WellPosedness
+from .trajectory import Event, Trajectory
 
 __all__ = [
-    "LCS", "Mode", "WellPosedness", "RationalFunction", "RationalMatrix",
+    "LCS", "Mode", "simulate", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded",

@@ -1,0 +1,422 @@
+"""The continuous phase in mode I (section 4.1) and the time to the next event θ(z, I) (Def. 4.3).
+
+From a consistent state z in V_I the phase is x(t) = e^{A_I t} z with A_I = A + B_.I F_I;
+the monitored functions are u_i = (F_I)_i x (i in I) and y_i = (C_i + D_{i,I} F_I) x (i not in I),
+each of the form f(t) = g e^{A_I t} z with a rational row g.
+
+θ is found by certified root isolation:
+
+* at t = 0 the lexicographic sign of (g z, g A_I z, ..., g A_I^{n-1} z) (Lemma 5.1) decides
+  the start; all zero means f ≡ 0 (Cayley-Hamilton) and f is never an event;
+* on an interval X = [m - r, m + r] a Taylor enclosure f(X) ⊆ sum_{j<K} f^{(j)}(m) [-r, r]^j / j!
+  + f^{(K)}(X) [-r, r]^K / K! with f^{(K)}(X) from ``arb_mat.exp`` of an interval matrix;
+* an interval is discarded when f(X) > 0, isolates exactly one simple root when f'(X) excludes
+  0 and f changes sign (certified), and is bisected otherwise; a possible tangential touch that
+  cannot be resolved is an unresolved sign (never guessed);
+* the root is refined by Newton steps inside a certified bracket (:class:`RootReal`), and a
+  closed form (small rational, rational multiple of π/ω, log(q)/λ) is accepted only when it lies
+  in the isolating interval and f vanishes there exactly (structurally, or symbolically in SymPy).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any
+
+import sympy
+from flint import arb, arb_mat, fmpq, fmpq_mat
+
+from .errors import LCSError
+from .rational import submatrix, zeros
+from .reals import (ExactVector, ExpVector, Real, RationalVector, _sympy_to_arb, ball_sign,
+                    expm_action, invariant_forms, unresolved, workprec)
+
+__all__ = ["Phase", "Constraint", "RootReal", "laplace_closed_form"]
+
+_K = 4  # Taylor order of the enclosures
+_MAX_DEPTH = 60
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """One monitored function of a phase: ``kind`` 'u' or 'y', constraint ``index``, row ``g``."""
+
+    kind: str
+    index: int
+    g: fmpq_mat
+
+    @property
+    def name(self) -> str:
+        return f"{self.kind}_{self.index}"
+
+
+class Phase:
+    """The continuous phase in mode I from the consistent state z (x(t) = e^{A_I t} z)."""
+
+    def __init__(self, mode, z: ExactVector):
+        self.mode = mode
+        self.lcs = mode.lcs
+        self.M = mode.closed_loop()
+        W = mode._annihilator()
+        # z in V_I: the annihilator of V_I (A_I-invariant) vanishes on the whole phase
+        zf = z.zero_forms
+        forms = W if not zf.nrows() else _stack(W, invariant_forms(zf, self.M))
+        if isinstance(z, RationalVector):
+            self.z = z
+        else:
+            self.z = z
+            z.zero_forms = _stack(z.zero_forms, W) if W.nrows() else z.zero_forms
+        self.zero_forms = forms
+        F = mode.feedback()
+        C, D = self.lcs.C, self.lcs.D
+        cons = []
+        for r, i in enumerate(mode.I):
+            cons.append(Constraint("u", i, submatrix(F, [r], None)))
+        for i in mode.Ic:
+            g = submatrix(C, [i], None)
+            if mode.I:
+                g = g + submatrix(D, [i], mode.I) * F
+            cons.append(Constraint("y", i, g))
+        self.constraints = cons
+        self._powers = {}
+
+    def gM(self, c: Constraint, j: int) -> fmpq_mat:
+        """g A_I^j (cached)."""
+        key = (c.kind, c.index, j)
+        if key not in self._powers:
+            self._powers[key] = c.g if j == 0 else self.gM(c, j - 1) * self.M
+        return self._powers[key]
+
+    def state(self, t: Any) -> ExactVector:
+        """x(t) = e^{A_I t} z (t relative to the phase start)."""
+        x = expm_action(self.M, t, self.z)
+        if isinstance(x, ExpVector):
+            x.zero_forms = _stack(x.zero_forms, self.zero_forms)
+        return x
+
+    # --- start of the phase: Lemma 5.1 -------------------------------------------------------
+    def start_order(self, c: Constraint) -> tuple[int, int]:
+        """(sign, order) of f at t = 0+: the first nonzero f^{(j)}(0); (0, -1) if f ≡ 0."""
+        for j in range(self.lcs.n):
+            s = self.z.sign_of_form(self.gM(c, j)) if not isinstance(self.z, RationalVector) else \
+                _rsign((self.gM(c, j) * self.z.q)[0, 0])
+            if s:
+                return s, j
+        return 0, -1
+
+    # --- enclosures ---------------------------------------------------------------------------
+    def _enclose(self, c: Constraint, d: int, a: fmpq, b: fmpq, prec: int) -> arb:
+        """Enclosure of f^{(d)} on [a, b] (Taylor form around the midpoint)."""
+        with workprec(prec):
+            m = (a + b) / 2
+            r = (b - a) / 2
+            z = self.z.arb(prec)
+            Ma = arb_mat(self.M)
+            wm = (Ma * arb(m)).exp() * z
+            wx = (Ma * arb(m, r)).exp() * z if r else wm
+            rr = arb(r)
+            out = arb(0)
+            fact = 1
+            for j in range(_K):
+                if j:
+                    fact *= j
+                val = (arb_mat(self.gM(c, d + j)) * wm)[0, 0]
+                out += val if j == 0 else val * arb(0, rr ** j) / fact
+            fact *= _K
+            out += (arb_mat(self.gM(c, d + _K)) * wx)[0, 0] * arb(0, rr ** _K) / fact
+            return out
+
+    def value(self, c: Constraint, t: Any, prec: int, d: int = 0) -> arb:
+        """f^{(d)}(t) as a ball (t rational or arb)."""
+        with workprec(prec):
+            tb = t if isinstance(t, arb) else arb(t)
+            return (arb_mat(self.gM(c, d)) * ((arb_mat(self.M) * tb).exp() * self.z.arb(prec)))[0, 0]
+
+    # --- root isolation -----------------------------------------------------------------------
+    def first_root(self, c: Constraint, horizon: fmpq, prec: int = 64):
+        """The first t in (0, horizon] where f = g x(t) turns negative.
+
+        Returns None (no event in (0, horizon]), ``fmpq(0)`` (immediately negative) or an
+        isolating interval (lo, hi) with f(lo) > 0 > f(hi) and f' != 0 on it.
+        """
+        sign, order = self.start_order(c)
+        if sign == 0:
+            return None  # f ≡ 0
+        if sign < 0:
+            return fmpq(0)
+        # f^{(order)} > 0 on [0, eps] => f > 0 on (0, eps]
+        eps = horizon
+        for _ in range(_MAX_DEPTH):
+            if self._enclose(c, order, fmpq(0), eps, prec) > 0:
+                break
+            eps = eps / 2
+        else:
+            raise LCSError(f"could not certify the start of {c.name} (sign {sign}, order {order})")
+        if eps == horizon:
+            return None
+        return self._search(c, eps, horizon, prec, 0)
+
+    def _search(self, c: Constraint, a: fmpq, b: fmpq, prec: int, depth: int):
+        """DFS over [a, b], f(a) > 0 known; returns the first isolating interval or None."""
+        F = self._enclose(c, 0, a, b, prec)
+        if F > 0:
+            return None
+        D = self._enclose(c, 1, a, b, prec)
+        if D > 0 or D < 0:
+            fb = self.value(c, b, prec)
+            if fb > 0:
+                return None
+            if fb < 0:
+                return (a, b)
+            # f(b) ≈ 0 with f monotone on [a, b]: the root is at b or beyond; decide at b exactly
+            s = ball_sign(lambda p: self.value(c, b, p), f"{c.name} at t = {b} (root at an interval end)", prec)
+            if s > 0:
+                return None
+            if s < 0:
+                return (a, b)
+            return (a, b)  # assumed zero at b: keep it as the root's bracket
+        if depth >= _MAX_DEPTH:
+            s = unresolved(f"possible tangential touch (grazing) of {c.name} near t = {float(a):.17g}")
+            return None if s == 0 else (a, b)
+        m = (a + b) / 2
+        left = self._search(c, a, m, prec, depth + 1)
+        if left is not None:
+            return left
+        fm = self.value(c, m, prec)
+        if fm < 0:
+            return (a, m)  # pragma: no cover - left search would have found it
+        return self._search(c, m, b, prec, depth + 1)
+
+
+def _stack(a: fmpq_mat, b: fmpq_mat) -> fmpq_mat:
+    from .rational import vstack
+    return vstack(a, b)
+
+
+def _rsign(v) -> int:
+    return (v > 0) - (v < 0)
+
+
+# ---------------------------------------------------------------------------------------------
+# the root as an exact real
+# ---------------------------------------------------------------------------------------------
+
+
+class RootReal(Real):
+    """The unique root of f = g e^{Mt} z in the isolating interval [lo, hi] (f(lo) > 0 > f(hi))."""
+
+    def __init__(self, phase: Phase, c: Constraint, lo: fmpq, hi: fmpq):
+        super().__init__()
+        self.phase, self.c = phase, c
+        self.lo, self.hi = lo, hi
+
+    def _sign_at(self, t: fmpq, prec: int) -> int:
+        return ball_sign(lambda p: self.phase.value(self.c, t, p), f"{self.c.name} at t = {float(t):.17g}", prec)
+
+    def _eval(self, prec: int) -> arb:
+        if self.closed_form is not None:
+            return _sympy_to_arb(self.closed_form)
+        target = fmpq(1, 2 ** (prec + 2))
+        work = prec + 40
+        while self.hi - self.lo > target * max(1, abs(self.hi)):
+            lo, hi = self.lo, self.hi
+            # Newton from the midpoint, then certify a small bracket around the candidate
+            m = (lo + hi) / 2
+            with workprec(work):
+                fm = self.phase.value(self.c, m, work)
+                dfm = self.phase.value(self.c, m, work, 1)
+            cand = None
+            if not dfm.contains(0):
+                step = (fm / dfm).mid()
+                try:
+                    cand = m - _arb_to_fmpq(step)
+                except Exception:
+                    cand = None
+            if cand is not None and lo < cand < hi:
+                delta = max((hi - lo) / 2 ** 20, target / 4)
+                a, b = max(lo, cand - delta), min(hi, cand + delta)
+                if a > lo and b < hi and self._sign_at(a, work) > 0 and self._sign_at(b, work) < 0:
+                    self.lo, self.hi = a, b
+                    continue
+            s = self._sign_at(m, work)
+            if s > 0:
+                self.lo = m
+            elif s < 0:
+                self.hi = m
+            else:
+                self.lo = self.hi = m
+        mid = (self.lo + self.hi) / 2
+        return arb(mid, arb(self.hi - self.lo) / 2 + arb(mid) * 0)
+
+    def interval(self) -> tuple[fmpq, fmpq]:
+        return self.lo, self.hi
+
+
+def _arb_to_fmpq(x: arb) -> fmpq:
+    """The exact (dyadic) midpoint of a ball as fmpq."""
+    m, e = x.mid().man_exp()
+    m, e = int(m), int(e)
+    return fmpq(m * 2 ** e) if e >= 0 else fmpq(m, 2 ** (-e))
+
+
+# ---------------------------------------------------------------------------------------------
+# closed forms
+# ---------------------------------------------------------------------------------------------
+
+_t = sympy.Symbol("t", real=True)
+_s = sympy.Symbol("s")
+
+
+def laplace_closed_form(M: fmpq_mat, row: fmpq_mat, z: fmpq_mat):
+    """A SymPy closed form of row . e^{Mt} z (z rational), or None.
+
+    The Laplace transform row (sI - M)^{-1} z = N(s)/d(s) is reduced; when every irreducible
+    factor of d over Q has degree <= 2 the partial fractions are inverted term by term
+    (t^l e^{rt}, e^{at} cos/sin, cosh/sinh); otherwise None.
+    """
+    from .rational import RationalFunction
+    from .system import LCS
+    n = M.nrows()
+    aux = LCS(M, zeros(n, 1) + z, row, [[0]])  # G(s) = row (sI - M)^{-1} z
+    f: RationalFunction = aux.G()[0, 0]
+    if f.is_zero():
+        return sympy.Integer(0)
+    fac = f.den.factor()[1]
+    if any(p.degree() > 2 for p, _ in fac):
+        return None
+    expr = f.to_sympy().subs(sympy.Symbol("s"), _s)
+    total = sympy.Integer(0)
+    for term in sympy.Add.make_args(sympy.apart(expr, _s)):
+        inv = _inverse_laplace_term(term)
+        if inv is None:
+            return None
+        total += inv
+    return sympy.simplify(total)
+
+
+def _inverse_laplace_term(term):
+    num, den = sympy.fraction(sympy.factor(term))
+    dp = sympy.Poly(den, _s)
+    np_ = sympy.Poly(num, _s)
+    if dp.degree() == 0:
+        return None  # a polynomial part: impossible for a strictly proper transform
+    lc = dp.LC()
+    fl = sympy.factor_list(dp.as_expr() / lc, _s)
+    if len(fl[1]) != 1:
+        return sympy.inverse_laplace_transform(term, _s, _t)
+    base, mult = fl[1][0]
+    bp = sympy.Poly(base, _s)
+    c0 = fl[0] * lc
+    if bp.degree() == 1:
+        r = -bp.all_coeffs()[1] / bp.all_coeffs()[0]
+        if np_.degree() > 0:
+            return sympy.inverse_laplace_transform(term, _s, _t)
+        k = np_.as_expr() / c0
+        return k * _t ** (mult - 1) * sympy.exp(r * _t) / sympy.factorial(mult - 1)
+    if bp.degree() == 2 and mult == 1:
+        a2, p, q = bp.all_coeffs()
+        p, q = p / a2, q / a2
+        c0 = c0 * a2
+        coeffs = np_.all_coeffs()
+        alpha, beta = (coeffs if len(coeffs) == 2 else [0] + coeffs)
+        alpha, beta = alpha / c0, beta / c0
+        disc = q - p ** 2 / 4
+        a = -p / 2
+        if disc > 0:
+            w = sympy.sqrt(disc)
+            return sympy.exp(a * _t) * (alpha * sympy.cos(w * _t) + (beta + alpha * a) / w * sympy.sin(w * _t))
+        w = sympy.sqrt(-disc)
+        return sympy.exp(a * _t) * (alpha * sympy.cosh(w * _t) + (beta + alpha * a) / w * sympy.sinh(w * _t))
+    return sympy.inverse_laplace_transform(term, _s, _t)
+
+
+def frequencies(M: fmpq_mat) -> tuple[list, list]:
+    """(ω's of complex-pair quadratic factors, real rational eigenvalues) of the charpoly of M."""
+    chi = M.charpoly()
+    omegas, lambdas = [], []
+    for p, _ in chi.factor()[1]:
+        c = [sympy.Rational(int(x.p), int(x.q)) for x in p.coeffs()]
+        if p.degree() == 1:
+            lambdas.append(-c[0] / c[1])
+        elif p.degree() == 2:
+            q, pp, a2 = c
+            disc = q / a2 - (pp / a2) ** 2 / 4
+            if disc > 0:
+                omegas.append(sympy.sqrt(disc))
+    return omegas, lambdas
+
+
+def closed_form_candidates(theta_ball: arb, M: fmpq_mat) -> list:
+    """Small-height candidates for a root: rationals, (p/q) π / ω, log(p/q) / λ."""
+    from mpmath import mp, mpf
+    out = []
+    with mp.workdps(40):
+        x = mpf(theta_ball.mid().str(40, radius=False))
+        def approx(v):
+            f = Fraction(str(v))
+            return {f.limit_denominator(d) for d in (1, 2, 3, 4, 6, 8, 12, 16, 24, 100, 1000)}
+        for f in approx(x):
+            out.append(sympy.Rational(f.numerator, f.denominator))
+        omegas, lambdas = frequencies(M)
+        for w in [sympy.Integer(1)] + omegas:
+            wv = mpf(str(sympy.N(w, 40)))
+            for f in approx(x * wv / mp.pi):
+                if f:
+                    out.append(sympy.Rational(f.numerator, f.denominator) * sympy.pi / w)
+        for lam in lambdas:
+            if lam != 0:
+                v = mp.exp(mpf(lam.p) / lam.q * x)
+                for f in approx(v):
+                    if f > 0 and f != 1:
+                        out.append(sympy.log(sympy.Rational(f.numerator, f.denominator)) / lam)
+    seen, uniq = set(), []
+    for c in out:
+        if c not in seen and c.is_positive:
+            seen.add(c)
+            uniq.append(c)
+    return uniq
+
+
+def prove_closed_form(root: RootReal) -> Any:
+    """Try the candidates; return the proven closed form (and set it on the root) or None."""
+    phase, c = root.phase, root.c
+    b = root.arb(200)
+    z = phase.z.rational()
+    sym = laplace_closed_form(phase.M, c.g, z) if z is not None else None
+    for cand in closed_form_candidates(b, phase.M):
+        with workprec(512):  # the bracket is ~2^-200 wide: compare well above that
+            cb = _sympy_to_arb(cand)
+            inside = cb > arb(root.lo) and cb < arb(root.hi)
+        if not inside:
+            continue
+        # (a) structure: the state at the candidate collapses to a rational vector
+        x = expm_action(phase.M, cand, phase.z)
+        q = x.rational()
+        if q is not None:
+            if (c.g * q)[0, 0] == 0:
+                root.closed_form = cand
+                return cand
+            continue
+        # (b) symbolic: f(cand) simplifies to exactly 0
+        if sym is not None:
+            val = sympy.simplify(sympy.expand_trig(sym.subs(_t, cand)))
+            if val == 0:
+                root.closed_form = cand
+                return cand
+    return None
+
+
+def state_closed_form(phase: Phase, theta: Real):
+    """x(θ) as a SymPy vector when z is rational and θ has a closed form (None otherwise)."""
+    z = phase.z.rational()
+    if z is None or theta.closed_form is None:
+        return None
+    n = phase.lcs.n
+    comps = []
+    for i in range(n):
+        e = fmpq_mat(1, n, [1 if j == i else 0 for j in range(n)])
+        sym = laplace_closed_form(phase.M, e, z)
+        if sym is None:
+            return None
+        comps.append(sympy.simplify(sym.subs(_t, theta.closed_form)))
+    return sympy.Matrix(comps)

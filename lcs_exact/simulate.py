@@ -1,0 +1,296 @@
+"""Algorithm 7.1: mode selection, re-initialization, continuous phases and events, exactly.
+
+    Initialization  z := x0, t := 0
+    Step one        select I in S(z) (the smallest admissible mode, Remark 4.8)
+    Step two        z in V_I ?  yes: step four;  no: step three
+    Step three      z := P_I z, go to step one          (the re-initialization chain (4.9))
+    Step four       x(t) = e^{A_I t} z, u_I = F_I x      (flow.Phase)
+    Step five       θ(z, I) by certified root isolation; t := t + θ, z := x(θ-); repeat
+
+Stops: deadlock (S(z) = ∅) -> :class:`Deadlock`; a re-initialization chain that does not end ->
+:class:`ZenoDetected`; event times accumulating (geometrically shrinking phases with the limit
+before t_end, Remark 4.11) -> :class:`ZenoDetected`; ``max_events`` / ``time_limit`` ->
+:class:`LimitExceeded`; an undecidable sign -> :class:`UnresolvedSign`.  Each such error carries
+the partial :class:`~lcs_exact.trajectory.Trajectory` in ``.trajectory``.
+"""
+from __future__ import annotations
+
+import time as _time
+from typing import Any
+
+from flint import arb, fmpq
+
+from .errors import Deadlock, LCSError, LimitExceeded, ZenoDetected
+from .flow import Phase, RootReal, prove_closed_form, state_closed_form
+from .modes import format_mode
+from .reals import (DEFAULT_MAX_PREC, ExactVector, ExpVector, ProjectedVector, RationalReal,
+                    RationalVector, as_exact_vector, as_real, assumption_policy, digits_to_bits,
+                    unresolved)
+from .rational import vstack
+from .selection import _rcp_data, select_modes
+from .trajectory import Event, PhaseRecord, Trajectory
+
+__all__ = ["simulate"]
+
+_ZENO_WINDOW = 24
+
+
+def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
+             time_limit: float | None = None, allow_unresolved: bool = False,
+             closed_forms: bool = True, max_prec: int | None = None) -> Trajectory:
+    """Run Algorithm 7.1 from x0 on [0, t_end] and return the exact :class:`Trajectory`.
+
+    Parameters
+    ----------
+    lcs : LCS
+    x0 : vector
+        Rational (any input LCS accepts) or an exact vector such as ``expm_action(A, -1, v)``.
+    t_end : rational or exact real, >= 0
+    digits : int
+        Correct significant digits promised for every reported number (evaluation is on demand;
+        sign decisions refine up to ``max_prec`` bits, by default max(4096, 8 * digits bits)).
+    max_events, time_limit : limits; reaching one raises :class:`LimitExceeded` with the
+        partial trajectory in ``.trajectory``.
+    allow_unresolved : if True, an undecidable sign is assumed zero, recorded in
+        ``traj.assumptions``, and the result is not ``certified``; otherwise UnresolvedSign.
+    closed_forms : try to prove closed forms of event times and states (SymPy).
+
+    Examples
+    --------
+    >>> from lcs_exact.models import two_carts
+    >>> tr = simulate(two_carts(), [0, 1, -1, 0], 1)
+    >>> tr.events[0].state_after
+    (0, 1, 0, 0)
+    """
+    if digits < 1:
+        raise ValueError(f"digits must be >= 1, got {digits}")
+    T = as_real(t_end)
+    if T.sign() < 0:
+        raise ValueError(f"t_end must be >= 0, got {t_end}")
+    z0 = as_exact_vector(x0, lcs.n)
+    if z0.n != lcs.n:
+        from .errors import ShapeError
+        raise ShapeError(f"x0 has length {z0.n}, expected {lcs.n}")
+    mp = max_prec or max(DEFAULT_MAX_PREC, 8 * digits_to_bits(digits))
+    traj = Trajectory(lcs, z0, T, digits)
+    started = _time.monotonic()
+    with assumption_policy(allow_unresolved, mp) as record:
+        try:
+            _run(lcs, traj, z0, T, max_events, time_limit, started, closed_forms)
+        except LCSError as e:
+            traj.partial = True
+            traj.stop_reason = f"{type(e).__name__}: {e}"
+            traj.assumptions = list(record)
+            traj.elapsed = _time.monotonic() - started
+            e.trajectory = traj
+            raise
+        traj.assumptions = list(record)
+    traj.elapsed = _time.monotonic() - started
+    return traj
+
+
+def _selection_point(z: ExactVector):
+    q = z.rational()
+    return q if q is not None else z
+
+
+def _in_consistent_subspace(mode, z: ExactVector) -> bool:
+    """Step two: z in V_I, decided form by form on the annihilator of V_I (exact or certified)."""
+    W = mode._annihilator()
+    q = z.rational()
+    if q is not None:
+        return all(v == 0 for v in (W * q).entries()) if W.nrows() else True
+    from .rational import submatrix
+    return all(z.sign_of_form(submatrix(W, [r], None)) == 0 for r in range(W.nrows()))
+
+
+def _project(mode, z: ExactVector) -> ExactVector:
+    """Step three: z := P_I z (rational stays rational)."""
+    P = mode.projection()
+    q = z.rational()
+    if q is not None:
+        return RationalVector(P * q)
+    return ProjectedVector(P, z)
+
+
+def _impulse(mode, z: ExactVector) -> dict:
+    """{i: u^{-i}} of the initial solution in mode I from z (nonzero terms only)."""
+    out = {}
+    for i, U in enumerate(_rcp_data(mode)["impulse"]):
+        if any(e != 0 for e in U.entries()):
+            q = z.rational()
+            out[i] = RationalVector(U * q) if q is not None else ProjectedVector(U, z)
+    return out
+
+
+def _select_and_reinitialize(lcs, z: ExactVector, t_label: str):
+    """Steps one to three; returns (mode, chain of jump modes, state after, impulse)."""
+    chain, impulse = [], {}
+    cap = 2 ** lcs.k + lcs.n + 1
+    for _ in range(cap):
+        S = select_modes(lcs, _selection_point(z))
+        if not S:
+            raise Deadlock(f"deadlock at t = {t_label}: S(z) is empty at z = {z!r} (Remark 7.2)")
+        I = min(S, key=lambda m: (len(m), sorted(m)))
+        mode = lcs.mode(I)
+        if _in_consistent_subspace(mode, z):
+            return mode, chain, z, impulse
+        if not chain:
+            impulse = _impulse(mode, z)
+        z = _project(mode, z)
+        chain.append(I)
+    raise ZenoDetected(f"re-initialization at t = {t_label} did not end after {cap} jumps "
+                       "(infinite multiplicity, Remark 7.2 (2))")
+
+
+def _run(lcs, traj: Trajectory, z: ExactVector, T, max_events, time_limit, started, closed_forms):
+    t = RationalReal(0)
+    mode_before = None
+    triggers: tuple = ()
+    durations: list = []
+    while True:
+        label = _label(t)
+        state_before = z
+        mode, chain, z, impulse = _select_and_reinitialize(lcs, z, label)
+        if chain or mode_before is not None:
+            traj.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
+                                     len(chain), impulse, triggers))
+        if len(traj.events) > max_events:
+            raise LimitExceeded(f"max_events = {max_events} reached at t = {label}")
+        if time_limit is not None and _time.monotonic() - started > time_limit:
+            raise LimitExceeded(f"time_limit = {time_limit} s reached at t = {label}")
+        phase = Phase(mode, z)
+        H = T - t
+        if H.sign() == 0:
+            traj.phases.append(PhaseRecord(t, T, phase))
+            return
+        hit = _next_event(phase, H, closed_forms)
+        if hit is None:
+            traj.phases.append(PhaseRecord(t, T, phase))
+            return
+        theta, cons = hit
+        t_new = t + theta
+        z = _state_at_event(phase, theta, cons, closed_forms)
+        traj.phases.append(PhaseRecord(t, t_new, phase))
+        durations.append(theta)
+        _check_accumulation(durations, t_new, T)
+        mode_before, triggers, t = mode.index_set, tuple(c.name for c in cons), t_new
+
+
+def _label(t) -> str:
+    if t.closed_form is not None:
+        return str(t.closed_form)
+    return t.decimal(15).split(" +/-")[0]
+
+
+def _horizon_bound(H) -> fmpq:
+    """A rational upper bound of H (slightly above it)."""
+    b = H.arb(64)
+    up = b.mid() + b.rad() + arb(2) ** -40
+    from .flow import _arb_to_fmpq
+    return _arb_to_fmpq(up)
+
+
+def _next_event(phase: Phase, H, closed_forms: bool):
+    """(θ, constraints hitting zero at θ) for the first event in (0, H), or None."""
+    hb = _horizon_bound(H)
+    found = []  # (constraint, lo, hi)
+    limit = hb
+    for c in phase.constraints:
+        r = phase.first_root(c, limit)
+        if r is None:
+            continue
+        if isinstance(r, fmpq):
+            raise LCSError(f"internal inconsistency: {c.name} of the selected mode "
+                           f"{format_mode(phase.mode.I)} is negative at the start of the phase")
+        lo, hi = r
+        found.append((c, lo, hi))
+        limit = min(limit, hi)
+    if not found:
+        return None
+    roots = [(c, RootReal(phase, c, lo, hi)) for c, lo, hi in found]
+    # the first root; others that cannot be separated from it are simultaneous (or unresolved)
+    first_c, first = roots[0]
+    for c, r in roots[1:]:
+        s = _compare(r, first, closed_forms)
+        if s < 0:
+            first_c, first = c, r
+    if closed_forms and first.closed_form is None:
+        prove_closed_form(first)
+    # beyond the horizon?
+    if (first - H).sign() >= 0:
+        return None
+    simultaneous = [first_c]
+    for c, r in roots:
+        if r is first:
+            continue
+        if _compare(r, first, closed_forms) == 0:
+            simultaneous.append(c)
+    return first, simultaneous
+
+
+def _compare(a: RootReal, b: RootReal, closed_forms: bool) -> int:
+    """Certified order of two roots; equal only when proven (closed forms) or assumed."""
+    if a.closed_form is not None and b.closed_form is not None:
+        import sympy
+        d = sympy.simplify(a.closed_form - b.closed_form)
+        if d == 0:
+            return 0
+    prec = 64
+    while prec <= 4096:
+        x, y = a.arb(prec), b.arb(prec)
+        if x < y:
+            return -1
+        if x > y:
+            return 1
+        if prec == 128 and closed_forms:
+            for r in (a, b):
+                if r.closed_form is None:
+                    prove_closed_form(r)
+            if a.closed_form is not None and b.closed_form is not None:
+                import sympy
+                if sympy.simplify(a.closed_form - b.closed_form) == 0:
+                    return 0
+        prec *= 2
+    return unresolved(f"the order of the roots of {a.c.name} and {b.c.name} (simultaneous events?)")
+
+
+def _state_at_event(phase: Phase, theta, cons, closed_forms: bool) -> ExactVector:
+    """x(τ-) = e^{A_I θ} z, with the triggering constraints as proven-zero forms."""
+    x = phase.state(theta)
+    extra = vstack(*[c.g for c in cons])
+    if closed_forms and not isinstance(x, RationalVector):
+        cf = state_closed_form(phase, theta)
+        if cf is not None and isinstance(x, ExpVector):
+            x._closed = cf
+            q = x.rational()
+            if q is not None:
+                return RationalVector(q)
+    if isinstance(x, RationalVector):
+        return x
+    x.zero_forms = vstack(x.zero_forms, extra)
+    return x
+
+
+def _check_accumulation(durations: list, t_now, T) -> None:
+    """Right-Zeno (Remark 4.11): phases shrinking geometrically with the limit before t_end."""
+    if len(durations) < _ZENO_WINDOW:
+        return
+    window = durations[-_ZENO_WINDOW:]
+    balls = [d.arb(64) for d in window]
+    ratios = []
+    for a, b in zip(balls, balls[1:]):
+        if not (a > 0 and b > 0):
+            return
+        ratios.append(b / a)
+    rho = max(ratios, key=lambda r: r.mid())
+    if not rho < arb("0.95"):
+        return
+    if not all(r < arb("0.95") for r in ratios):
+        return
+    tail = balls[-1] * rho / (1 - rho)
+    limit = t_now.arb(64) + tail
+    if limit < T.arb(64):
+        raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically "
+                           f"(ratio <= {float(rho.mid()):.3g}); accumulation point near t ≈ "
+                           f"{float(limit.mid()):.15g} < t_end (Remark 4.11)")
