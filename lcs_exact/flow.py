@@ -30,8 +30,9 @@ from .errors import LCSError
 from .rational import submatrix, zeros
 from .reals import (ExactVector, ExpVector, Real, RationalVector, _sympy_to_arb, ball_sign,
                     expm_action, invariant_forms, unresolved, workprec)
+from .modes import format_mode
 
-__all__ = ["Phase", "Constraint", "RootReal", "laplace_closed_form"]
+__all__ = ["Phase", "Constraint", "RootReal", "next_event", "theta", "laplace_closed_form"]
 
 _K = 4  # Taylor order of the enclosures
 _MAX_DEPTH = 60
@@ -258,6 +259,109 @@ def _arb_to_fmpq(x: arb) -> fmpq:
     m, e = int(m), int(e)
     return fmpq(m * 2 ** e) if e >= 0 else fmpq(m, 2 ** (-e))
 
+
+def _horizon_bound(H) -> fmpq:
+    """A rational upper bound of H (slightly above it)."""
+    b = H.arb(64)
+    up = b.mid() + b.rad() + arb(2) ** -40
+    return _arb_to_fmpq(up)
+
+
+def next_event(phase: Phase, H, closed_forms: bool):
+    """(θ, constraints reaching zero at θ) for the first event in (0, H), or None (Def. 4.3).
+
+    Constraints whose roots cannot be separated from the first one are simultaneous only when
+    proven (equal closed forms); otherwise the order is an unresolved sign.
+    """
+    hb = _horizon_bound(H)
+    found = []  # (constraint, lo, hi)
+    limit = hb
+    for c in phase.constraints:
+        r = phase.first_root(c, limit)
+        if r is None:
+            continue
+        if isinstance(r, fmpq):
+            raise LCSError(f"internal inconsistency: {c.name} of the selected mode "
+                           f"{format_mode(phase.mode.I)} is negative at the start of the phase")
+        lo, hi = r
+        found.append((c, lo, hi))
+        limit = min(limit, hi)
+    if not found:
+        return None
+    roots = [(c, RootReal(phase, c, lo, hi)) for c, lo, hi in found]
+    # the first root; others that cannot be separated from it are simultaneous (or unresolved)
+    first_c, first = roots[0]
+    for c, r in roots[1:]:
+        s = compare_roots(r, first, closed_forms)
+        if s < 0:
+            first_c, first = c, r
+    if closed_forms and first.closed_form is None:
+        prove_closed_form(first)
+    # beyond the horizon?
+    if (first - H).sign() >= 0:
+        return None
+    simultaneous = [first_c]
+    for c, r in roots:
+        if r is first:
+            continue
+        if compare_roots(r, first, closed_forms) == 0:
+            simultaneous.append(c)
+    return first, simultaneous
+
+
+def compare_roots(a: RootReal, b: RootReal, closed_forms: bool) -> int:
+    """Certified order of two roots; equal only when proven (closed forms) or assumed."""
+    if a.closed_form is not None and b.closed_form is not None:
+        import sympy
+        d = sympy.simplify(a.closed_form - b.closed_form)
+        if d == 0:
+            return 0
+    prec = 64
+    while prec <= 4096:
+        x, y = a.arb(prec), b.arb(prec)
+        if x < y:
+            return -1
+        if x > y:
+            return 1
+        if prec == 128 and closed_forms:
+            for r in (a, b):
+                if r.closed_form is None:
+                    prove_closed_form(r)
+            if a.closed_form is not None and b.closed_form is not None:
+                import sympy
+                if sympy.simplify(a.closed_form - b.closed_form) == 0:
+                    return 0
+        prec *= 2
+    return unresolved(f"the order of the roots of {a.c.name} and {b.c.name} (simultaneous events?)")
+
+
+def theta(lcs, x0: Any, I, horizon: Any) -> Real | None:
+    """θ(x0, I) of Def. 4.3 on (0, horizon]: the length of the phase in mode I from x0.
+
+    x0 outside V_I is first re-initialized to P_I x0 (the regular part of the solution of (4.2)).
+    Returns an exact real (0 when u or y is immediately negative, Example 4.5), or None when
+    no event occurs in (0, horizon).
+
+    >>> from lcs_exact.models import two_carts
+    >>> theta(two_carts(), [0, -1, 0, 0], {0}, 10).closed_form   # Example 4.4
+    pi/2
+    >>> theta(two_carts(), [0, 1, -1, 0], {0}, 10).closed_form   # Example 4.5
+    0
+    """
+    from .reals import ProjectedVector, RationalReal, as_exact_vector, as_real
+    mode = lcs.mode(I)
+    z = as_exact_vector(x0, lcs.n)
+    q = z.rational()
+    if q is not None:
+        z = RationalVector(mode.projection() * q)
+    else:
+        z = ProjectedVector(mode.projection(), z)
+    phase = Phase(mode, z)
+    for c in phase.constraints:
+        if phase.start_order(c)[0] < 0:
+            return RationalReal(0)
+    hit = next_event(phase, as_real(horizon), True)
+    return None if hit is None else hit[0]
 
 # ---------------------------------------------------------------------------------------------
 # closed forms

@@ -523,7 +523,6 @@ class RationalMatrix:
         n, m = self.shape
         if n != m:
             raise ShapeError(f"square matrix over Q(s) expected, got {n}x{m}")
-        k = rhs.shape[1] if rhs is not None else 0
         a = [list(self.rows[i]) + (list(rhs.rows[i]) if rhs is not None else []) for i in range(n)]
         det = RationalFunction(1)
         for c in range(n):

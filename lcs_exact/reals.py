@@ -509,10 +509,9 @@ def expm_action(M: Any, t: Any, v: Any) -> ExactVector:
         t, v = t + v.t, v.v
     if t.closed_form is not None and t.closed_form == 0:
         return v
-    if t.closed_form is not None:
-        q = v.rational()
-        if q is not None and M == zeros(M.nrows(), M.ncols()):
-            return v
+    q = v.rational()
+    if q is not None and is_zero(M * q):  # an equilibrium: e^{Mt} v = v
+        return v
     zf = invariant_forms(v.zero_forms, M) if v.zero_forms.nrows() else None
     return ExpVector(M, t, v, zf)
 

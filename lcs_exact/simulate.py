@@ -18,14 +18,12 @@ from __future__ import annotations
 import time as _time
 from typing import Any
 
-from flint import arb, fmpq
+from flint import arb
 
 from .errors import Deadlock, LCSError, LimitExceeded, ZenoDetected
-from .flow import Phase, RootReal, prove_closed_form, state_closed_form
-from .modes import format_mode
+from .flow import Phase, next_event, state_closed_form
 from .reals import (DEFAULT_MAX_PREC, ExactVector, ExpVector, ProjectedVector, RationalReal,
-                    RationalVector, as_exact_vector, as_real, assumption_policy, digits_to_bits,
-                    unresolved)
+                    RationalVector, as_exact_vector, as_real, assumption_policy, digits_to_bits)
 from .rational import vstack
 from .selection import _rcp_data, select_modes
 from .trajectory import Event, PhaseRecord, Trajectory
@@ -164,7 +162,7 @@ def _run(lcs, traj: Trajectory, z: ExactVector, T, max_events, time_limit, start
         if H.sign() == 0:
             traj.phases.append(PhaseRecord(t, T, phase))
             return
-        hit = _next_event(phase, H, closed_forms)
+        hit = next_event(phase, H, closed_forms)
         if hit is None:
             traj.phases.append(PhaseRecord(t, T, phase))
             return
@@ -181,78 +179,6 @@ def _label(t) -> str:
     if t.closed_form is not None:
         return str(t.closed_form)
     return t.decimal(15).split(" +/-")[0]
-
-
-def _horizon_bound(H) -> fmpq:
-    """A rational upper bound of H (slightly above it)."""
-    b = H.arb(64)
-    up = b.mid() + b.rad() + arb(2) ** -40
-    from .flow import _arb_to_fmpq
-    return _arb_to_fmpq(up)
-
-
-def _next_event(phase: Phase, H, closed_forms: bool):
-    """(θ, constraints hitting zero at θ) for the first event in (0, H), or None."""
-    hb = _horizon_bound(H)
-    found = []  # (constraint, lo, hi)
-    limit = hb
-    for c in phase.constraints:
-        r = phase.first_root(c, limit)
-        if r is None:
-            continue
-        if isinstance(r, fmpq):
-            raise LCSError(f"internal inconsistency: {c.name} of the selected mode "
-                           f"{format_mode(phase.mode.I)} is negative at the start of the phase")
-        lo, hi = r
-        found.append((c, lo, hi))
-        limit = min(limit, hi)
-    if not found:
-        return None
-    roots = [(c, RootReal(phase, c, lo, hi)) for c, lo, hi in found]
-    # the first root; others that cannot be separated from it are simultaneous (or unresolved)
-    first_c, first = roots[0]
-    for c, r in roots[1:]:
-        s = _compare(r, first, closed_forms)
-        if s < 0:
-            first_c, first = c, r
-    if closed_forms and first.closed_form is None:
-        prove_closed_form(first)
-    # beyond the horizon?
-    if (first - H).sign() >= 0:
-        return None
-    simultaneous = [first_c]
-    for c, r in roots:
-        if r is first:
-            continue
-        if _compare(r, first, closed_forms) == 0:
-            simultaneous.append(c)
-    return first, simultaneous
-
-
-def _compare(a: RootReal, b: RootReal, closed_forms: bool) -> int:
-    """Certified order of two roots; equal only when proven (closed forms) or assumed."""
-    if a.closed_form is not None and b.closed_form is not None:
-        import sympy
-        d = sympy.simplify(a.closed_form - b.closed_form)
-        if d == 0:
-            return 0
-    prec = 64
-    while prec <= 4096:
-        x, y = a.arb(prec), b.arb(prec)
-        if x < y:
-            return -1
-        if x > y:
-            return 1
-        if prec == 128 and closed_forms:
-            for r in (a, b):
-                if r.closed_form is None:
-                    prove_closed_form(r)
-            if a.closed_form is not None and b.closed_form is not None:
-                import sympy
-                if sympy.simplify(a.closed_form - b.closed_form) == 0:
-                    return 0
-        prec *= 2
-    return unresolved(f"the order of the roots of {a.c.name} and {b.c.name} (simultaneous events?)")
 
 
 def _state_at_event(phase: Phase, theta, cons, closed_forms: bool) -> ExactVector:

@@ -1,0 +1,148 @@
+"""Algorithm 7.1 on the paper's section 7 run, exactly; θ (Def. 4.3); limits and partial results."""
+from __future__ import annotations
+
+import mpmath as mp
+import pytest
+import sympy as sp
+from helpers import A_CARTS, carts, modes
+
+import lcs_exact as L
+from lcs_exact.flow import theta
+
+mp.mp.dps = 60
+TOL = mp.mpf(10) ** -28
+
+
+def num(r, digits=40):
+    """An exact real as mpf (its certified midpoint)."""
+    return mp.mpf(r.ball(digits).mid().str(digits + 5, radius=False))
+
+
+def close(a, b):
+    return abs(a - b) <= TOL * max(1, abs(b))
+
+
+@pytest.fixture(scope="module")
+def section7():
+    x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
+    return L.simulate(carts(), x0, 3, digits=30)
+
+
+def test_section7_events_closed_forms(section7):
+    tr = section7
+    assert tr.certified and not tr.partial
+    assert len(tr.events) == 2
+    e1, e2 = tr.events
+    assert sp.simplify(e1.time.closed_form - 1) == 0
+    assert sp.simplify(e2.time.closed_form - (1 + sp.pi / 2)) == 0
+    # certified digits: 30 significant digits of 1 + pi/2
+    assert close(num(e2.time), 1 + mp.pi / 2)
+    b = e2.time.ball(30)
+    assert b.rad() < mp.mpf(10) ** -30 * 3 and b.contains(b.mid())
+
+
+def test_section7_states_and_modes(section7):
+    e1, e2 = section7.events
+    assert e1.mode_before == frozenset() and e1.modes == (frozenset({0}),) and e1.mode_after == {0}
+    assert e1.multiplicity == 1 and e1.triggers == ("y_0",)
+    # x(1-) = (0,-1,-1,0), x(1+) = (0,-1,0,0): proven rational, not just close
+    assert [str(c) for c in e1.state_before.rational().entries()] == ["0", "-1", "-1", "0"]
+    assert [str(c) for c in e1.state_after.rational().entries()] == ["0", "-1", "0", "0"]
+    # the impulse at the impact: u = delta (u^0 = 1)
+    assert [str(c) for c in e1.impulse[0].rational().entries()] == ["1"]
+    # release at 1 + pi/2 in state (0,0,0,1), then the free mode
+    assert e2.mode_before == {0} and e2.modes == () and e2.mode_after == frozenset()
+    assert [str(c) for c in e2.state_after.rational().entries()] == ["0", "0", "0", "1"]
+
+
+def test_section7_final_state_independent(section7):
+    # x(3) = e^{A (2 - pi/2)} (0,0,0,1), computed here with mpmath's expm
+    want = mp.expm(mp.matrix(A_CARTS) * (2 - mp.pi / 2)) * mp.matrix([0, 0, 0, 1])
+    got = [num(c) for c in section7.state(3)]
+    assert all(close(g, want[i]) for i, g in enumerate(got))
+    # before the first event the state is e^{At} x0 = e^{A(t-1)} (0,-1,-1,0)
+    half = mp.expm(mp.matrix(A_CARTS) * (mp.mpf(1) / 2 - 1)) * mp.matrix([0, -1, -1, 0])
+    assert all(close(num(c), half[i]) for i, c in enumerate(section7.state(sp.Rational(1, 2))))
+
+
+def test_section7_u_and_y(section7):
+    # on (1, 1 + pi/2): u(t) = cos(t - 1), y = 0
+    t = sp.Rational(3, 2)
+    assert close(num(section7.u(t)[0]), mp.cos(mp.mpf(1) / 2))
+    assert section7.y(t)[0].ball(30).contains(0)
+
+
+def test_section7_thousand_digits():
+    x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
+    tr = L.simulate(carts(), x0, 3, digits=1000)
+    mp.mp.dps = 1010
+    try:
+        want = 1 + mp.pi / 2
+        got = mp.mpf(tr.events[1].time.ball(1000).mid().str(1005, radius=False))
+        assert abs(got - want) < mp.mpf(10) ** -995
+        x3 = L.expm_action(A_CARTS, 3 - (1 + sp.pi / 2), [0, 0, 0, 1])
+        for a, b in zip(tr.state(3), x3):
+            assert a.ball(1000).overlaps(b.ball(1000))
+    finally:
+        mp.mp.dps = 60
+
+
+def test_theta_examples_4_4_and_4_5():
+    c = carts()
+    assert theta(c, [0, -1, 0, 0], {0}, 10).closed_form == sp.pi / 2  # Example 4.4
+    assert theta(c, [0, 1, -1, 0], {0}, 10).closed_form == 0  # Example 4.5
+    assert theta(c, [0, -1, 0, 0], {0}, 1) is None  # no event before t = 1
+
+
+def test_jump_then_free_example_4_5():
+    tr = L.simulate(carts(), [0, 1, -1, 0], 1)
+    e = tr.events[0]
+    assert e.time.closed_form == 0 and e.mode_before is None
+    assert e.modes == (frozenset({0}),) and e.mode_after == frozenset()
+    assert [str(c) for c in e.state_after.rational().entries()] == ["0", "1", "0", "0"]
+    assert tr.certified and len(tr.events) == 1
+
+
+def test_no_event_at_zero_for_consistent_start():
+    tr = L.simulate(carts(), [1, 0, 0, 0], 1)
+    assert tr.events == [] and tr.certified
+    want = mp.expm(mp.matrix(A_CARTS)) * mp.matrix([1, 0, 0, 0])
+    assert all(close(num(c), want[i]) for i, c in enumerate(tr.state(1)))
+
+
+def test_max_events_returns_partial_trajectory():
+    x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
+    with pytest.raises(L.LimitExceeded, match="max_events") as err:
+        L.simulate(carts(), x0, 3, max_events=1)
+    tr = err.value.trajectory
+    assert tr.partial and "max_events" in tr.stop_reason
+    assert len(tr.events) == 2 and tr.events[0].time.closed_form == 1
+
+
+def test_fixture_schema(section7):
+    fx = section7.to_fixture(30)
+    assert fx["schema"] == "lcs-exact/trajectory/1" and fx["certified"] is True
+    ev = fx["events"][1]
+    assert ev["time"]["exact"] == "1 + pi/2" and ev["time"]["value"].startswith("2.5707963267948966192313216916")
+    assert ev["mode_before"] == [0] and ev["mode_after"] == [] and ev["multiplicity"] == 0
+    assert [c["exact"] for c in ev["state_after"]] == ["0", "0", "0", "1"]
+    assert float(fx["final_state"][3]["error"]) < 1e-30
+
+
+def test_bad_inputs():
+    with pytest.raises(L.ShapeError):
+        L.simulate(carts(), [0, 1], 1)
+    with pytest.raises(ValueError, match="t_end"):
+        L.simulate(carts(), [0, 1, 0, 0], -1)
+
+
+def test_oscillator_against_stop_closed_form():
+    # x'' = -x + u, y = x: from (1, 0) the stop is hit at pi/2 with velocity -1, then rest at 0
+    osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
+    tr = L.simulate(osc, [1, 0], 4)
+    (e,) = tr.events
+    assert e.time.closed_form == sp.pi / 2
+    assert [str(c) for c in e.state_before.rational().entries()] == ["0", "-1"]
+    assert [str(c) for c in e.state_after.rational().entries()] == ["0", "0"]
+    assert e.mode_after in modes(set(), {0})
+    assert [str(c) for c in tr.state(4).rational().entries()] == ["0", "0"]
