@@ -28,7 +28,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from .errors import LCSError
 from .rational import submatrix, zeros
-from .reals import (ExactVector, ExpVector, Real, RationalVector, _sympy_to_arb, ball_sign,
+from .reals import (ExactVector, ExpVector, Real, RationalVector, _max_prec, _sympy_to_arb, ball_sign,
                     expm_action, invariant_forms, unresolved, workprec)
 from .modes import format_mode
 
@@ -145,17 +145,25 @@ class Phase:
             return None  # f ≡ 0
         if sign < 0:
             return fmpq(0)
-        # f^{(order)} > 0 on [0, eps] => f > 0 on (0, eps]
-        eps = horizon
-        for _ in range(_MAX_DEPTH):
-            if self._enclose(c, order, fmpq(0), eps, prec) > 0:
-                break
-            eps = eps / 2
-        else:
-            raise LCSError(f"could not certify the start of {c.name} (sign {sign}, order {order})")
+        if order == 0:  # f(0) > 0 is certified: search from 0
+            return self._search(c, fmpq(0), horizon, prec, 0)
+        # f(0) = ... = f^{(order-1)}(0) = 0 < f^{(order)}(0): f^{(order)} > 0 on [0, eps] => f > 0 on (0, eps]
+        p = prec
+        while True:
+            eps = horizon
+            for _ in range(_MAX_DEPTH):
+                if self._enclose(c, order, fmpq(0), eps, p) > 0:
+                    break
+                eps = eps / 2
+            else:
+                if p < _max_prec():
+                    p *= 4
+                    continue
+                raise LCSError(f"could not certify the start of {c.name} (sign {sign}, order {order})")
+            break
         if eps == horizon:
             return None
-        return self._search(c, eps, horizon, prec, 0)
+        return self._search(c, eps, horizon, p, 0)
 
     def _search(self, c: Constraint, a: fmpq, b: fmpq, prec: int, depth: int):
         """DFS over [a, b], f(a) > 0 known; returns the first isolating interval or None."""
@@ -176,7 +184,12 @@ class Phase:
             if s < 0:
                 return (a, b)
             return (a, b)  # assumed zero at b: keep it as the root's bracket
+        res = self._tangency(c, a, b, prec)
+        if res is not _UNDECIDED:
+            return res
         if depth >= _MAX_DEPTH:
+            if prec < _max_prec():  # the enclosures may be limited by rounding: more bits
+                return self._search(c, a, b, min(4 * prec, _max_prec()), _MAX_DEPTH // 2)
             s = unresolved(f"possible tangential touch (grazing) of {c.name} near t = {float(a):.17g}")
             return None if s == 0 else (a, b)
         m = (a + b) / 2
@@ -187,6 +200,52 @@ class Phase:
         if fm < 0:
             return (a, m)  # pragma: no cover - left search would have found it
         return self._search(c, m, b, prec, depth + 1)
+
+
+    def _tangency(self, c: Constraint, a: fmpq, b: fmpq, prec: int):
+        """Decide [a, b] (f(a) > 0) when f'' has a sign there: the grazing test.
+
+        Concave: the minimum is at b.  Convex with f'(a) < 0 < f'(b): the minimum is at the
+        unique critical point t* (a root of f'); f(t*) > 0 means no event, f(t*) < 0 an event in
+        (a, t*), and f(t*) = 0 - proven with closed forms of t* and f - a tangential touch, which
+        is not an event.  Returns None, an isolating interval, or _UNDECIDED.
+        """
+        D2 = self._enclose(c, 2, a, b, prec)
+        if not (D2 > 0 or D2 < 0):
+            return _UNDECIDED
+        fb = self.value(c, b, prec)
+        da, db = self.value(c, a, prec, 1), self.value(c, b, prec, 1)
+        if D2 < 0 or db < 0:  # the minimum of f on [a, b] is at b
+            return None if fb > 0 else (a, b) if fb < 0 else _UNDECIDED
+        if da > 0:
+            return None  # convex and nondecreasing from f(a) > 0
+        if not (da < 0 and db > 0):
+            return _UNDECIDED
+        tstar = RootReal(self, Constraint("d" + c.kind, c.index, -self.gM(c, 1)), a, b)
+        for p in (prec, 2 * prec, 4 * prec):
+            v = self.value(c, tstar.arb(p + 20), p)
+            if v > 0:
+                return None
+            if v < 0:
+                for q in (p, 2 * p, 4 * p, 8 * p):
+                    tstar.arb(q + 20)
+                    if self.value(c, tstar.lo, q) < 0:
+                        return (a, tstar.lo)
+                return _UNDECIDED
+        # f(t*) may be exactly 0: a tangential touch if proven
+        z = self.z.rational()
+        if z is not None and prove_closed_form(tstar) is not None:
+            fsym = laplace_closed_form(self.M, c.g, z)
+            if fsym is not None and sympy.simplify(fsym.subs(_t, tstar.closed_form)) == 0:
+                return None  # f >= 0 on [a, b]: convex with f(t*) = f'(t*) = 0
+        s = ball_sign(lambda p: self.value(c, tstar.arb(p + 20), p),
+                      f"{c.name} at its critical point near t = {float(a):.17g} (tangential touch?)", prec)
+        if s > 0 or s == 0:
+            return None
+        return _UNDECIDED
+
+
+_UNDECIDED = object()
 
 
 def _stack(a: fmpq_mat, b: fmpq_mat) -> fmpq_mat:
@@ -487,7 +546,10 @@ def prove_closed_form(root: RootReal) -> Any:
     b = root.arb(200)
     z = phase.z.rational()
     sym = laplace_closed_form(phase.M, c.g, z) if z is not None else None
-    for cand in closed_form_candidates(b, phase.M):
+    cands = closed_form_candidates(b, phase.M)
+    if sym is not None:
+        cands += _solve_candidates(sym, b)
+    for cand in cands:
         with workprec(512):  # the bracket is ~2^-200 wide: compare well above that
             cb = _sympy_to_arb(cand)
             inside = cb > arb(root.lo) and cb < arb(root.hi)
@@ -508,6 +570,34 @@ def prove_closed_form(root: RootReal) -> Any:
                 root.closed_form = cand
                 return cand
     return None
+
+
+def _solve_candidates(sym, b: arb) -> list:
+    """Exact solutions of a one-frequency f = a cos(ωt) + b sin(ωt) + c (SymPy solve), shifted by
+    multiples of 2π/ω towards the root ball b."""
+    trig = sym.atoms(sympy.sin, sympy.cos)
+    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig or len(sympy.Add.make_args(sym)) > 3:
+        return []
+    freqs = {sympy.simplify(f.args[0] / _t) for f in trig}
+    if len(freqs) != 1:
+        return []
+    (w,) = freqs
+    try:
+        sols = sympy.solve(sym, _t)
+    except Exception:  # SymPy could not solve: no candidates
+        return []
+    from mpmath import mp, mpf
+    out = []
+    with mp.workdps(30):
+        target = mpf(b.mid().str(30, radius=False))
+        period = 2 * mp.pi / mpf(str(sympy.N(w, 30)))
+        for sol in sols:
+            if not sol.is_real:
+                continue
+            v = mpf(str(sympy.N(sol, 30)))
+            k = int(mp.nint((target - v) / period))
+            out.append(sympy.simplify(sol + k * 2 * sympy.pi / w))
+    return out
 
 
 def state_closed_form(phase: Phase, theta: Real):

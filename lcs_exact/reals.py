@@ -81,7 +81,8 @@ def unresolved(what: str) -> int:
     """An unresolved zero: raise, or record the assumption that it is 0 and return 0."""
     p = _policy.get()
     if p and p["allow"]:
-        p["record"].append(what)
+        if what not in p["record"]:
+            p["record"].append(what)
         return 0
     raise UnresolvedSign(f"cannot decide the sign of {what}: the ball contains 0 at "
                          f"{_max_prec()} bits and no structural proof of zero is known")
