@@ -146,3 +146,42 @@ def test_oscillator_against_stop_closed_form():
     assert [str(c) for c in e.state_after.rational().entries()] == ["0", "0"]
     assert e.mode_after in modes(set(), {0})
     assert [str(c) for c in tr.state(4).rational().entries()] == ["0", "0"]
+
+
+# --- grazing: y = c - x with x'' = -x (a constant state carries the offset) -----------------
+GRAZE = L.LCS([[0, 1, 0], [-1, 0, 0], [0, 0, 0]], [[0], [1], [0]], [[1, 0, 1]], [[0]])
+
+
+def test_exact_tangential_touch_is_proven_not_an_event():
+    # x = -cos(t - phi) with cos phi = 3/5, sin phi = 4/5: y = 1 - cos(t - phi) >= 0 touches 0 at phi
+    tr = L.simulate(GRAZE, [sp.Rational(-3, 5), sp.Rational(-4, 5), 1], 7)
+    assert tr.events == [] and tr.certified
+
+
+def test_near_graze_dips_below_zero_is_an_event():
+    c = 1 + sp.Rational(1, 10**20)  # y = 1 - c cos(t - phi) has min 1 - c < 0
+    tr = L.simulate(GRAZE, [-3 * c / 5, -4 * c / 5, 1], 7)
+    assert tr.certified and len(tr.events) == 1
+    e = tr.events[0]
+    # first root: t = phi - acos(1/c), phi = atan2(4, 3)
+    want = mp.atan2(4, 3) - mp.acos(1 / (1 + mp.mpf(10) ** -20))
+    assert close(num(e.time), want)
+    assert e.time.closed_form is not None and close(mp.mpf(str(sp.N(e.time.closed_form, 50))), want)
+    assert e.modes == (frozenset({0}),)
+
+
+def test_clear_miss_is_not_an_event():
+    c = 1 - sp.Rational(1, 10**20)  # min of y is 1 - c > 0
+    tr = L.simulate(GRAZE, [-3 * c / 5, -4 * c / 5, 1], 7)
+    assert tr.events == [] and tr.certified
+
+
+def test_unprovable_touch_is_reported_not_guessed():
+    # the same exact touch, but from a transcendental state e^{M} v: no closed form is available
+    x0 = L.expm_action(GRAZE.A, 1, [-1, 0, 1])  # y(t) = 1 - cos(t + 1): touch at 2 pi - 1
+    with pytest.raises(L.UnresolvedSign, match="tangential touch") as err:
+        L.simulate(GRAZE, x0, 6, max_prec=512)
+    assert err.value.trajectory.partial
+    tr = L.simulate(GRAZE, x0, 6, allow_unresolved=True, max_prec=512)
+    assert not tr.certified and tr.events == []
+    assert any("tangential touch" in a for a in tr.assumptions)
