@@ -403,8 +403,14 @@ class ComponentReal(Real):
             cf = vec.closed_form()
             if cf is not None:
                 self.closed_form = cf[i]
+            elif vec.zero_forms.nrows():
+                e = fmpq_mat(1, vec.n, [int(j == i) for j in range(vec.n)])
+                if _in_row_span(e, vec.zero_forms):  # x_i = 0 is a proven relation
+                    self.closed_form = sympy.Integer(0)
 
     def _eval(self, prec):
+        if self.closed_form is not None and self.closed_form == 0:
+            return arb(0)
         return self.vec.arb(prec)[self.i, 0]
 
 
