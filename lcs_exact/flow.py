@@ -178,7 +178,7 @@ class Phase:
             if fb < 0:
                 return (a, b)
             # f(b) ≈ 0 with f monotone on [a, b]: the root is at b or beyond; decide at b exactly
-            s = ball_sign(lambda p: self.value(c, b, p), f"{c.name} at t = {b} (root at an interval end)", prec)
+            s = ball_sign(lambda p: self.value(c, b, p), lambda: f"{c.name} at t = {b} (root at an interval end)", prec)
             if s > 0:
                 return None
             if s < 0:
@@ -239,7 +239,7 @@ class Phase:
             if fsym is not None and sympy.simplify(fsym.subs(_t, tstar.closed_form)) == 0:
                 return None  # f >= 0 on [a, b]: convex with f(t*) = f'(t*) = 0
         s = ball_sign(lambda p: self.value(c, tstar.arb(p + 20), p),
-                      f"{c.name} at its critical point near t = {float(a):.17g} (tangential touch?)", prec)
+                      lambda: f"{c.name} at its critical point near t = {float(a):.17g} (tangential touch?)", prec)
         if s > 0 or s == 0:
             return None
         return _UNDECIDED
@@ -271,13 +271,13 @@ class RootReal(Real):
         self.lo, self.hi = lo, hi
 
     def _sign_at(self, t: fmpq, prec: int) -> int:
-        return ball_sign(lambda p: self.phase.value(self.c, t, p), f"{self.c.name} at t = {float(t):.17g}", prec)
+        return ball_sign(lambda p: self.phase.value(self.c, t, p), lambda: f"{self.c.name} at t = {float(t):.17g}", prec)
 
     def _eval(self, prec: int) -> arb:
         if self.closed_form is not None:
             return _sympy_to_arb(self.closed_form)
         target = fmpq(1, 2 ** (prec + 2))
-        work = prec + 40
+        work = prec + 16  # ball_sign escalates when this does not decide
         while self.hi - self.lo > target * max(1, abs(self.hi)):
             lo, hi = self.lo, self.hi
             # Newton from the midpoint, then certify a small bracket around the candidate
@@ -543,8 +543,11 @@ def closed_form_candidates(theta_ball: arb, M: fmpq_mat) -> list:
 def prove_closed_form(root: RootReal) -> Any:
     """Try the candidates; return the proven closed form (and set it on the root) or None."""
     phase, c = root.phase, root.c
-    b = root.arb(200)
     z = phase.z.rational()
+    structural = isinstance(phase.z, ExpVector) and phase.z.M == phase.M and phase.z.v.rational() is not None
+    if z is None and not structural:
+        return None  # neither a symbolic f nor a collapsing state: no proof is possible
+    b = root.arb(200)
     sym = laplace_closed_form(phase.M, c.g, z) if z is not None else None
     cands = closed_form_candidates(b, phase.M)
     if sym is not None:

@@ -77,8 +77,12 @@ def _max_prec() -> int:
     return p["max_prec"] if p else DEFAULT_MAX_PREC
 
 
-def unresolved(what: str) -> int:
-    """An unresolved zero: raise, or record the assumption that it is 0 and return 0."""
+def unresolved(what) -> int:
+    """An unresolved zero: raise, or record the assumption that it is 0 and return 0.
+
+    ``what`` is the description, or a callable making it (built only when needed).
+    """
+    what = what() if callable(what) else what
     p = _policy.get()
     if p and p["allow"]:
         if what not in p["record"]:
@@ -88,7 +92,7 @@ def unresolved(what: str) -> int:
                          f"{_max_prec()} bits and no structural proof of zero is known")
 
 
-def ball_sign(compute, what: str, start: int = 64) -> int:
+def ball_sign(compute, what, start: int = 64) -> int:
     """Sign of a quantity given by ``compute(prec) -> arb``, certified by refinement; 0 if unresolved-and-allowed."""
     prec = start
     while True:
@@ -170,7 +174,7 @@ class Real:
             return (q > 0) - (q < 0)
         if self.closed_form is not None and self.closed_form == 0:
             return 0
-        return ball_sign(self.arb, f"the real {self!r}")
+        return ball_sign(self.arb, lambda: f"the real {self!r}")
 
     def __add__(self, o):
         return SumReal(self, as_real(o))
@@ -381,7 +385,8 @@ class ExactVector:
             return 0
         if self.zero_forms.nrows() and _in_row_span(form, self.zero_forms):
             return 0
-        return ball_sign(lambda p: (arb_mat(form) * self.arb(p))[0, 0], f"the form {_fmt_form(form)} at {self!r}")
+        return ball_sign(lambda p: (arb_mat(form) * self.arb(p))[0, 0],
+                         lambda: f"the form {_fmt_form(form)} at {self!r}")
 
     def __repr__(self):
         q = self.rational()
@@ -440,7 +445,7 @@ class ProjectedVector(ExactVector):
         self.P, self.v = P, v
 
     def _eval(self, prec):
-        return arb_mat(self.P) * self.v.arb(prec + 10)
+        return arb_mat(self.P) * self.v.arb(prec + 4)
 
 
 class ExpVector(ExactVector):
@@ -453,8 +458,9 @@ class ExpVector(ExactVector):
         self._closed = closed
 
     def _eval(self, prec):
-        t = self.t.arb(prec + 20)
-        return (arb_mat(self.M) * t).exp() * self.v.arb(prec + 20)
+        # same precision below: arb tracks the loss; callers escalate when a ball is too wide
+        t = self.t.arb(prec + 4)
+        return (arb_mat(self.M) * t).exp() * self.v.arb(prec + 4)
 
     def closed_form(self):
         return self._closed

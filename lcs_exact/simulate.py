@@ -121,14 +121,14 @@ def _impulse(mode, z: ExactVector) -> dict:
     return out
 
 
-def _select_and_reinitialize(lcs, z: ExactVector, t_label: str):
+def _select_and_reinitialize(lcs, z: ExactVector, t):
     """Steps one to three; returns (mode, chain of jump modes, state after, impulse)."""
     chain, impulse = [], {}
     cap = 2 ** lcs.k + lcs.n + 1
     for _ in range(cap):
         S = select_modes(lcs, _selection_point(z))
         if not S:
-            raise Deadlock(f"deadlock at t = {t_label}: S(z) is empty at z = {z!r} (Remark 7.2)")
+            raise Deadlock(f"deadlock at t = {_label(t)}: S(z) is empty at z = {z!r} (Remark 7.2)")
         I = min(S, key=lambda m: (len(m), sorted(m)))
         mode = lcs.mode(I)
         if _in_consistent_subspace(mode, z):
@@ -137,7 +137,7 @@ def _select_and_reinitialize(lcs, z: ExactVector, t_label: str):
             impulse = _impulse(mode, z)
         z = _project(mode, z)
         chain.append(I)
-    raise ZenoDetected(f"re-initialization at t = {t_label} did not end after {cap} jumps "
+    raise ZenoDetected(f"re-initialization at t = {_label(t)} did not end after {cap} jumps "
                        "(infinite multiplicity, Remark 7.2 (2))")
 
 
@@ -147,16 +147,15 @@ def _run(lcs, traj: Trajectory, z: ExactVector, T, max_events, time_limit, start
     triggers: tuple = ()
     durations: list = []
     while True:
-        label = _label(t)
         state_before = z
-        mode, chain, z, impulse = _select_and_reinitialize(lcs, z, label)
+        mode, chain, z, impulse = _select_and_reinitialize(lcs, z, t)
         if chain or mode_before is not None:
             traj.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
                                      len(chain), impulse, triggers))
         if len(traj.events) > max_events:
-            raise LimitExceeded(f"max_events = {max_events} reached at t = {label}")
+            raise LimitExceeded(f"max_events = {max_events} reached at t = {_label(t)}")
         if time_limit is not None and _time.monotonic() - started > time_limit:
-            raise LimitExceeded(f"time_limit = {time_limit} s reached at t = {label}")
+            raise LimitExceeded(f"time_limit = {time_limit} s reached at t = {_label(t)}")
         phase = Phase(mode, z)
         H = T - t
         if H.sign() == 0:
