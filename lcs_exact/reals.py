@@ -440,8 +440,7 @@ class ProjectedVector(ExactVector):
     """P v for a rational matrix P (a projection P_I); r P = 0 rows are zero forms."""
 
     def __init__(self, P: fmpq_mat, v: ExactVector):
-        from .subspaces import left_kernel
-        super().__init__(P.nrows(), left_kernel(P))
+        super().__init__(P.nrows(), pulled_back_forms(P, v.zero_forms))
         self.P, self.v = P, v
 
     def _eval(self, prec):
@@ -482,6 +481,20 @@ def as_exact_vector(x: Any, n: int | None = None) -> ExactVector:
     from .rational import to_vector
     flat = list(x.tolist() if hasattr(x, "tolist") else x)
     return RationalVector(to_vector(flat, len(flat) if n is None else n))
+
+
+def pulled_back_forms(P: fmpq_mat, Z: fmpq_mat) -> fmpq_mat:
+    """Rows r with r P in rowspan(Z): the forms that vanish on P v whenever Z v = 0."""
+    from .rational import hstack
+    from .subspaces import image, kernel, left_kernel
+    m = P.nrows()
+    if not Z.nrows():
+        return left_kernel(P)
+    k = kernel(hstack(P.transpose(), -Z.transpose()))  # (r, s) with P^T r = Z^T s
+    if not k.ncols():
+        return zeros(0, m)
+    r = submatrix(k, range(m), None)
+    return image(r).transpose()
 
 
 def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
