@@ -185,3 +185,26 @@ def test_unprovable_touch_is_reported_not_guessed():
     tr = L.simulate(GRAZE, x0, 6, allow_unresolved=True, max_prec=512)
     assert not tr.certified and tr.events == []
     assert any("tangential touch" in a for a in tr.assumptions)
+
+
+def test_accumulation_detector_on_geometric_phases():
+    # Remark 4.11: phases 2^-i starting at t = 0 accumulate at t = 2 (< t_end = 3)
+    from lcs_exact.reals import RationalReal
+    from lcs_exact.simulate import _check_accumulation
+    durations, t = [], RationalReal(0)
+    with pytest.raises(L.ZenoDetected, match="accumulate"):
+        for i in range(40):
+            d = RationalReal(sp.Rational(1, 2**i))
+            durations.append(d)
+            t = t + d
+            _check_accumulation(durations, t, RationalReal(3))
+    assert len(durations) == 24  # detected as soon as the window is full
+    # the same phases with t_end = 3/2 before the limit: no accumulation inside the horizon
+    durations, t = [], RationalReal(0)
+    for i in range(30):
+        durations.append(RationalReal(sp.Rational(1, 2**i)))
+        t = t + durations[-1]
+        _check_accumulation(durations, t, RationalReal(sp.Rational(3, 2)))
+    # constant phases never trigger it
+    durations = [RationalReal(1)] * 30
+    _check_accumulation(durations, RationalReal(30), RationalReal(100))
