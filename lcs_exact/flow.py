@@ -29,7 +29,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 from .errors import LCSError
 from .rational import submatrix, zeros
 from .reals import (ExactVector, ExpVector, Real, RationalVector, _max_prec, _sympy_to_arb, ball_sign,
-                    expm_action, invariant_forms, unresolved, workprec)
+                    expm_action, expm_apply, invariant_forms, unresolved, workprec)
 from .modes import format_mode
 
 __all__ = ["Phase", "Constraint", "RootReal", "next_event", "theta", "laplace_closed_form"]
@@ -112,9 +112,8 @@ class Phase:
             m = (a + b) / 2
             r = (b - a) / 2
             z = self.z.arb(prec)
-            Ma = arb_mat(self.M)
-            wm = (Ma * arb(m)).exp() * z
-            wx = (Ma * arb(m, r)).exp() * z if r else wm
+            wm = expm_apply(self.M, arb(m), z, prec)
+            wx = expm_apply(self.M, arb(m, r), z, prec) if r else wm
             rr = arb(r)
             out = arb(0)
             fact = 1
@@ -131,7 +130,7 @@ class Phase:
         """f^{(d)}(t) as a ball (t rational or arb)."""
         with workprec(prec):
             tb = t if isinstance(t, arb) else arb(t)
-            return (arb_mat(self.gM(c, d)) * ((arb_mat(self.M) * tb).exp() * self.z.arb(prec)))[0, 0]
+            return (arb_mat(self.gM(c, d)) * expm_apply(self.M, tb, self.z.arb(prec), prec))[0, 0]
 
     # --- root isolation -----------------------------------------------------------------------
     def first_root(self, c: Constraint, horizon: fmpq, prec: int = 64):

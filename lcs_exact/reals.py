@@ -459,7 +459,7 @@ class ExpVector(ExactVector):
     def _eval(self, prec):
         # same precision below: arb tracks the loss; callers escalate when a ball is too wide
         t = self.t.arb(prec + 4)
-        return (arb_mat(self.M) * t).exp() * self.v.arb(prec + 4)
+        return expm_apply(self.M, t, self.v.arb(prec + 4), prec)
 
     def closed_form(self):
         return self._closed
@@ -469,6 +469,57 @@ class ExpVector(ExactVector):
         if c is not None and all(e.is_Rational for e in c):
             return fmpq_mat(self.n, 1, [fmpq(int(e.p), int(e.q)) for e in c])
         return None
+
+
+# e^{Mt} v by the spectral sum (distinct eigenvalues): no norm blow-up for stiff or
+# oscillatory M, where the error bounds of arb_mat.exp grow like e^{||M|| t}
+_SPECTRAL: dict = {}
+
+
+def _spectral_data(M: fmpq_mat, prec: int):
+    """[(λ_j, K_j)] with e^{Mt} = sum_j e^{λ_j t} K_j, K_j = adj(λ_j I - M) / χ'(λ_j); None if χ has
+    a repeated root (then arb_mat.exp is used)."""
+    from flint import acb, acb_mat
+    from .system import adjugate_coefficients
+    key = (M.nrows(), tuple(str(e) for e in M.entries()))
+    entry = _SPECTRAL.get(key)
+    if entry is None:
+        chi = M.charpoly()
+        dchi = chi.derivative()
+        squarefree = chi.gcd(dchi).degree() == 0
+        entry = _SPECTRAL[key] = {"chi": chi, "dchi": dchi, "sq": squarefree,
+                                  "B": adjugate_coefficients(M, chi) if squarefree else None}
+    if not entry["sq"]:
+        return None
+    cached = entry.get("prec", 0)
+    if cached < prec:
+        with workprec(prec + 20):
+            n = M.nrows()
+            out = []
+            for lam, _ in entry["chi"].complex_roots():
+                adj = acb_mat(n, n)
+                for B in entry["B"]:  # Horner in λ
+                    adj = adj * lam + acb_mat(B)
+                d = acb(0)
+                for c in reversed(entry["dchi"].coeffs()):
+                    d = d * lam + acb(c)
+                out.append((lam, adj * (1 / d)))
+        entry["terms"], entry["prec"] = out, prec
+    return entry["terms"]
+
+
+def expm_apply(M: fmpq_mat, t: arb, z: arb_mat, prec: int) -> arb_mat:
+    """A ball of e^{M t} z (t a ball, possibly wide: an enclosure over an interval)."""
+    terms = _spectral_data(M, prec)
+    if terms is None or M.nrows() == 0:
+        return (arb_mat(M) * t).exp() * z
+    from flint import acb, acb_mat
+    zc = acb_mat(z)
+    acc = acb_mat(M.nrows(), 1)
+    tc = acb(t)
+    for lam, K in terms:
+        acc += (K * zc) * (lam * tc).exp()
+    return arb_mat([[acc[i, 0].real] for i in range(M.nrows())])
 
 
 def as_exact_vector(x: Any, n: int | None = None) -> ExactVector:

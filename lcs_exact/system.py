@@ -21,7 +21,7 @@ from .lcp import p_matrix_violation
 from .rational import (RationalFunction, RationalMatrix, identity, mat_rows, matrix_to_sympy,
                        submatrix, to_matrix)
 
-__all__ = ["LCS", "WellPosedness"]
+__all__ = ["LCS", "WellPosedness", "adjugate_coefficients"]
 
 
 def _as_column(data: Any, n: int) -> Any:
@@ -35,6 +35,17 @@ def _as_row(data: Any) -> Any:
     if isinstance(data, (list, tuple)) and data and not isinstance(data[0], (list, tuple)):
         return [list(data)]
     return data
+
+
+def adjugate_coefficients(A: fmpq_mat, chi: fmpq_poly | None = None) -> list[fmpq_mat]:
+    """adj(sI - A) = sum_j s^{n-1-j} B_j (Faddeev-LeVerrier: B_0 = I, B_j = A B_{j-1} + c_j I,
+    with det(sI - A) = s^n + c_1 s^{n-1} + ... + c_n)."""
+    n = A.nrows()
+    c = (chi if chi is not None else A.charpoly()).coeffs()[::-1]  # c[j]: coefficient of s^{n-j}
+    bs = [identity(n)]
+    for j in range(1, n):
+        bs.append(A * bs[-1] + identity(n) * c[j])
+    return bs
 
 
 class LCS:
@@ -107,13 +118,8 @@ class LCS:
         return self._cache["chi"]
 
     def _adjugate_coeffs(self) -> list[fmpq_mat]:
-        """adj(sI - A) = sum_j s^{n-1-j} B_j (Faddeev-LeVerrier: B_0 = I, B_j = A B_{j-1} + c_j I)."""
         if "adj" not in self._cache:
-            c = self.charpoly().coeffs()[::-1]  # c[0] = 1, c[j] = coefficient of s^{n-j}
-            bs = [identity(self.n)]
-            for j in range(1, self.n):
-                bs.append(self.A * bs[-1] + identity(self.n) * c[j])
-            self._cache["adj"] = bs
+            self._cache["adj"] = adjugate_coefficients(self.A, self.charpoly())
         return self._cache["adj"]
 
     def _poly_matrix_over_chi(self, left: fmpq_mat, right: fmpq_mat | None) -> RationalMatrix:

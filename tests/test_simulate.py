@@ -208,3 +208,20 @@ def test_accumulation_detector_on_geometric_phases():
     # constant phases never trigger it
     durations = [RationalReal(1)] * 30
     _check_accumulation(durations, RationalReal(30), RationalReal(100))
+
+
+def test_stiff_chain_first_impact_independent():
+    # masses 1, 1; wall spring 1; stiff coupling k = 10^6; stop on mass 1; from q = (1, 1) at rest
+    from lcs_exact.models import mechanical
+    k = 10**6
+    stiff = mechanical([[1, 0], [0, 1]], [[0, 0], [0, 0]], [[1 + k, -k], [-k, k]], [[1, 0]])
+    tr = L.simulate(stiff, [1, 1, 0, 0], 3, digits=30)
+    assert tr.certified and tr.events
+    A = mp.matrix([[0, 0, 1, 0], [0, 0, 0, 1], [-(1 + k), k, 0, 0], [k, -k, 0, 0]])
+    with mp.workdps(80):
+        f = lambda t: (mp.expm(A * t) * mp.matrix([1, 1, 0, 0]))[0]  # noqa: E731
+        t1 = num(tr.events[0].time, 45)
+        assert abs(f(t1)) < mp.mpf(10) ** -28  # a root of q1 ...
+        # ... and the first one: q1 > 0 on a grid finer than the fast period 2 pi / sqrt(2 k)
+        grid = [t1 * j / 3000 for j in range(1, 3000)]
+        assert all(f(t) > 0 for t in grid)
