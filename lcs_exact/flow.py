@@ -28,6 +28,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from .errors import LCSError
 from .rational import submatrix, zeros
+from .subspaces import left_kernel
 from .reals import (ExactVector, ExpVector, Real, RationalVector, _max_prec, _sympy_to_arb, ball_sign,
                     expm_action, expm_apply, invariant_forms, unresolved, workprec)
 from .modes import format_mode
@@ -59,15 +60,19 @@ class Phase:
         self.lcs = mode.lcs
         self.M = mode.closed_loop()
         W = mode._annihilator()
-        # z in V_I: the annihilator of V_I (A_I-invariant) vanishes on the whole phase
-        zf = z.zero_forms
-        forms = W if not zf.nrows() else _stack(W, invariant_forms(zf, self.M))
-        if isinstance(z, RationalVector):
-            self.z = z
+        self.z = z
+        q = z.rational()
+        if q is not None:
+            # every form vanishing on the whole phase: the left kernel of the Krylov matrix
+            # [z, A_I z, ..., A_I^{n-1} z] (it contains the annihilator of V_I)
+            self.zero_forms = left_kernel(_krylov(self.M, q))
         else:
-            self.z = z
-            z.zero_forms = _stack(z.zero_forms, W) if W.nrows() else z.zero_forms
-        self.zero_forms = forms
+            # z in V_I: the annihilator of V_I (A_I-invariant) vanishes on the whole phase, and so
+            # do the A_I-invariant relations already known on z
+            zf = z.zero_forms
+            self.zero_forms = W if not zf.nrows() else _stack(W, invariant_forms(zf, self.M))
+            if W.nrows():
+                z.zero_forms = _stack(z.zero_forms, W)
         F = mode.feedback()
         C, D = self.lcs.C, self.lcs.D
         cons = []
@@ -103,6 +108,8 @@ class Phase:
                 _rsign((self.gM(c, j) * self.z.q)[0, 0])
             if s:
                 return s, j
+        # f ≡ 0 (Cayley-Hamilton): g A_I^j vanishes on the whole phase, for every j
+        self.zero_forms = _stack(self.zero_forms, _stack(*[self.gM(c, j) for j in range(self.lcs.n)]))
         return 0, -1
 
     # --- enclosures ---------------------------------------------------------------------------
@@ -247,9 +254,21 @@ class Phase:
 _UNDECIDED = object()
 
 
-def _stack(a: fmpq_mat, b: fmpq_mat) -> fmpq_mat:
+def _stack(*ms: fmpq_mat) -> fmpq_mat:
+    """Rows of all the matrices, reduced to a basis of their span."""
+    from .subspaces import image
     from .rational import vstack
-    return vstack(a, b)
+    m = vstack(*ms)
+    return image(m.transpose()).transpose() if m.nrows() else m
+
+
+def _krylov(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
+    from .rational import hstack
+    cols, v = [], q
+    for _ in range(M.nrows()):
+        cols.append(v)
+        v = M * v
+    return hstack(*cols)
 
 
 def _rsign(v) -> int:
@@ -580,10 +599,12 @@ def _solve_candidates(sym, b: arb) -> list:
     trig = sym.atoms(sympy.sin, sympy.cos)
     if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig or len(sympy.Add.make_args(sym)) > 3:
         return []
-    freqs = {sympy.simplify(f.args[0] / _t) for f in trig}
+    freqs = {sympy.simplify(sympy.diff(f.args[0], _t)) for f in trig}
     if len(freqs) != 1:
         return []
     (w,) = freqs
+    if w.has(_t) or not all(sympy.diff(f.args[0], _t, 2) == 0 for f in trig):
+        return []  # arguments not linear in t
     try:
         sols = sympy.solve(sym, _t)
     except Exception:  # SymPy could not solve: no candidates
@@ -594,9 +615,10 @@ def _solve_candidates(sym, b: arb) -> list:
         target = mpf(b.mid().str(30, radius=False))
         period = 2 * mp.pi / mpf(str(sympy.N(w, 30)))
         for sol in sols:
-            if not sol.is_real:
+            val = sympy.N(sol, 30) if not isinstance(sol, dict) else None
+            if val is None or not val.is_Number or not val.is_real:
                 continue
-            v = mpf(str(sympy.N(sol, 30)))
+            v = mpf(str(val))
             k = int(mp.nint((target - v) / period))
             out.append(sympy.simplify(sol + k * 2 * sympy.pi / w))
     return out
