@@ -228,3 +228,13 @@ def test_stiff_chain_first_impact_independent():
         # ... and the first one: q1 > 0 on a grid 10x finer than the fast period 2 pi / sqrt(2 k)
         grid = [t1 * j / 5000 for j in range(1, 5000)]
         assert all(f(t) > 0 for t in grid)
+
+
+def test_deadlock_is_reported_with_partial_trajectory():
+    # x' = -2x + 2u, y = -2x: from x0 = 1, mode ∅ has y(s) = -2/(s+2) < 0 and mode {0} has
+    # u(s) = -G^{-1} R x0 = -(-4/(s+2))^{-1} (-2/(s+2)) = -1/2 < 0: S(x0) is empty (Remark 7.2)
+    lcs = L.LCS([[-2]], [[2]], [[-2]], [[0]])
+    assert lcs.select_modes([1], "rcp") == set()
+    with pytest.raises(L.Deadlock, match="S\\(z\\) is empty") as err:
+        L.simulate(lcs, [1], 1)
+    assert err.value.trajectory.partial and err.value.trajectory.events == []
