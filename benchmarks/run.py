@@ -69,6 +69,31 @@ def bench_events():
           ["T", "events", "s", "ms / event", "certified"], rows)
 
 
+def bench_digits_transcendental():
+    m2 = mechanical([[2, 0], [0, 3]], [[0, 0], [0, 0]], [[3, -1], [-1, 2]], [[1, 0]])
+    rows = []
+    for d in (15, 30, 100, 300, 1000):
+        def run():
+            tr = L.simulate(m2, [1, 0, 0, 1], 50, digits=d)
+            for e in tr.events:  # every event time and the final state to d digits
+                e.time.ball(d)
+            return tr, [c.ball(d) for c in tr.state(50)]
+        t, (tr, _) = timed(run, repeat=1)
+        rows.append((d, len(tr.events), f"{t:.2f}"))
+    table("Two masses (2, 3), T = 50: every event time and x(T) to `digits` (transcendental states)",
+          ["digits", "events", "s"], rows)
+
+
+def bench_stiff():
+    rows = []
+    for k in (10**2, 10**4, 10**6):
+        s = mechanical([[1, 0], [0, 1]], [[0, 0], [0, 0]], [[1 + k, -k], [-k, k]], [[1, 0]])
+        t, tr = timed(lambda: L.simulate(s, [1, 1, 0, 0], 5, digits=30), repeat=1)
+        rows.append((k, len(tr.events), f"{t:.2f}", tr.events[0].time.decimal(20)))
+    table("Stiff chain: wall spring 1, coupling k, stop on mass 1, from q = (1, 1)",
+          ["k", "events", "s", "first impact"], rows)
+
+
 def bench_selection():
     import random
     random.seed(1)
@@ -146,6 +171,8 @@ def bench_siconos():
 if __name__ == "__main__":
     print("# lcs_exact benchmarks")
     bench_digits()
+    bench_digits_transcendental()
     bench_events()
+    bench_stiff()
     bench_selection()
     bench_siconos()
