@@ -238,3 +238,39 @@ def test_deadlock_is_reported_with_partial_trajectory():
     with pytest.raises(L.Deadlock, match="S\\(z\\) is empty") as err:
         L.simulate(lcs, [1], 1)
     assert err.value.trajectory.partial and err.value.trajectory.events == []
+
+
+@pytest.mark.parametrize("eps", [sp.Rational(1, 10), sp.Rational(1, 100), sp.Rational(1, 1000)])
+def test_section8_discontinuity_hook_first(eps):
+    # x0(eps) = (eps, eps, -2, 1): the hook acts first: jump to (eps, eps, -1/2, -1/2) (P_{hook});
+    # in the hook mode x1 = x2 = q with q'' = -q/2 (u2 = q/2), so q = eps cos(w t) - (1/2)/w sin(w t),
+    # w = 1/sqrt(2): the stop is hit at t* = sqrt(2) atan(sqrt(2) eps) with velocity
+    # v = q'(t*) = -eps w sin(w t*) - (1/2) cos(w t*) -> -1/2; the stop then takes the left cart's
+    # velocity: (0, 0, v, v) -> (0, 0, 0, v) (section 8).
+    from lcs_exact.models import two_carts_with_hook
+    h = two_carts_with_hook()
+    tr = L.simulate(h, [eps, eps, -2, 1], sp.Rational(1, 2), digits=30)
+    assert tr.certified
+    e0, e1 = tr.events[0], tr.events[1]
+    assert e0.time.closed_form == 0 and e0.modes == (frozenset({1}),) and e0.mode_after == {1}
+    assert [str(c) for c in e0.state_after.rational().entries()] == [str(eps), str(eps), "-1/2", "-1/2"]
+    w = 1 / mp.sqrt(2)
+    e = mp.mpf(eps.p) / eps.q
+    tstar = mp.sqrt(2) * mp.atan(mp.sqrt(2) * e)
+    v = -e * w * mp.sin(w * tstar) - mp.cos(w * tstar) / 2
+    assert close(num(e1.time), tstar)
+    before = [num(c) for c in e1.state_before]
+    after = [num(c) for c in e1.state_after]
+    assert before[0] == 0 and before[1] == 0 and close(before[2], v) and close(before[3], v)
+    assert after[:3] == [0, 0, 0] and close(after[3], v)
+    assert e1.modes == (frozenset({0}),) and e1.mode_after == {0}
+    assert abs(v + mp.mpf(1) / 2) < e  # g(eps) -> 0
+
+
+def test_section8_discontinuity_at_eps_zero():
+    from lcs_exact.models import two_carts_with_hook
+    tr = L.simulate(two_carts_with_hook(), [0, 0, -2, 1], 1)
+    (e,) = tr.events
+    assert e.time.closed_form == 0 and e.modes == (frozenset({0, 1}),)
+    assert [str(c) for c in e.state_after.rational().entries()] == ["0", "0", "0", "0"]
+    assert [str(c) for c in tr.state(1).rational().entries()] == ["0", "0", "0", "0"]
