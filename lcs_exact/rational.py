@@ -63,7 +63,7 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
     if isinstance(x, float):
         if x != x or x in (float("inf"), float("-inf")):
             raise NotRational(f"{what} is {x!r}, not a finite number")
-        f = Fraction(repr(x))
+        f = Fraction(repr(float(x)))  # float(): numpy's float64 repr is 'np.float64(...)'
         return fmpq(f.numerator, f.denominator)
     if isinstance(x, str):
         try:
