@@ -1,0 +1,324 @@
+"""subspaces.py: exact subspace arithmetic over Q (used for V_I, T_I, P_I in sections 3-4).
+
+Expected values are checked with independent Fraction arithmetic (``helpers.rank`` and the
+matrix products below), and the two-carts values of section 7 are derived by hand.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+from flint import fmpq, fmpq_mat
+from helpers import A_CARTS, carts, mat, rank, vec
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from lcs_exact.errors import ShapeError
+from lcs_exact.subspaces import (complement, contains, image, intersection, kernel, left_kernel,
+                                 projection, rref, same_subspace, solve_any, subspace_sum)
+from lcs_exact.subspaces import rank as lib_rank
+
+PROP = settings(derandomize=True, deadline=None, max_examples=50)
+
+
+# ---------------------------------------------------------------------------------------------
+# independent Fraction helpers
+# ---------------------------------------------------------------------------------------------
+
+def mul(a: list[list[Fraction]], b: list[list[Fraction]]) -> list[list[Fraction]]:
+    return [[sum((a[i][l] * b[l][j] for l in range(len(b))), Fraction(0)) for j in range(len(b[0]) if b else 0)]
+            for i in range(len(a))]
+
+
+def cols(m: fmpq_mat) -> list[list[Fraction]]:
+    """Columns of m as lists (the spanning vectors)."""
+    return [[Fraction(int(m[i, j].p), int(m[i, j].q)) for i in range(m.nrows())] for j in range(m.ncols())]
+
+
+def frank(m: fmpq_mat) -> int:
+    """Rank in Fractions (rank of the column list = rank of m)."""
+    c = cols(m)
+    return rank(c) if c and c[0] else 0
+
+
+def span_le(a: fmpq_mat, b: fmpq_mat) -> bool:
+    """Im a ⊆ Im b (Fractions)."""
+    ca, cb = cols(a), cols(b)
+    if not ca:
+        return True
+    if not cb:
+        return all(all(v == 0 for v in c) for c in ca)
+    return rank(cb) == rank(cb + ca)
+
+
+def is_zero_rows(rows) -> bool:
+    return all(v == 0 for r in rows for v in r)
+
+
+def ident(n: int) -> list[list[Fraction]]:
+    return [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
+
+
+def fm(rows: list[list]) -> fmpq_mat:
+    r = len(rows)
+    c = len(rows[0]) if rows else 0
+    return fmpq_mat(r, c, [fmpq(Fraction(v).numerator, Fraction(v).denominator) for row in rows for v in row])
+
+
+# ---------------------------------------------------------------------------------------------
+# strategies: small rational matrices, often rank deficient (products L R through a thin middle)
+# ---------------------------------------------------------------------------------------------
+
+entries = st.builds(Fraction, st.integers(-3, 3), st.sampled_from([1, 1, 1, 2, 3]))
+
+
+@st.composite
+def rat_matrix(draw, rows=None, cols_=None):
+    r = draw(st.integers(1, 4)) if rows is None else rows
+    c = draw(st.integers(1, 4)) if cols_ is None else cols_
+    if draw(st.booleans()):
+        k = draw(st.integers(1, 3))
+        L = [[draw(entries) for _ in range(k)] for _ in range(r)]
+        R = [[draw(entries) for _ in range(c)] for _ in range(k)]
+        return fm(mul(L, R))
+    return fm([[draw(entries) for _ in range(c)] for _ in range(r)])
+
+
+@st.composite
+def basis_split(draw):
+    """An invertible n x n S (columns) and a split d: V = S[:, :d], T = S[:, d:]."""
+    n = draw(st.integers(1, 4))
+    S = [[draw(entries) for _ in range(n)] for _ in range(n)]
+    assume(rank(S) == n)
+    d = draw(st.integers(0, n))
+    return n, S, d
+
+
+def sub_cols(m: list[list[Fraction]], idx) -> fmpq_mat:
+    idx = list(idx)
+    return fmpq_mat(len(m), len(idx), [fmpq(m[i][j].numerator, m[i][j].denominator) for i in range(len(m)) for j in idx])
+
+
+# ---------------------------------------------------------------------------------------------
+# kernel, image, left kernel
+# ---------------------------------------------------------------------------------------------
+
+def test_kernel_by_hand():
+    # x1 = 0, x3 = 0 leaves Im[e2 e4]
+    K = kernel(fm([[1, 0, 0, 0], [0, 0, 1, 0]]))
+    assert mat(K.transpose()) == [[0, 1, 0, 0], [0, 0, 0, 1]]
+    # x + 2y + 3z = 0: kernel of dimension 2, e.g. (-2, 1, 0), (-3, 0, 1)
+    K = kernel(fm([[1, 2, 3]]))
+    assert K.ncols() == 2 and span_le(fm([[-2, -3], [1, 0], [0, 1]]), K) and span_le(K, fm([[-2, -3], [1, 0], [0, 1]]))
+    # invertible: trivial kernel, an n x 0 matrix
+    K = kernel(fm([[1, 2], [3, 4]]))
+    assert (K.nrows(), K.ncols()) == (2, 0)
+    # a 0 x n matrix has all of Q^n as kernel
+    assert mat(kernel(fmpq_mat(0, 3))) == [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    # zero matrix: all of Q^2
+    assert kernel(fmpq_mat(2, 2)).ncols() == 2
+
+
+@given(rat_matrix())
+@PROP
+def test_kernel_properties(M):
+    K = kernel(M)
+    n = M.ncols()
+    r = frank(M)
+    assert K.nrows() == n
+    assert K.ncols() == n - r                             # rank-nullity
+    assert frank(K) == K.ncols()                          # a basis (independent columns)
+    assert is_zero_rows(mul(mat(M), mat(K)))              # M * kernel(M) == 0
+    assert lib_rank(M) == r
+
+
+@given(rat_matrix())
+@PROP
+def test_image_properties(M):
+    Im = image(M)
+    r = frank(M)
+    assert Im.nrows() == M.nrows() and Im.ncols() == r == frank(Im)
+    assert span_le(Im, M) and span_le(M, Im)
+    # canonical: the same subspace from another spanning set gives the same basis
+    doubled = fm([row + [2 * v for v in row] for row in mat(M)])  # [M, 2M]
+    assert mat(image(doubled)) == mat(Im)
+
+
+@given(rat_matrix())
+@PROP
+def test_left_kernel_properties(M):
+    W = left_kernel(M)
+    r = frank(M)
+    assert W.ncols() == M.nrows()
+    assert W.nrows() == M.nrows() - r
+    assert is_zero_rows(mul(mat(W), mat(M)))              # W M = 0
+    assert (rank(mat(W)) if W.nrows() else 0) == W.nrows()
+
+
+def test_left_kernel_of_empty_column_block():
+    assert mat(left_kernel(fmpq_mat(2, 0))) == [[1, 0], [0, 1]]
+
+
+def test_rref_pivots():
+    R, piv = rref(fm([[0, 2, 4], [0, 1, 3]]))
+    # rows: (0, 1, 2), (0, 1, 3) -> (0, 1, 0), (0, 0, 1): pivots at columns 1, 2
+    assert piv == [1, 2]
+    assert mat(R) == [[0, 1, 0], [0, 0, 1]]
+
+
+# ---------------------------------------------------------------------------------------------
+# sums, intersections, complements, containment
+# ---------------------------------------------------------------------------------------------
+
+def test_sum_and_intersection_by_hand():
+    V = fm([[1, 0], [0, 1], [0, 0]])       # the plane x3 = 0
+    W = fm([[0, 0], [1, 0], [0, 1]])       # the plane x1 = 0
+    X = intersection(V, W)
+    assert mat(X.transpose()) == [[0, 1, 0]]     # the x2 axis
+    assert subspace_sum(V, W).ncols() == 3
+    line = fm([[1], [1], [1]])
+    assert intersection(V, line).ncols() == 0
+    assert (intersection(V, line).nrows(), intersection(fmpq_mat(3, 0), V).ncols()) == (3, 0)
+    assert mat(subspace_sum(line, fm([[2], [2], [2]]))) == [[1], [1], [1]]
+
+
+@given(rat_matrix(rows=4), rat_matrix(rows=4))
+@PROP
+def test_intersection_dimension_formula(A, B):
+    V, W = image(A), image(B)
+    X = intersection(V, W)
+    S = subspace_sum(V, W)
+    assert S.ncols() == rank(cols(A) + cols(B))            # dim(V + W), in Fractions
+    assert X.ncols() == V.ncols() + W.ncols() - S.ncols()  # dim V∩W = dim V + dim W - dim(V+W)
+    assert span_le(X, V) and span_le(X, W)
+    assert frank(X) == X.ncols()
+    assert span_le(V, S) and span_le(W, S)
+
+
+@given(rat_matrix(rows=4), rat_matrix(rows=4))
+@PROP
+def test_contains_and_same_subspace(A, B):
+    V = image(A)
+    assert contains(V, A) and contains(A, V)
+    assert same_subspace(V, image(A))
+    assert contains(V, B) == span_le(B, A)
+    both = subspace_sum(V, image(B))
+    assert same_subspace(both, image(B)) == (span_le(A, B))
+    # each column of B separately
+    for j in range(B.ncols()):
+        c = fmpq_mat(4, 1, [B[i, j] for i in range(4)])
+        assert contains(V, c) == span_le(c, A)
+
+
+def test_same_subspace_needs_equal_dimension():
+    assert not same_subspace(fm([[1], [0]]), fm([[1, 0], [0, 1]]))
+    assert same_subspace(fm([[1, 1], [0, 1]]), fm([[1, 0], [0, 1]]))
+    assert not contains(fm([[1], [0]]), fm([[1], [1]]))
+
+
+@given(rat_matrix(rows=4))
+@PROP
+def test_complement_properties(A):
+    V = image(A)
+    C = complement(V)
+    assert C.ncols() == 4 - V.ncols()
+    assert subspace_sum(V, C).ncols() == 4                 # V + C = Q^4
+    assert intersection(V, C).ncols() == 0
+    # spanned by coordinate vectors
+    for j in range(C.ncols()):
+        column = [C[i, j] for i in range(4)]
+        assert sorted(column) == [0, 0, 0, 1]
+
+
+def test_complement_of_zero_space():
+    assert mat(complement(fmpq_mat(3, 0))) == [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+
+
+# ---------------------------------------------------------------------------------------------
+# solve_any
+# ---------------------------------------------------------------------------------------------
+
+@given(rat_matrix(), st.data())
+@PROP
+def test_solve_any(M, data):
+    r, c = M.nrows(), M.ncols()
+    X0 = fm([[data.draw(entries) for _ in range(2)] for _ in range(c)])
+    rhs = M * X0                                        # consistent
+    X = solve_any(M, rhs)
+    assert X is not None and (X.nrows(), X.ncols()) == (c, 2)
+    assert mat(M * X) == mat(rhs)
+    b = fm([[data.draw(entries)] for _ in range(r)])
+    consistent = span_le(b, M)
+    Y = solve_any(M, b)
+    assert (Y is not None) == consistent
+    if Y is not None:
+        assert mat(M * Y) == mat(b)
+
+
+def test_solve_any_by_hand_and_shape_error():
+    # x + y = 1, x + y = 2: inconsistent
+    assert solve_any(fm([[1, 1], [1, 1]]), fm([[1], [2]])) is None
+    # x + y = 2 (free y = 0) -> (2, 0)
+    assert mat(solve_any(fm([[1, 1]]), fm([[2]]))) == [[2], [0]]
+    with pytest.raises(ShapeError):
+        solve_any(fm([[1, 1]]), fm([[1], [2]]))
+
+
+# ---------------------------------------------------------------------------------------------
+# projection onto V along T
+# ---------------------------------------------------------------------------------------------
+
+@given(basis_split())
+@PROP
+def test_projection_properties(split):
+    n, S, d = split
+    V, T = sub_cols(S, range(d)), sub_cols(S, range(d, n))
+    P = projection(V, T)
+    Pm = mat(P)
+    assert (P.nrows(), P.ncols()) == (n, n)
+    assert mul(Pm, Pm) == Pm                                  # idempotent
+    if d:
+        assert mul(Pm, mat(V)) == mat(V)                      # P V = V
+    if d < n:
+        assert is_zero_rows(mul(Pm, mat(T)))                  # P T = 0
+    # P S = [V 0] (independent characterization), and I - P projects onto T along V
+    expected = [[S[i][j] if j < d else Fraction(0) for j in range(n)] for i in range(n)]
+    assert mul(Pm, S) == expected
+    Q = [[ident(n)[i][j] - Pm[i][j] for j in range(n)] for i in range(n)]
+    assert mat(projection(T, V)) == Q
+    assert frank(P) == d                                      # rank P = dim V
+
+
+def test_projection_errors():
+    with pytest.raises(ShapeError):
+        projection(fm([[1], [0], [0]]), fm([[0], [1], [0]]))           # dims 1 + 1 != 3
+    with pytest.raises(ShapeError):
+        projection(fm([[1], [0]]), fm([[2], [0]]))                     # V = T: they intersect
+
+
+# ---------------------------------------------------------------------------------------------
+# the paper's two carts (sections 2, 7): mode {1} (0-based {0})
+# ---------------------------------------------------------------------------------------------
+
+def test_two_carts_V_T_P_by_hand():
+    # y = x1 (C = e1^T).  In mode {0}: y = x1 = 0 and y' = x3 = 0 for all t (u enters y''), so
+    # V_{1} = {x1 = x3 = 0} = Im[e2 e4] = Ker [C; CA].  The jump space is spanned by B = e3 and
+    # A B = e1 (an impulse in u moves x3, its derivative x1): T_{1} = Im[e1 e3].
+    A = fm(A_CARTS)
+    C = fm([[1, 0, 0, 0]])
+    B = fm([[0], [0], [1], [0]])
+    V = kernel(fm([[1, 0, 0, 0], [0, 0, 1, 0]]))
+    assert mat(C * A) == [[0, 0, 1, 0]]
+    T = image(fm([[0, 1], [0, 0], [1, 0], [0, 0]]))
+    assert mat(A * B) == [[1], [0], [0], [0]]
+    assert mat(V.transpose()) == [[0, 1, 0, 0], [0, 0, 0, 1]]
+    assert mat(T.transpose()) == [[1, 0, 0, 0], [0, 0, 1, 0]]
+    P = projection(V, T)
+    # P_{1} = diag(0, 1, 0, 1):  P_{1} (0, -1, -1, 0) = (0, -1, 0, 0)  (section 7's first jump)
+    assert mat(P) == [[0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1]]
+    assert vec(P * fm([[0], [-1], [-1], [0]])) == [0, -1, 0, 0]
+    # the mode object computes the same subspaces (canonical bases are equal)
+    m = carts().mode({0})
+    assert mat(m.consistent_subspace()) == mat(V)
+    assert mat(m.jump_space()) == mat(T)
+    assert mat(m.projection()) == mat(P)
