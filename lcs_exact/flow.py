@@ -288,43 +288,50 @@ class RootReal(Real):
         self.phase, self.c = phase, c
         self.lo, self.hi = lo, hi
 
-    def _sign_at(self, t: fmpq, prec: int) -> int:
-        return ball_sign(lambda p: self.phase.value(self.c, t, p), lambda: f"{self.c.name} at t = {float(t):.17g}", prec)
+    def _try_sign(self, t: fmpq, prec: int) -> int:
+        """Sign of f(t) at this precision; 0 when the ball contains 0 (undecided, not a zero)."""
+        v = self.phase.value(self.c, t, prec)
+        return 1 if v > 0 else -1 if v < 0 else 0
 
     def _eval(self, prec: int) -> arb:
         if self.closed_form is not None:
             return _sympy_to_arb(self.closed_form)
         target = fmpq(1, 2 ** (prec + 2))
-        work = prec + 16  # ball_sign escalates when this does not decide
+        work = prec + 16
         while self.hi - self.lo > target * max(1, abs(self.hi)):
             lo, hi = self.lo, self.hi
-            # Newton from the midpoint, then certify a small bracket around the candidate
+            # Newton from the midpoint; certify a small bracket around the candidate
             m = (lo + hi) / 2
             with workprec(work):
                 fm = self.phase.value(self.c, m, work)
                 dfm = self.phase.value(self.c, m, work, 1)
-            cand = None
             if not dfm.contains(0):
-                step = (fm / dfm).mid()
-                try:
-                    cand = m - _arb_to_fmpq(step)
-                except Exception:
-                    cand = None
-            if cand is not None and lo < cand < hi:
-                delta = max((hi - lo) / 2 ** 20, target / 4)
-                a, b = max(lo, cand - delta), min(hi, cand + delta)
-                if a > lo and b < hi and self._sign_at(a, work) > 0 and self._sign_at(b, work) < 0:
-                    self.lo, self.hi = a, b
-                    continue
-            s = self._sign_at(m, work)
-            if s > 0:
-                self.lo = m
-            elif s < 0:
-                self.hi = m
+                step = _arb_to_fmpq((fm / dfm).mid())
+                cand = m - step
+                if lo < cand < hi:
+                    # quadratic convergence: the error after the step is about C * step^2
+                    delta = max(min((hi - lo) / 4, 64 * step * step + (hi - lo) / 2 ** 64), target / 4)
+                    a, b = max(lo, cand - delta), min(hi, cand + delta)
+                    if a > lo and b < hi and self._try_sign(a, work) > 0 and self._try_sign(b, work) < 0:
+                        self.lo, self.hi = a, b
+                        continue
+            # bisection at a point where the sign is decidable (an exact dyadic root, or a ball
+            # too wide at this precision, makes the midpoint undecidable: try nearby points)
+            for t in (m, lo + (hi - lo) * 3 / 8, lo + (hi - lo) * 5 / 8):
+                sg = self._try_sign(t, work)
+                if sg > 0:
+                    self.lo = t
+                    break
+                if sg < 0:
+                    self.hi = t
+                    break
             else:
-                self.lo = self.hi = m
-        mid = (self.lo + self.hi) / 2
-        return arb(mid, arb(self.hi - self.lo) / 2 + arb(mid) * 0)
+                if work >= _max_prec():
+                    unresolved(lambda: f"the sign of {self.c.name} near its root t = {float(m):.17g}")
+                    self.lo = self.hi = m  # assumed: m is the root
+                    break
+                work = min(2 * work, _max_prec())
+        return arb(self.lo).union(arb(self.hi))  # rigorous: both ends are exact rationals
 
     def interval(self) -> tuple[fmpq, fmpq]:
         return self.lo, self.hi
