@@ -54,6 +54,14 @@ def _evaluate(forms: fmpq_mat, x):
     return forms * x if is_rational_vector(x) else forms
 
 
+def _apply(P: fmpq_mat, x):
+    """P x: rational for a rational x, else an exact vector."""
+    if is_rational_vector(x):
+        return P * x
+    from .reals import ProjectedVector
+    return ProjectedVector(P, x)
+
+
 # ---------------------------------------------------------------------------------------------
 # RCP (5.3)-(5.5)
 # ---------------------------------------------------------------------------------------------
@@ -412,10 +420,10 @@ def initial_solution(lcs, x0: Any, mode: Any = None) -> InitialSolution:
     P = m.projection()
     if jump != P:
         raise LCSError(f"internal inconsistency in mode {format_mode(I)}: x0 + sum A^i B u^(-i) != P_I x0")
-    impulse = {i: _evaluate(u, x) for i, u in enumerate(data["impulse"])}
+    impulse = {i: _apply(u, x) for i, u in enumerate(data["impulse"])}
     smooth = all(sign_of_form(submatrix(u, [r], None), x) == 0
                  for u in data["impulse"] for r in range(lcs.k))
-    return InitialSolution(I, frozenset(modes), impulse, _evaluate(P, x), smooth)
+    return InitialSolution(I, frozenset(modes), impulse, _apply(P, x), smooth)
 
 
 def is_regular(lcs, x0: Any) -> bool:

@@ -93,7 +93,7 @@ class Trajectory:
         if t < self.phases[0].t0:
             raise ValueError(f"t = {_short(t)} is before the start of the trajectory")
         for rec in self.phases:
-            if t <= rec.t1:
+            if t is rec.t1 or t <= rec.t1:
                 return rec
         raise ValueError(f"t = {_short(t)} is after the last computed time {_short(self.phases[-1].t1)}"
                          + (" (the trajectory is partial)" if self.partial else ""))
@@ -101,11 +101,11 @@ class Trajectory:
     def state(self, t: Any) -> ExactVector:
         """x(t), exact (t rational or an exact real); at an event time, the state after it."""
         t = as_real(t)
-        rec = self._phase_at(t)
         for ev in self.events:  # an event exactly at t: the right limit
-            if ev.time.closed_form is not None and t.closed_form is not None and \
-                    ev.time.closed_form == t.closed_form:
+            if ev.time is t or (ev.time.closed_form is not None and t.closed_form is not None
+                                and ev.time.closed_form == t.closed_form):
                 return ev.state_after
+        rec = self._phase_at(t)
         return rec.phase.state(t - rec.t0)
 
     def u(self, t: Any) -> ExactVector:
