@@ -19,6 +19,7 @@ Sign decisions on a state x (``ExactVector.sign_of_form``) go in this order:
 """
 from __future__ import annotations
 
+import abc
 import contextlib
 import contextvars
 from typing import Any, Iterator
@@ -111,7 +112,7 @@ def ball_sign(compute, what, start: int = 64) -> int:
 # ---------------------------------------------------------------------------------------------
 
 
-class Real:
+class Real(abc.ABC):
     """An exact real number: evaluates to an arb ball of any precision (true value inside)."""
 
     closed_form: Any = None  # SymPy expression when proven
@@ -121,8 +122,9 @@ class Real:
         self._ball_prec = 0
 
     # evaluation ------------------------------------------------------------------------------
-    def _eval(self, prec: int) -> arb:  # pragma: no cover - abstract
-        raise NotImplementedError
+    @abc.abstractmethod
+    def _eval(self, prec: int) -> arb:
+        """A ball of the value computed at ``prec`` bits (subclasses)."""
 
     def arb(self, prec: int) -> arb:
         """A ball computed with working precision ``prec`` bits (cached)."""
@@ -328,7 +330,7 @@ def _decimal_of_ball(b: arb, digits: int) -> str:
 # ---------------------------------------------------------------------------------------------
 
 
-class ExactVector:
+class ExactVector(abc.ABC):
     """An exact vector in R^n: evaluates to an arb_mat (n x 1) ball of any precision.
 
     ``zero_forms`` (an m x n fmpq_mat) are linear forms proven to vanish on the vector.
@@ -342,8 +344,9 @@ class ExactVector:
         self._ball: arb_mat | None = None
         self._ball_prec = 0
 
-    def _eval(self, prec: int) -> arb_mat:  # pragma: no cover - abstract
-        raise NotImplementedError
+    @abc.abstractmethod
+    def _eval(self, prec: int) -> arb_mat:
+        """A ball vector computed at ``prec`` bits (subclasses)."""
 
     def arb(self, prec: int) -> arb_mat:
         if self._ball is None or self._ball_prec < prec:

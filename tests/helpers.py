@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+import mpmath as mp
 from flint import fmpq, fmpq_mat
 
 from lcs_exact import LCS
@@ -67,3 +68,16 @@ def same_span(basis: fmpq_mat, cols: list[list[int]]) -> bool:
 
 def modes(*sets) -> set:
     return {frozenset(s) for s in sets}
+
+
+TOL = mp.mpf(10) ** -28
+
+
+def num(r, digits: int = 40):
+    """An exact real from the library as an mpf (the midpoint of its certified ball)."""
+    return mp.mpf(r.ball(digits).mid().str(digits + 5, radius=False))
+
+
+def close(a, b, tol=TOL) -> bool:
+    """|a - b| <= tol * max(1, |b|) (28 digits by default)."""
+    return abs(a - b) <= tol * max(1, abs(b))

@@ -4,22 +4,12 @@ from __future__ import annotations
 import mpmath as mp
 import pytest
 import sympy as sp
-from helpers import A_CARTS, carts, modes
+from helpers import A_CARTS, carts, close, modes, num
 
 import lcs_exact as L
 from lcs_exact.flow import theta
 
 mp.mp.dps = 60
-TOL = mp.mpf(10) ** -28
-
-
-def num(r, digits=40):
-    """An exact real as mpf (its certified midpoint)."""
-    return mp.mpf(r.ball(digits).mid().str(digits + 5, radius=False))
-
-
-def close(a, b):
-    return abs(a - b) <= TOL * max(1, abs(b))
 
 
 @pytest.fixture(scope="module")

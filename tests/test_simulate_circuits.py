@@ -6,17 +6,9 @@ import mpmath as mp
 import sympy as sp
 
 import lcs_exact as L
+from helpers import close, num
 
 mp.mp.dps = 60
-TOL = mp.mpf(10) ** -28
-
-
-def num(r, digits=40):
-    return mp.mpf(r.ball(digits).mid().str(digits + 5, radius=False))
-
-
-def close(a, b):
-    return abs(a - b) <= TOL * max(1, abs(b))
 
 
 # v' = -i + u (capacitor 1 fed by the diode current u), i' = v - w (inductor), w' = i (capacitor 2);
