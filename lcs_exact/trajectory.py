@@ -50,8 +50,7 @@ class Event:
     def _repr_latex_(self):
         import sympy
         t = sympy.latex(self.time.closed_form) if self.time.closed_form is not None else self.time.decimal(15)
-        return (rf"$t = {t}:\ {format_mode(self.mode_before or frozenset())} \to "
-                rf"{format_mode(self.mode_after)}$".replace("∅", r"\emptyset"))
+        return rf"$t = {t}:\ {_latex_mode(self.mode_before or frozenset())} \to {_latex_mode(self.mode_after)}$"
 
 
 @dataclass(frozen=True)
@@ -204,10 +203,14 @@ class Trajectory:
         for e in self.events[:50]:
             import sympy
             t = sympy.latex(e.time.closed_form) if e.time.closed_form is not None else e.time.decimal(12)
-            mb = "-" if e.mode_before is None else format_mode(e.mode_before)
-            rows.append(rf"{t} & {mb} & {format_mode(e.mode_after)} & {e.multiplicity} \\")
-        body = "\n".join(rows).replace("∅", r"\emptyset")
+            mb = "-" if e.mode_before is None else _latex_mode(e.mode_before)
+            rows.append(rf"{t} & {mb} & {_latex_mode(e.mode_after)} & {e.multiplicity} \\")
+        body = "\n".join(rows)
         return (r"$\begin{array}{llll} t & I^- & I^+ & m \\ \hline " + body + r"\end{array}$")
+
+
+def _latex_mode(m) -> str:
+    return r"\{" + ", ".join(str(i) for i in sorted(m)) + r"\}" if m else r"\emptyset"
 
 
 def _full_feedback(mode) -> fmpq_mat:
