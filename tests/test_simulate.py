@@ -264,3 +264,22 @@ def test_section8_discontinuity_at_eps_zero():
     assert e.time.closed_form == 0 and e.modes == (frozenset({0, 1}),)
     assert [str(c) for c in e.state_after.rational().entries()] == ["0", "0", "0", "0"]
     assert [str(c) for c in tr.state(1).rational().entries()] == ["0", "0", "0", "0"]
+
+
+def test_cli_simulate_writes_fixture(tmp_path, capsys):
+    import json
+    from lcs_exact.cli import main
+    model = tmp_path / "osc.json"
+    model.write_text(json.dumps({"A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[0]],
+                                 "x0": [1, 0], "t_end": "4", "name": "oscillator and stop"}))
+    out = tmp_path / "out.json"
+    assert main(["simulate", str(model), "--digits", "25", "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "= pi/2" in printed and "1 events, certified" in printed
+    fx = json.loads(out.read_text())
+    assert fx["schema"] == "lcs-exact/trajectory/1" and fx["digits"] == 25
+    assert fx["events"][0]["time"]["exact"] == "pi/2"
+    assert fx["events"][0]["time"]["value"] == "1.570796326794896619231322"  # pi/2 rounded to 25 digits
+    assert [c["exact"] for c in fx["final_state"]] == ["0", "0"]
+    assert main(["simulate", str(model), "--x0", "1,2,3"]) == 2  # wrong length: one-line error
+    assert "x0" in capsys.readouterr().err
