@@ -283,3 +283,20 @@ def test_cli_simulate_writes_fixture(tmp_path, capsys):
     assert [c["exact"] for c in fx["final_state"]] == ["0", "0"]
     assert main(["simulate", str(model), "--x0", "1,2,3"]) == 2  # wrong length: one-line error
     assert "x0" in capsys.readouterr().err
+
+
+def test_high_index_impulsive_jump():
+    # triple integrator, y = x1 (rho = eta = 3, M = N = [1]): G(s) = 1/s^3, R(s) x0 =
+    # (x1 s^2 + x2 s + x3)/s^3, so in mode {0}: u(s) = -(x1 s^2 + x2 s + x3).  From (0, -1, 1):
+    # u(s) = s - 1 (lexicographically positive): u = delta' - delta, V_{0} = {0}: the jump is to 0;
+    # mode ∅ has y(s) = (1 - s)/s^3 < 0 for large s.
+    tri = L.LCS([[0, 1, 0], [0, 0, 1], [0, 0, 0]], [[0], [0], [1]], [[1, 0, 0]], [[0]])
+    assert tri.select_modes([0, -1, 1]) == modes({0})
+    (sol,) = tri.rcp([0, -1, 1])
+    assert sol.u[0] == L.RationalFunction([-1, 1])  # s - 1
+    tr = L.simulate(tri, [0, -1, 1], 1)
+    e = tr.events[0]
+    assert e.time.closed_form == 0 and e.modes == (frozenset({0}),) and e.multiplicity == 1
+    assert [str(v.rational()[0, 0]) for v in (e.impulse[0], e.impulse[1])] == ["-1", "1"]  # -delta + delta'
+    assert [str(c) for c in e.state_after.rational().entries()] == ["0", "0", "0"]
+    assert len(tr.events) == 1 and [str(c) for c in tr.state(1).rational().entries()] == ["0", "0", "0"]
