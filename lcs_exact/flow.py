@@ -27,7 +27,7 @@ import sympy
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from .errors import LCSError
-from .rational import submatrix, zeros
+from .rational import matrix_to_sympy, submatrix, zeros
 from .subspaces import left_kernel
 from .reals import (ExactVector, ExpVector, Real, RationalVector, _max_prec, _sympy_to_arb, ball_sign,
                     expm_action, expm_apply, invariant_forms, unresolved, workprec)
@@ -393,8 +393,25 @@ def next_event(phase: Phase, H, closed_forms: bool):
     return first, simultaneous
 
 
+def proportional_on_phase(phase: Phase, ga: fmpq_mat, gb: fmpq_mat) -> bool:
+    """True when g_a x(t) = c g_b x(t) on the whole phase with c != 0, proven exactly.
+
+    That holds when g_a lies in span(g_b, forms vanishing on the phase) but not in the span of
+    the vanishing forms alone (e.g. u_0 = 2q_1 - q_2 and y_1 = q_1 - q_2 while q_1 ≡ 0).
+    """
+    from .rational import vstack
+    from .subspaces import rank
+    Z = [phase.zero_forms] if phase.zero_forms.nrows() else []
+    base = rank(Z[0]) if Z else 0
+    with_b = rank(vstack(*Z, gb))
+    return rank(vstack(*Z, gb, ga)) == with_b > base and rank(vstack(*Z, ga)) > base
+
+
 def compare_roots(a: RootReal, b: RootReal, closed_forms: bool) -> int:
-    """Certified order of two roots; equal only when proven (closed forms) or assumed."""
+    """Certified order of two roots; equal only when proven (identical functions up to a factor
+    on the phase, or equal closed forms) or assumed."""
+    if a.phase is b.phase and proportional_on_phase(a.phase, a.c.g, b.c.g):
+        return 0
     if a.closed_form is not None and b.closed_form is not None:
         import sympy
         d = sympy.simplify(a.closed_form - b.closed_form)
@@ -570,10 +587,14 @@ def prove_closed_form(root: RootReal) -> Any:
     phase, c = root.phase, root.c
     z = phase.z.rational()
     structural = isinstance(phase.z, ExpVector) and phase.z.M == phase.M and phase.z.v.rational() is not None
-    if z is None and not structural:
+    if z is not None:
+        sym = laplace_closed_form(phase.M, c.g, z)
+    else:
+        x = phase_closed_form(phase)
+        sym = None if x is None else sympy.expand((matrix_to_sympy(c.g) * x)[0, 0])
+    if sym is None and not structural:
         return None  # neither a symbolic f nor a collapsing state: no proof is possible
     b = root.arb(200)
-    sym = laplace_closed_form(phase.M, c.g, z) if z is not None else None
     cands = closed_form_candidates(b, phase.M)
     if sym is not None:
         cands += _solve_candidates(sym, b)
@@ -631,17 +652,44 @@ def _solve_candidates(sym, b: arb) -> list:
     return out
 
 
+_EXPM_CACHE: dict = {}
+
+
+def expm_symbolic(M: fmpq_mat):
+    """e^{Mt} as a SymPy matrix in t (column j by :func:`laplace_closed_form` of e_j), or None
+    when some denominator has an irreducible factor of degree > 2. Cached per M."""
+    key = (M.nrows(), tuple(M.entries()))
+    if key not in _EXPM_CACHE:
+        n = M.nrows()
+        unit = [fmpq_mat(n, 1, [int(i == j) for i in range(n)]) for j in range(n)]
+        cols = []
+        for j in range(n):
+            col = [laplace_closed_form(M, unit[i].transpose(), unit[j]) for i in range(n)]
+            if any(c is None for c in col):
+                cols = None
+                break
+            cols.append(col)
+        _EXPM_CACHE[key] = None if cols is None else sympy.Matrix(n, n, lambda i, j: cols[j][i])
+    return _EXPM_CACHE[key]
+
+
+def phase_closed_form(phase: Phase):
+    """x(t) = e^{A_I t} z as a SymPy vector in t, when z has a closed form (None otherwise)."""
+    if not hasattr(phase, "_closed"):
+        phase._closed = None
+        zc = phase.z.closed_form()
+        if zc is not None:
+            E = expm_symbolic(phase.M)
+            if E is not None:
+                phase._closed = E * zc
+    return phase._closed
+
+
 def state_closed_form(phase: Phase, theta: Real):
-    """x(θ) as a SymPy vector when z is rational and θ has a closed form (None otherwise)."""
-    z = phase.z.rational()
-    if z is None or theta.closed_form is None:
+    """x(θ) as a SymPy vector when z and θ have closed forms (None otherwise)."""
+    if theta.closed_form is None:
         return None
-    n = phase.lcs.n
-    comps = []
-    for i in range(n):
-        e = fmpq_mat(1, n, [1 if j == i else 0 for j in range(n)])
-        sym = laplace_closed_form(phase.M, e, z)
-        if sym is None:
-            return None
-        comps.append(sympy.simplify(sym.subs(_t, theta.closed_form)))
-    return sympy.Matrix(comps)
+    x = phase_closed_form(phase)
+    if x is None:
+        return None
+    return x.subs(_t, theta.closed_form).applyfunc(lambda e: sympy.simplify(sympy.expand_trig(e)))

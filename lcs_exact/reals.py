@@ -395,7 +395,8 @@ class ExactVector(abc.ABC):
         q = self.rational()
         if q is not None:
             return "(" + ", ".join(str(q[i, 0]) for i in range(self.n)) + ")"
-        return "(" + ", ".join(c.decimal(12).split(" +/-")[0] for c in self) + ")"
+        return "(" + ", ".join(str(c.closed_form) if c.closed_form is not None and c.closed_form.is_Rational
+                               else c.decimal(12).split(" +/-")[0] for c in self) + ")"
 
 
 class ComponentReal(Real):
@@ -448,6 +449,22 @@ class ProjectedVector(ExactVector):
 
     def _eval(self, prec):
         return arb_mat(self.P) * self.v.arb(prec + 4)
+
+    def closed_form(self):
+        """P times the closed form of v (exact: P is rational), when v has one."""
+        if not hasattr(self, "_closed"):
+            cf = self.v.closed_form()
+            self._closed = None
+            if cf is not None:
+                from .rational import matrix_to_sympy
+                self._closed = (matrix_to_sympy(self.P) * cf).applyfunc(sympy.simplify)
+        return self._closed
+
+    def rational(self):
+        c = self.closed_form()
+        if c is not None and all(e.is_Rational for e in c):
+            return fmpq_mat(self.n, 1, [fmpq(int(e.p), int(e.q)) for e in c])
+        return None
 
 
 class ExpVector(ExactVector):
