@@ -597,7 +597,7 @@ def prove_closed_form(root: RootReal) -> Any:
     b = root.arb(200)
     cands = closed_form_candidates(b, phase.M)
     if sym is not None:
-        cands += _solve_candidates(sym, b)
+        cands += _solve_candidates(sym, b) + _exp_candidates(sym)
     for cand in cands:
         with workprec(512):  # the bracket is ~2^-200 wide: compare well above that
             cb = _sympy_to_arb(cand)
@@ -621,12 +621,52 @@ def prove_closed_form(root: RootReal) -> Any:
     return None
 
 
+def _exp_candidates(sym) -> list:
+    """Roots of an exponential sum f = Σ c_k e^{μ_k t} whose exponents are integer multiples of
+    one g (rational ratios): f is a polynomial in u = e^{g t}; each positive real root r in
+    radicals gives t = log(r) / g. (Candidates only: they are proven by the caller.)"""
+    if sym.has(sympy.sin, sympy.cos):
+        return []
+    f = sympy.powsimp(sympy.expand(sym.rewrite(sympy.exp)))
+    terms = {}
+    for term in sympy.Add.make_args(f):
+        coeff, mu = term, sympy.Integer(0)
+        for e in term.atoms(sympy.exp):
+            mu += sympy.diff(e.args[0], _t)
+            coeff = coeff.subs(e, 1)
+        if coeff.has(_t) or mu.has(_t):
+            return []  # t^m e^{μt} terms or non-linear exponents: no polynomial in e^{gt}
+        terms[mu] = terms.get(mu, 0) + coeff
+    mus = [m for m in terms if m != 0]
+    if not mus:
+        return []
+    ratios = [sympy.nsimplify(sympy.simplify(m / mus[0])) for m in mus]
+    if not all(r.is_Rational for r in ratios):
+        return []
+    num = sympy.gcd([r.p for r in ratios])
+    den = sympy.lcm([r.q for r in ratios])
+    g = sympy.simplify(mus[0] * num / den)
+    u = sympy.Symbol("u", positive=True)
+    powers = {m: int(sympy.nsimplify(sympy.simplify(m / g))) for m in terms}
+    low = min(powers.values())
+    poly = sympy.Poly(sum(terms[m] * u ** (powers[m] - low) for m in terms), u)
+    if poly.degree() < 1 or poly.degree() > 12:
+        return []
+    out = []
+    for r in sympy.roots(poly, filter=None):
+        if r.is_real and r.is_positive and r != 1:
+            out.append(sympy.log(r) / g)
+    return out
+
+
 def _solve_candidates(sym, b: arb) -> list:
     """Exact solutions of a one-frequency f = a cos(ωt) + b sin(ωt) + c (SymPy solve), shifted by
     multiples of 2π/ω towards the root ball b."""
     trig = sym.atoms(sympy.sin, sympy.cos)
     if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig or len(sympy.Add.make_args(sym)) > 3:
         return []
+    if sym.xreplace({f: sympy.Dummy() for f in trig}).has(_t):
+        return []  # t also outside the trigonometric terms (e.g. 1 - t/2 - sin t): not one-frequency
     freqs = {sympy.simplify(sympy.diff(f.args[0], _t)) for f in trig}
     if len(freqs) != 1:
         return []

@@ -1,0 +1,81 @@
+"""Closed forms of event times and states, each derived by hand in the test.
+
+Candidates are only accepted when proven (inside the isolating interval and an exact zero), so
+these tests check both that the closed form is found and that it is the right one.
+"""
+import mpmath as mp
+import sympy as sp
+
+import lcs_exact as L
+from lcs_exact.flow import _exp_candidates, _solve_candidates, _t
+
+from helpers import close, num
+
+mp.mp.dps = 60
+
+
+def test_log_event_of_two_exponentials():
+    """y = -e^{-t} + 3 e^{-2t} vanishes at e^t = 3: t = log 3, x = (1/3, 1/9) (rational again)."""
+    s = L.LCS([[-1, 0], [0, -2]], [[1], [1]], [[-1, 3]], [[0]])
+    tr = L.simulate(s, [1, 1], 3)
+    assert tr.certified and len(tr.events) == 1
+    e = tr.events[0]
+    assert sp.simplify(e.time.closed_form - sp.log(3)) == 0
+    assert [str(c.closed_form) for c in e.state_before] == ["1/3", "1/9"]
+    assert e.mode_after == frozenset({0}) and e.modes == ()
+
+
+def test_algebraic_log_event():
+    """y = e^{-t} - 5 e^{-2t} + 5 e^{-3t} = u (5u^2 - 5u + 1) with u = e^{-t}: the first root is at
+    u = (5 + √5)/10, so t = log(10 / (5 + √5)); x(t) = (u, u^2, u^3)."""
+    s = L.LCS([[-1, 0, 0], [0, -2, 0], [0, 0, -3]], [[1], [1], [1]], [[1, -5, 5]], [[0]])
+    tr = L.simulate(s, [1, 1, 1], 1)
+    assert tr.certified and len(tr.events) == 1
+    e = tr.events[0]
+    u = (5 + sp.sqrt(5)) / 10
+    assert sp.simplify(e.time.closed_form - sp.log(1 / u)) == 0
+    cf = e.state_before.closed_form()
+    assert cf is not None
+    for k in range(3):
+        assert sp.simplify(cf[k] - u ** (k + 1)) == 0
+    assert close(num(e.time), -mp.log((5 + mp.sqrt(5)) / 10))
+
+
+def test_exp_candidates_cosh():
+    """cosh(√2 t) = 3 at t = log(3 + 2√2)/√2 (u = e^{√2 t}: u^2 - 6u + 1 = 0)."""
+    cands = _exp_candidates(sp.cosh(sp.sqrt(2) * _t) - 3)
+    want = sp.log(3 + 2 * sp.sqrt(2)) / sp.sqrt(2)
+    assert any(sp.simplify(c - want) == 0 for c in cands)
+
+
+def test_exp_candidates_refuse_polynomial_terms():
+    """t e^{-t} terms have no root in radicals of e^{gt}: no candidates (not a wrong one)."""
+    assert _exp_candidates(_t * sp.exp(-_t) - sp.Rational(1, 5)) == []
+
+
+def test_no_symbolic_solve_for_mixed_polynomial_trig():
+    """q1 = 1 - t/2 - sin(√2 t)/(2√2) is not one-frequency: no SymPy solve attempt."""
+    from flint import arb
+    f = 1 - _t / 2 - sp.sin(sp.sqrt(2) * _t) / (2 * sp.sqrt(2))
+    assert _solve_candidates(f, arb(1.3)) == []
+
+
+def test_free_masses_spring_stop():
+    """Two unit masses coupled by a unit spring, stop on mass 1 (q1 >= 0), from q = (1, 1),
+    v = (-1, 0). Centre c = 1 - t/2, difference d = -sin(√2 t)/√2: q1 = c + d/2 hits 0 first at
+    the root of 1 - t/2 - sin(√2 t)/(2√2) (no closed form expected); v1 jumps to 0."""
+    A = [[0, 0, 1, 0], [0, 0, 0, 1], [-1, 1, 0, 0], [1, -1, 0, 0]]
+    s = L.LCS(A, [[0], [0], [1], [0]], [[1, 0, 0, 0]], [[0]])
+    tr = L.simulate(s, [1, 1, -1, 0], 2)
+    assert tr.certified and len(tr.events) == 1
+    r2 = mp.sqrt(2)
+    f = lambda t: 1 - t / 2 - mp.sin(r2 * t) / (2 * r2)
+    tau = mp.findroot(f, 1.3)
+    e = tr.events[0]
+    assert close(num(e.time), tau)
+    assert e.modes == (frozenset({0}),)
+    v2 = -mp.mpf(1) / 2 + mp.cos(r2 * tau) / 2
+    q2 = 1 - tau / 2 + mp.sin(r2 * tau) / (2 * r2)
+    after = [num(c) for c in e.state_after]
+    assert after[0] == 0 and after[2] == 0
+    assert close(after[1], q2) and close(after[3], v2)
