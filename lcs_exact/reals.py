@@ -310,6 +310,8 @@ def _sympy_to_arb(e) -> arb:
 
 def _decimal_of_fmpq(q: fmpq, digits: int) -> str:
     from mpmath import mp, mpf, nstr
+    if q.q == 1 and len(str(abs(int(q.p)))) <= digits:
+        return str(int(q.p))  # an integer is exact as it stands ("0", not "0.0")
     with mp.workdps(digits + 10):
         return nstr(mpf(int(q.p)) / int(q.q), digits, strip_zeros=True)
 
