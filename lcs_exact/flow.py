@@ -30,7 +30,7 @@ from .errors import LCSError
 from .rational import matrix_to_sympy, submatrix, zeros
 from .subspaces import left_kernel
 from .reals import (ExactVector, ExpVector, Real, RationalVector, _max_prec, _sympy_to_arb, ball_sign,
-                    expm_action, expm_apply, invariant_forms, unresolved, workprec)
+                    check_deadline, expm_action, expm_apply, invariant_forms, unresolved, workprec)
 from .modes import format_mode
 
 __all__ = ["Phase", "Constraint", "RootReal", "next_event", "theta", "laplace_closed_form"]
@@ -173,6 +173,7 @@ class Phase:
 
     def _search(self, c: Constraint, a: fmpq, b: fmpq, prec: int, depth: int):
         """DFS over [a, b], f(a) > 0 known; returns the first isolating interval or None."""
+        check_deadline(f" while isolating the roots of {c.name} near t = {float(a):.6g} (phase time)")
         F = self._enclose(c, 0, a, b, prec)
         if F > 0:
             return None
@@ -299,6 +300,7 @@ class RootReal(Real):
         target = fmpq(1, 2 ** (prec + 2))
         work = prec + 16
         while self.hi - self.lo > target * max(1, abs(self.hi)):
+            check_deadline(f" while refining the root of {self.c.name}")
             lo, hi = self.lo, self.hi
             # Newton from the midpoint; certify a small bracket around the candidate
             m = (lo + hi) / 2

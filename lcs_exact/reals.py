@@ -28,7 +28,7 @@ import sympy
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
 from .errors import UnresolvedSign
-from .rational import is_zero, submatrix, to_fmpq, to_matrix, vstack, zeros
+from .rational import identity, is_zero, submatrix, to_fmpq, to_matrix, vstack, zeros
 
 __all__ = ["Real", "RationalReal", "ClosedFormReal", "SumReal", "ExactVector", "RationalVector",
            "ExpVector", "ProjectedVector", "expm_action", "as_real", "as_exact_vector",
@@ -73,6 +73,31 @@ def assumption_policy(allow: bool, max_prec: int = DEFAULT_MAX_PREC):
         _policy.reset(token)
 
 
+_deadline: contextvars.ContextVar = contextvars.ContextVar("lcs_exact_deadline", default=None)
+
+
+@contextlib.contextmanager
+def deadline(seconds: float | None):
+    """Within the block, :func:`check_deadline` raises LimitExceeded after ``seconds`` (wall clock)."""
+    import time
+    token = _deadline.set(None if seconds is None else (time.monotonic() + seconds, seconds))
+    try:
+        yield
+    finally:
+        _deadline.reset(token)
+
+
+def check_deadline(where: str = "") -> None:
+    """Raise LimitExceeded when the current :func:`deadline` has passed (called inside long
+    searches, so a time limit also interrupts one hard phase, not only between events)."""
+    d = _deadline.get()
+    if d is not None:
+        import time
+        if time.monotonic() > d[0]:
+            from .errors import LimitExceeded
+            raise LimitExceeded(f"time_limit = {d[1]} s reached{where}")
+
+
 def _max_prec() -> int:
     p = _policy.get()
     return p["max_prec"] if p else DEFAULT_MAX_PREC
@@ -97,6 +122,7 @@ def ball_sign(compute, what, start: int = 64) -> int:
     """Sign of a quantity given by ``compute(prec) -> arb``, certified by refinement; 0 if unresolved-and-allowed."""
     prec = start
     while True:
+        check_deadline()
         b = compute(prec)
         if b > 0:
             return 1
@@ -493,50 +519,95 @@ class ExpVector(ExactVector):
         return None
 
 
-# e^{Mt} v by the spectral sum (distinct eigenvalues): no norm blow-up for stiff or
-# oscillatory M, where the error bounds of arb_mat.exp grow like e^{||M|| t}
+# e^{Mt} v by the spectral sum: no norm blow-up for stiff or oscillatory M, where the error
+# bounds of arb_mat.exp grow like e^{||M|| t}
 _SPECTRAL: dict = {}
 
 
+def _poly_at_matrix(p, S: fmpq_mat) -> fmpq_mat:
+    """p(S) for p in Q[s] (Horner), exactly."""
+    n = S.nrows()
+    out = zeros(n, n)
+    for c in reversed(p.coeffs()):
+        out = out * S + identity(n) * c
+    return out
+
+
+def jordan_chevalley(M: fmpq_mat, r=None) -> tuple[fmpq_mat, fmpq_mat, int]:
+    """(S, N, m): M = S + N with S semisimple, N nilpotent (N^m = 0), SN = NS, both exact.
+
+    S is a polynomial in M found by Newton's iteration S <- S - r(S) r'(S)^{-1} on the squarefree
+    part r of χ (exact in Q[M]; quadratic convergence, so about log2(max multiplicity) steps)."""
+    chi = M.charpoly()
+    if r is None:
+        r = chi.gcd(chi.derivative())
+        r = chi / r
+    r = r / r.coeffs()[-1]
+    dr = r.derivative()
+    S = M
+    for _ in range(M.nrows() + 1):
+        rS = _poly_at_matrix(r, S)
+        if is_zero(rS):
+            break
+        S = S - rS * _poly_at_matrix(dr, S).inv()
+    N = M - S
+    m, P = 1, N
+    while not is_zero(P):
+        P, m = P * N, m + 1
+    return S, N, m
+
+
 def _spectral_data(M: fmpq_mat, prec: int):
-    """[(λ_j, K_j)] with e^{Mt} = sum_j e^{λ_j t} K_j, K_j = adj(λ_j I - M) / χ'(λ_j); None if χ has
-    a repeated root (then arb_mat.exp is used)."""
+    """[(λ, K_λ)], the nilpotent powers [N^j / j!] with e^{Mt} = Σ_λ e^{λt} K_λ Σ_j t^j N^j / j!.
+
+    M = S + N (Jordan-Chevalley); r = the squarefree part of χ, the minimal polynomial of S;
+    K_λ = q_λ(S) / r'(λ) with q_λ(s) = r(s) / (s - λ) (the spectral projector of S onto the
+    eigenvalue λ; adj(λI - M)/χ'(λ) when χ is squarefree)."""
     from flint import acb, acb_mat
     from .system import adjugate_coefficients
     key = (M.nrows(), tuple(str(e) for e in M.entries()))
     entry = _SPECTRAL.get(key)
     if entry is None:
         chi = M.charpoly()
-        dchi = chi.derivative()
-        squarefree = chi.gcd(dchi).degree() == 0
-        entry = _SPECTRAL[key] = {"chi": chi, "dchi": dchi, "sq": squarefree,
-                                  "B": adjugate_coefficients(M, chi) if squarefree else None}
-    if not entry["sq"]:
-        return None
+        g = chi.gcd(chi.derivative())
+        if g.degree() == 0:
+            S, N, m, r = M, zeros(M.nrows(), M.nrows()), 1, chi
+        else:
+            r = chi / g
+            r = r / r.coeffs()[-1]
+            S, N, m = jordan_chevalley(M, r)
+        nil, P, fact = [], identity(M.nrows()), 1
+        for j in range(m):
+            if j:
+                P, fact = P * N, fact * j
+            nil.append(P * fmpq(1, fact))
+        entry = _SPECTRAL[key] = {"r": r, "dr": r.derivative(), "B": adjugate_coefficients(S, r),
+                                  "nil": nil}
     cached = entry.get("prec", 0)
     if cached < prec:
         with workprec(prec + 20):
             n = M.nrows()
             out = []
-            for lam, _ in entry["chi"].complex_roots():
-                adj = acb_mat(n, n)
+            for lam, _ in entry["r"].complex_roots():
+                q = acb_mat(n, n)
                 for B in entry["B"]:  # Horner in λ
-                    adj = adj * lam + acb_mat(B)
+                    q = q * lam + acb_mat(B)
                 d = acb(0)
-                for c in reversed(entry["dchi"].coeffs()):
+                for c in reversed(entry["dr"].coeffs()):
                     d = d * lam + acb(c)
-                out.append((lam, adj * (1 / d)))
-        entry["terms"], entry["prec"] = out, prec
-    return entry["terms"]
+                out.append((lam, q * (1 / d)))
+        entry["terms"], entry["nil_arb"], entry["prec"] = out, [arb_mat(P) for P in entry["nil"]], prec
+    return entry["terms"], entry["nil_arb"]
 
 
 def expm_apply(M: fmpq_mat, t: arb, z: arb_mat, prec: int) -> arb_mat:
     """A ball of e^{M t} z (t a ball, possibly wide: an enclosure over an interval)."""
-    terms = _spectral_data(M, prec)
-    if terms is None or M.nrows() == 0:
-        return (arb_mat(M) * t).exp() * z
+    if M.nrows() == 0:
+        return z
     from flint import acb, acb_mat
-    zc = acb_mat(z)
+    terms, nil = _spectral_data(M, prec)
+    w = nil[0] * z if len(nil) == 1 else sum((P * z * t ** j for j, P in enumerate(nil[1:], 1)), nil[0] * z)
+    zc = acb_mat(w)
     acc = acb_mat(M.nrows(), 1)
     tc = acb(t)
     for lam, K in terms:

@@ -23,7 +23,8 @@ from flint import arb
 from .errors import Deadlock, LCSError, LimitExceeded, ZenoDetected
 from .flow import Phase, next_event, state_closed_form
 from .reals import (DEFAULT_MAX_PREC, ExactVector, ExpVector, ProjectedVector, RationalReal,
-                    RationalVector, as_exact_vector, as_real, assumption_policy, digits_to_bits)
+                    RationalVector, as_exact_vector, as_real, assumption_policy, deadline,
+                    digits_to_bits)
 from .rational import vstack
 from .selection import _rcp_data, select_modes
 from .trajectory import Event, PhaseRecord, Trajectory
@@ -72,7 +73,7 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     mp = max_prec or max(DEFAULT_MAX_PREC, 8 * digits_to_bits(digits))
     traj = Trajectory(lcs, z0, T, digits)
     started = _time.monotonic()
-    with assumption_policy(allow_unresolved, mp) as record:
+    with assumption_policy(allow_unresolved, mp) as record, deadline(time_limit):
         try:
             _run(lcs, traj, z0, T, max_events, time_limit, started, closed_forms)
         except LCSError as e:

@@ -300,3 +300,20 @@ def test_high_index_impulsive_jump():
     assert [str(v.rational()[0, 0]) for v in (e.impulse[0], e.impulse[1])] == ["-1", "1"]  # -delta + delta'
     assert [str(c) for c in e.state_after.rational().entries()] == ["0", "0", "0"]
     assert len(tr.events) == 1 and [str(c) for c in tr.state(1).rational().entries()] == ["0", "0", "0"]
+
+
+def test_time_limit_interrupts_a_root_search():
+    """The wall-clock limit is checked inside the root isolation too (not only between events)."""
+    from lcs_exact.reals import deadline
+    with deadline(0):
+        with pytest.raises(L.LimitExceeded, match="time_limit = 0 s reached while isolating"):
+            theta(carts(), [0, -1, 0, 0], {0}, 10)
+    assert theta(carts(), [0, -1, 0, 0], {0}, 10).closed_form == sp.pi / 2  # no limit outside
+
+
+def test_time_limit_returns_partial_trajectory():
+    x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
+    with pytest.raises(L.LimitExceeded, match="time_limit") as err:
+        L.simulate(carts(), x0, 3, time_limit=0)
+    tr = err.value.trajectory
+    assert tr.partial and "time_limit" in tr.stop_reason
