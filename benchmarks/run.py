@@ -92,6 +92,13 @@ def bench_stiff():
         rows.append((k, len(tr.events), f"{t:.2f}", tr.events[0].time.decimal(20)))
     table("Stiff chain: wall spring 1, coupling k, stop on mass 1, from q = (1, 1)",
           ["k", "events", "s", "first impact"], rows)
+    rows = []
+    for k in (10**2, 10**4, 10**6):
+        s = mechanical([[1, 0], [0, 1]], [[0, 0], [0, 0]], [[k, -k], [-k, k]], [[1, 0]])
+        t, tr = timed(lambda: L.simulate(s, [1, 1, -1, 0], "21/10", digits=30), repeat=1)
+        rows.append((k, len(tr.events), f"{t:.2f}", tr.events[0].time.decimal(20)))
+    table("Stiff free pair (χ = s²(s² + 2k): repeated eigenvalue 0, Jordan-Chevalley path), "
+          "from q = (1, 1), v = (-1, 0)", ["k", "events", "s", "first impact"], rows)
 
 
 def bench_selection():

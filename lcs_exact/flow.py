@@ -9,7 +9,7 @@ each of the form f(t) = g e^{A_I t} z with a rational row g.
 * at t = 0 the lexicographic sign of (g z, g A_I z, ..., g A_I^{n-1} z) (Lemma 5.1) decides
   the start; all zero means f ≡ 0 (Cayley-Hamilton) and f is never an event;
 * on an interval X = [m - r, m + r] a Taylor enclosure f(X) ⊆ sum_{j<K} f^{(j)}(m) [-r, r]^j / j!
-  + f^{(K)}(X) [-r, r]^K / K! with f^{(K)}(X) from ``arb_mat.exp`` of an interval matrix;
+  + f^{(K)}(X) [-r, r]^K / K! with f^{(K)}(X) from the spectral form of e^{A_I t} at the ball t = X;
 * an interval is discarded when f(X) > 0, isolates exactly one simple root when f'(X) excludes
   0 and f changes sign (certified), and is bisected otherwise; a possible tangential touch that
   cannot be resolved is an unresolved sign (never guessed);
