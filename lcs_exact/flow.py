@@ -240,11 +240,8 @@ class Phase:
                         return (a, tstar.lo)
                 return _UNDECIDED
         # f(t*) may be exactly 0: a tangential touch if proven
-        z = self.z.rational()
-        if z is not None and prove_closed_form(tstar) is not None:
-            fsym = laplace_closed_form(self.M, c.g, z)
-            if fsym is not None and sympy.simplify(fsym.subs(_t, tstar.closed_form)) == 0:
-                return None  # f >= 0 on [a, b]: convex with f(t*) = f'(t*) = 0
+        if prove_closed_form(tstar) is not None and vanishes_at(self, c.g, tstar.closed_form):
+            return None  # f >= 0 on [a, b]: convex with f(t*) = f'(t*) = 0
         s = ball_sign(lambda p: self.value(c, tstar.arb(p + 20), p),
                       lambda: f"{c.name} at its critical point near t = {float(a):.17g} (tangential touch?)", prec)
         if s > 0 or s == 0:
@@ -584,16 +581,33 @@ def closed_form_candidates(theta_ball: arb, M: fmpq_mat) -> list:
     return uniq
 
 
+def function_closed_form(phase: Phase, g: fmpq_mat):
+    """f(t) = g e^{A_I t} z as a SymPy expression in t (phase time), or None."""
+    z = phase.z.rational()
+    if z is not None:
+        return laplace_closed_form(phase.M, g, z)
+    x = phase_closed_form(phase)
+    return None if x is None else sympy.expand((matrix_to_sympy(g) * x)[0, 0])
+
+
+def vanishes_at(phase: Phase, g: fmpq_mat, t_cf, sym=None) -> bool:
+    """True when f = g x(t) is proven exactly 0 at the closed-form time t_cf: (a) structurally
+    (the state at t_cf collapses to a rational vector) or (b) symbolically (SymPy simplifies
+    f(t_cf) to literal 0). False means "not proven", not "nonzero"."""
+    x = expm_action(phase.M, t_cf, phase.z)
+    q = x.rational()
+    if q is not None:
+        return (g * q)[0, 0] == 0
+    if sym is None:
+        sym = function_closed_form(phase, g)
+    return sym is not None and sympy.simplify(sympy.expand_trig(sym.subs(_t, t_cf))) == 0
+
+
 def prove_closed_form(root: RootReal) -> Any:
     """Try the candidates; return the proven closed form (and set it on the root) or None."""
     phase, c = root.phase, root.c
-    z = phase.z.rational()
     structural = isinstance(phase.z, ExpVector) and phase.z.M == phase.M and phase.z.v.rational() is not None
-    if z is not None:
-        sym = laplace_closed_form(phase.M, c.g, z)
-    else:
-        x = phase_closed_form(phase)
-        sym = None if x is None else sympy.expand((matrix_to_sympy(c.g) * x)[0, 0])
+    sym = function_closed_form(phase, c.g)
     if sym is None and not structural:
         return None  # neither a symbolic f nor a collapsing state: no proof is possible
     b = root.arb(200)
@@ -604,22 +618,9 @@ def prove_closed_form(root: RootReal) -> Any:
         with workprec(512):  # the bracket is ~2^-200 wide: compare well above that
             cb = _sympy_to_arb(cand)
             inside = cb > arb(root.lo) and cb < arb(root.hi)
-        if not inside:
-            continue
-        # (a) structure: the state at the candidate collapses to a rational vector
-        x = expm_action(phase.M, cand, phase.z)
-        q = x.rational()
-        if q is not None:
-            if (c.g * q)[0, 0] == 0:
-                root.closed_form = cand
-                return cand
-            continue
-        # (b) symbolic: f(cand) simplifies to exactly 0
-        if sym is not None:
-            val = sympy.simplify(sympy.expand_trig(sym.subs(_t, cand)))
-            if val == 0:
-                root.closed_form = cand
-                return cand
+        if inside and vanishes_at(phase, c.g, cand, sym):
+            root.closed_form = cand
+            return cand
     return None
 
 

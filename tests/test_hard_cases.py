@@ -1,0 +1,124 @@
+"""Hard cases, each derived by hand in the test: stiff systems whose A has a repeated eigenvalue
+(free masses: 0 is a double eigenvalue; e^{At} goes through the Jordan-Chevalley split A = S + N,
+so the error bounds do not grow like e^{||A|| t}), simultaneous impacts, and an exact graze.
+"""
+import mpmath as mp
+import pytest
+from flint import fmpq, fmpq_mat
+
+import lcs_exact as L
+from lcs_exact.reals import jordan_chevalley
+
+from helpers import close, num
+
+mp.mp.dps = 50
+
+
+def free_pair(k):
+    """Two unit masses joined by a spring k, no wall spring; stop on mass 1 (q1 >= 0)."""
+    A = [[0, 0, 1, 0], [0, 0, 0, 1], [-k, k, 0, 0], [k, -k, 0, 0]]
+    return L.LCS(A, [[0], [0], [1], [0]], [[1, 0, 0, 0]], [[0]])
+
+
+def first_crossing(f, a, b, h):
+    x, fx = mp.mpf(a), f(mp.mpf(a))
+    while x < b:
+        y = x + h
+        fy = f(y)
+        if fy < 0 < fx:
+            return mp.findroot(f, (x, y), solver="anderson")
+        x, fx = y, fy
+    raise AssertionError("no crossing")
+
+
+@pytest.mark.parametrize("k", [10 ** 4, 10 ** 6])
+def test_stiff_free_pair_first_impact(k):
+    """From q = (1, 1), v = (-1, 0): centre c = 1 - t/2, difference d = -sin(ωt)/ω with ω = √(2k),
+    so q1 = 1 - t/2 - sin(ωt)/(2ω). The impact is at its first root (near t = 2); v1 jumps to 0."""
+    tr = L.simulate(free_pair(k), [1, 1, -1, 0], "21/10")
+    assert tr.certified and len(tr.events) >= 1
+    w = mp.sqrt(2 * k)
+    f = lambda t: 1 - t / 2 - mp.sin(w * t) / (2 * w)
+    # the oscillation is 1/(2ω) small: start scanning where 1 - t/2 < 1/(2ω), step << period
+    start = 2 - 1 / w
+    tau = first_crossing(f, start, mp.mpf(2) + 1 / w, 2 * mp.pi / w / 50)
+    e = tr.events[0]
+    assert close(num(e.time), tau)
+    assert e.modes == (frozenset({0}),)
+    q2 = 1 - tau / 2 + mp.sin(w * tau) / (2 * w)
+    v2 = -mp.mpf(1) / 2 + mp.cos(w * tau) / 2
+    after = [num(c) for c in e.state_after]
+    assert after[0] == 0 and after[2] == 0
+    assert close(after[1], q2) and close(after[3], v2)
+
+
+def test_jordan_chevalley_split():
+    """A = S + N with SN = NS, N nilpotent, S diagonalizable (minimal polynomial squarefree):
+    for the free pair with k = 3, S = A - N with N = [[0, 0, 1/2, 1/2]]-type rank-one nilpotent."""
+    A = fmpq_mat(4, 4, [0, 0, 1, 0, 0, 0, 0, 1, -3, 3, 0, 0, 3, -3, 0, 0])
+    S, N, m = jordan_chevalley(A)
+    assert S + N == A and S * N == N * S
+    assert m == 2 and N * N == fmpq_mat(4, 4) and N != fmpq_mat(4, 4)
+    # S annihilated by the squarefree part s(s^2 + 6) of χ = s^2 (s^2 + 6)
+    I = fmpq_mat(4, 4, [int(i == j) for i in range(4) for j in range(4)])
+    assert S * (S * S + 6 * I) == fmpq_mat(4, 4)
+    # N is the centre-of-mass drift: q_i gains t (v1 + v2)/2, i.e. N = [[0, 0, 1/2, 1/2]] twice
+    h = fmpq(1, 2)
+    assert N == fmpq_mat(4, 4, [0, 0, h, h, 0, 0, h, h] + [0] * 8)
+
+
+# --- a symmetric three-mass chain with stops on the outer masses --------------------------------
+A3 = [[0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 1],
+      [-1, 1, 0, 0, 0, 0], [1, -2, 1, 0, 0, 0], [0, 1, -1, 0, 0, 0]]
+
+
+def outer_stops():
+    """Three unit masses, unit springs 1-2 and 2-3; stops q1 >= 0 and q3 >= 0."""
+    return L.LCS(A3, [[0, 0], [0, 0], [0, 0], [1, 0], [0, 0], [0, 1]],
+                 [[1, 0, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0]], [[0, 0], [0, 0]])
+
+
+def test_symmetric_simultaneous_impact():
+    """q1 ≡ q3 by symmetry, so both stops are hit at the same instant: one event, mode {0, 1}
+    (the equality of the two roots is proven structurally, not by closeness of balls).
+
+    With a = q1 = q3, b = q2: the centre (2a + b)/3 = 4/3 - 2t/3 and e = b - a = cos √3t + sin √3t/√3,
+    so a = 4/3 - 2t/3 - e/3. After the impact q1 = q3 = 0 and b'' = -2b; u_0 = u_1 = -b >= 0 until
+    b returns to 0, where both stops release together."""
+    tr = L.simulate(outer_stops(), [1, 2, 1, -1, 0, -1], 6)
+    assert tr.certified and len(tr.events) == 2
+    r3, r2 = mp.sqrt(3), mp.sqrt(2)
+    a = lambda t: mp.mpf(4) / 3 - 2 * t / 3 - (mp.cos(r3 * t) + mp.sin(r3 * t) / r3) / 3
+    tau = first_crossing(a, mp.mpf(1) / 2, 4, mp.mpf(1) / 100)
+    e0, e1 = tr.events
+    assert close(num(e0.time), tau)
+    assert e0.modes == (frozenset({0, 1}),) and e0.mode_after == frozenset({0, 1})
+    assert set(e0.triggers) == {"y_0", "y_1"}
+    ee = mp.cos(r3 * tau) + mp.sin(r3 * tau) / r3
+    de = -r3 * mp.sin(r3 * tau) + mp.cos(r3 * tau)
+    b, db = a(tau) + ee, -mp.mpf(2) / 3 + (2 * de) / 3  # b = a + e, b' = a' + e'
+    after = [num(c) for c in e0.state_after]
+    assert after[0] == after[2] == after[3] == after[5] == 0
+    assert close(after[1], b) and close(after[4], db)
+    # release when b = B cos √2 s + B'/√2 sin √2 s returns to 0 (b < 0, so u = -b > 0 before)
+    s = mp.findroot(lambda s: b * mp.cos(r2 * s) + db / r2 * mp.sin(r2 * s), 1)
+    assert 0 < s < mp.pi / r2
+    assert close(num(e1.time), tau + s)
+    assert e1.mode_before == frozenset({0, 1}) and e1.mode_after == frozenset() and e1.modes == ()
+    assert close(num(e1.state_before[4]), -b * r2 * mp.sin(r2 * s) + db * mp.cos(r2 * s))
+
+
+def test_tangential_touch_from_a_transcendental_start_is_no_event():
+    """x0 = e^{-A}(0, 1, 0, 0, 1, 0): at t = 1 both outer masses touch their stops with zero
+    velocity and positive acceleration (q1'' = q2 - q1 = 1): a graze, proven exact (the state at
+    the critical point t* = 1 collapses to a rational vector), so no event in [0, 6]; q1 > 0 on
+    (0, 1) ∪ (1, 6] (checked on a grid in mpmath below)."""
+    x0 = L.expm_action(A3, -1, [0, 1, 0, 0, 1, 0])
+    tr = L.simulate(outer_stops(), x0, 6)
+    assert tr.certified and tr.events == []
+    A = mp.matrix(A3)
+    v = mp.matrix([0, 1, 0, 0, 1, 0])
+    assert min((mp.expm(A * (mp.mpf(t) / 50 - 1)) * v)[0] for t in range(0, 301) if t != 50) > 0
+    got = [num(c) for c in tr.state(3)]
+    want = mp.expm(A * 2) * v
+    assert all(close(g, want[i]) for i, g in enumerate(got))
