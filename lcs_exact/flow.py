@@ -485,17 +485,37 @@ def laplace_closed_form(M: fmpq_mat, row: fmpq_mat, z: fmpq_mat):
     f: RationalFunction = aux.G()[0, 0]
     if f.is_zero():
         return sympy.Integer(0)
-    fac = f.den.factor()[1]
-    if any(p.degree() > 2 for p, _ in fac):
+    ext = _quadratic_extension(f.den)
+    if ext is False:
         return None
     expr = f.to_sympy().subs(sympy.Symbol("s"), _s)
     total = sympy.Integer(0)
-    for term in sympy.Add.make_args(sympy.apart(expr, _s)):
+    parts = sympy.apart(expr, _s) if ext is None else sympy.apart(expr, _s, extension=ext)
+    for term in sympy.Add.make_args(parts):
         inv = _inverse_laplace_term(term)
         if inv is None:
             return None
         total += inv
     return total  # each term is already in lowest terms; simplify() here costs ~0.1 s a call
+
+
+def _quadratic_extension(den):
+    """None when every irreducible factor of den over Q has degree <= 2; sqrt(d) when the others
+    are biquadratic a s^4 + b s^2 + c splitting over one Q(sqrt(d)), d = b^2 - 4ac (the two carts'
+    free mode: s^4 + 3s^2 + 1 over Q(sqrt 5)); False otherwise."""
+    ext = None
+    for p, _ in den.factor()[1]:
+        if p.degree() <= 2:
+            continue
+        c = p.coeffs()
+        if p.degree() != 4 or c[1] != 0 or c[3] != 0:
+            return False
+        d = c[2] * c[2] - 4 * c[4] * c[0]
+        root = sympy.sqrt(sympy.Rational(int(d.p), int(d.q)))
+        if ext is not None and sympy.simplify(sympy.sqrt(root ** 2 / ext ** 2)).is_Rational is not True:
+            return False  # two different quadratic fields
+        ext = ext if ext is not None else root
+    return ext
 
 
 def _inverse_laplace_term(term):
@@ -512,10 +532,12 @@ def _inverse_laplace_term(term):
     bp = sympy.Poly(base, _s)
     c0 = fl[0] * lc
     if bp.degree() == 1:
-        r = -bp.all_coeffs()[1] / bp.all_coeffs()[0]
+        a1, a0 = bp.all_coeffs()
+        r = -a0 / a1
         if np_.degree() > 0:
             return sympy.inverse_laplace_transform(term, _s, _t)
-        k = np_.as_expr() / c0
+        # term = k / (s - r)^mult with k = num / (c0 a1^mult): the base may be non-monic (2s + 1)
+        k = np_.as_expr() / (c0 * a1 ** mult)
         return k * _t ** (mult - 1) * sympy.exp(r * _t) / sympy.factorial(mult - 1)
     if bp.degree() == 2 and mult == 1:
         a2, p, q = bp.all_coeffs()
@@ -527,9 +549,9 @@ def _inverse_laplace_term(term):
         disc = q - p ** 2 / 4
         a = -p / 2
         if disc > 0:
-            w = sympy.sqrt(disc)
+            w = sympy.sqrtdenest(sympy.sqrt(disc))
             return sympy.exp(a * _t) * (alpha * sympy.cos(w * _t) + (beta + alpha * a) / w * sympy.sin(w * _t))
-        w = sympy.sqrt(-disc)
+        w = sympy.sqrtdenest(sympy.sqrt(-disc))
         return sympy.exp(a * _t) * (alpha * sympy.cosh(w * _t) + (beta + alpha * a) / w * sympy.sinh(w * _t))
     return sympy.inverse_laplace_transform(term, _s, _t)
 
@@ -582,12 +604,29 @@ def closed_form_candidates(theta_ball: arb, M: fmpq_mat) -> list:
 
 
 def function_closed_form(phase: Phase, g: fmpq_mat):
-    """f(t) = g e^{A_I t} z as a SymPy expression in t (phase time), or None."""
+    """f(t) = g e^{A_I t} z as a SymPy expression in t (phase time), or None.
+
+    The expression is cross-checked against the certified ball of f at two rational times (a
+    defect in the symbolic inversion must never turn into a false proof)."""
     z = phase.z.rational()
     if z is not None:
-        return laplace_closed_form(phase.M, g, z)
-    x = phase_closed_form(phase)
-    return None if x is None else sympy.expand((matrix_to_sympy(g) * x)[0, 0])
+        sym = laplace_closed_form(phase.M, g, z)
+    else:
+        x = phase_closed_form(phase)
+        sym = None if x is None else sympy.expand((matrix_to_sympy(g) * x)[0, 0])
+    if sym is not None:
+        for tq in (fmpq(1, 7), fmpq(5, 3)):
+            with workprec(128):
+                want = (arb_mat(g) * expm_apply(phase.M, arb(tq), phase.z.arb(128), 128))[0, 0]
+                got = _sympy_to_arb(sym.subs(_t, sympy.Rational(int(tq.p), int(tq.q))))
+            if not want.overlaps(got):
+                raise LCSError(f"internal error: the symbolic form {sym} of {_fmt_row(g)} e^(A_I t) z "
+                               f"disagrees with its certified value at t = {tq}")
+    return sym
+
+
+def _fmt_row(g: fmpq_mat) -> str:
+    return "(" + ", ".join(str(g[0, j]) for j in range(g.ncols())) + ")"
 
 
 def vanishes_at(phase: Phase, g: fmpq_mat, t_cf, sym=None) -> bool:
@@ -604,23 +643,34 @@ def vanishes_at(phase: Phase, g: fmpq_mat, t_cf, sym=None) -> bool:
 
 
 def prove_closed_form(root: RootReal) -> Any:
-    """Try the candidates; return the proven closed form (and set it on the root) or None."""
+    """Try the candidates; return the proven closed form (and set it on the root) or None.
+
+    Structural proofs (the state at the candidate collapses to a rational vector) are tried
+    first: they need no SymPy expression of the phase, which costs ~0.5 s for a new mode."""
     phase, c = root.phase, root.c
     structural = isinstance(phase.z, ExpVector) and phase.z.M == phase.M and phase.z.v.rational() is not None
-    sym = function_closed_form(phase, c.g)
-    if sym is None and not structural:
-        return None  # neither a symbolic f nor a collapsing state: no proof is possible
     b = root.arb(200)
-    cands = closed_form_candidates(b, phase.M)
-    if sym is not None:
-        cands += _solve_candidates(sym, b) + _exp_candidates(sym)
-    for cand in cands:
+
+    def inside(cand) -> bool:
         with workprec(512):  # the bracket is ~2^-200 wide: compare well above that
             cb = _sympy_to_arb(cand)
-            inside = cb > arb(root.lo) and cb < arb(root.hi)
-        if inside and vanishes_at(phase, c.g, cand, sym):
-            root.closed_form = cand
-            return cand
+            return cb > arb(root.lo) and cb < arb(root.hi)
+
+    cands = [x for x in closed_form_candidates(b, phase.M) if inside(x)]
+    if structural:
+        for cand in cands:
+            q = expm_action(phase.M, cand, phase.z).rational()
+            if q is not None and (c.g * q)[0, 0] == 0:
+                root.closed_form = cand
+                return cand
+    sym = function_closed_form(phase, c.g)
+    if sym is None:
+        return None  # no symbolic f: no proof is possible
+    for more in (lambda: cands, lambda: _exp_candidates(sym), lambda: _solve_candidates(sym, b)):
+        for cand in more():  # cheap candidates first: SymPy's solve can take 0.2 s
+            if inside(cand) and vanishes_at(phase, c.g, cand, sym):
+                root.closed_form = cand
+                return cand
     return None
 
 
@@ -712,7 +762,17 @@ def expm_symbolic(M: fmpq_mat):
                 cols = None
                 break
             cols.append(col)
-        _EXPM_CACHE[key] = None if cols is None else sympy.Matrix(n, n, lambda i, j: cols[j][i])
+        E = None if cols is None else sympy.Matrix(n, n, lambda i, j: cols[j][i])
+        if E is not None:  # cross-check against the certified e^{M/7} (never a false closed form)
+            with workprec(128):
+                ball = expm_apply(M, arb(fmpq(1, 7)), arb_mat(fmpq_mat(n, n, [int(i == j) for i in range(n)
+                                                                               for j in range(n)])), 128)
+                for i in range(n):
+                    for j in range(n):
+                        if not ball[i, j].overlaps(_sympy_to_arb(E[i, j].subs(_t, sympy.Rational(1, 7)))):
+                            raise LCSError(f"internal error: symbolic e^(Mt) disagrees with its "
+                                           f"certified value at t = 1/7 (entry {i}, {j})")
+        _EXPM_CACHE[key] = E
     return _EXPM_CACHE[key]
 
 

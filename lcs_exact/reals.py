@@ -510,6 +510,16 @@ class ExpVector(ExactVector):
         return expm_apply(self.M, t, self.v.arb(prec + 4), prec)
 
     def closed_form(self):
+        """e^{Mt} v in closed form when t and v have one and e^{Mt} is symbolic (flow.expm_symbolic);
+        exact by construction (not simplified: SymPy's simplify costs seconds here)."""
+        if self._closed is None and not getattr(self, "_tried", False):
+            self._tried = True
+            vc = self.v.closed_form() if self.t.closed_form is not None else None
+            if vc is not None:
+                from .flow import _t, expm_symbolic
+                E = expm_symbolic(self.M)
+                if E is not None:
+                    self._closed = E.subs(_t, self.t.closed_form) * vc
         return self._closed
 
     def rational(self):
@@ -601,18 +611,18 @@ def _spectral_data(M: fmpq_mat, prec: int):
 
 
 def expm_apply(M: fmpq_mat, t: arb, z: arb_mat, prec: int) -> arb_mat:
-    """A ball of e^{M t} z (t a ball, possibly wide: an enclosure over an interval)."""
+    """A ball of e^{M t} z (z: n x m; t a ball, possibly wide: an enclosure over an interval)."""
     if M.nrows() == 0:
         return z
     from flint import acb, acb_mat
     terms, nil = _spectral_data(M, prec)
     w = nil[0] * z if len(nil) == 1 else sum((P * z * t ** j for j, P in enumerate(nil[1:], 1)), nil[0] * z)
     zc = acb_mat(w)
-    acc = acb_mat(M.nrows(), 1)
+    acc = acb_mat(M.nrows(), z.ncols())
     tc = acb(t)
     for lam, K in terms:
         acc += (K * zc) * (lam * tc).exp()
-    return arb_mat([[acc[i, 0].real] for i in range(M.nrows())])
+    return arb_mat([[acc[i, j].real for j in range(z.ncols())] for i in range(M.nrows())])
 
 
 def as_exact_vector(x: Any, n: int | None = None) -> ExactVector:
