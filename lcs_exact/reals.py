@@ -28,7 +28,7 @@ import sympy
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
 from .errors import UnresolvedSign
-from .rational import identity, is_zero, submatrix, to_fmpq, to_matrix, vstack, zeros
+from .rational import identity, is_zero, matrix_to_sympy, submatrix, to_fmpq, to_matrix, vstack, zeros
 
 __all__ = ["Real", "RationalReal", "ClosedFormReal", "SumReal", "ExactVector", "RationalVector",
            "ExpVector", "ProjectedVector", "expm_action", "as_real", "as_exact_vector",
@@ -387,8 +387,11 @@ class ExactVector(abc.ABC):
         """The vector as n x 1 fmpq_mat when proven rational."""
         return None
 
-    def closed_form(self):
-        """A SymPy column vector when every component has a proven closed form, else None."""
+    def closed_form(self, derive: bool = True):
+        """A SymPy column vector when every component has a proven closed form, else None.
+
+        ``derive=False`` returns only what is already known (cheap); True may derive it with
+        SymPy (e^{Mt} symbolically: up to a second for a new matrix)."""
         return None
 
     def __len__(self):
@@ -437,7 +440,7 @@ class ComponentReal(Real):
         if q is not None:
             self.closed_form = sympy.Rational(int(q[i, 0].p), int(q[i, 0].q))
         else:
-            cf = vec.closed_form()
+            cf = vec.closed_form(derive=False)
             if cf is not None:
                 self.closed_form = cf[i]
             elif vec.zero_forms.nrows():
@@ -464,7 +467,7 @@ class RationalVector(ExactVector):
     def rational(self):
         return self.q
 
-    def closed_form(self):
+    def closed_form(self, derive: bool = True):
         return sympy.Matrix([sympy.Rational(int(self.q[i, 0].p), int(self.q[i, 0].q)) for i in range(self.n)])
 
 
@@ -478,18 +481,22 @@ class ProjectedVector(ExactVector):
     def _eval(self, prec):
         return arb_mat(self.P) * self.v.arb(prec + 4)
 
-    def closed_form(self):
+    def closed_form(self, derive: bool = True):
         """P times the closed form of v (exact: P is rational), when v has one."""
-        if not hasattr(self, "_closed"):
-            cf = self.v.closed_form()
-            self._closed = None
-            if cf is not None:
-                from .rational import matrix_to_sympy
-                self._closed = (matrix_to_sympy(self.P) * cf).applyfunc(sympy.simplify)
-        return self._closed
+        cache = self.__dict__.setdefault("_closed", {})
+        if False not in cache:  # the known form: a simplified state (simplify detects rationals)
+            cf = self.v.closed_form(derive=False)
+            cache[False] = None if cf is None else \
+                (matrix_to_sympy(self.P) * cf).applyfunc(sympy.simplify)
+        if not derive or cache[False] is not None:
+            return cache[False]
+        if True not in cache:  # derived forms are large and exact as they stand: no simplify
+            cf = self.v.closed_form(derive=True)
+            cache[True] = None if cf is None else matrix_to_sympy(self.P) * cf
+        return cache[True]
 
     def rational(self):
-        c = self.closed_form()
+        c = self.closed_form(derive=False)
         if c is not None and all(e.is_Rational for e in c):
             return fmpq_mat(self.n, 1, [fmpq(int(e.p), int(e.q)) for e in c])
         return None
@@ -509,10 +516,10 @@ class ExpVector(ExactVector):
         t = self.t.arb(prec + 4)
         return expm_apply(self.M, t, self.v.arb(prec + 4), prec)
 
-    def closed_form(self):
+    def closed_form(self, derive: bool = True):
         """e^{Mt} v in closed form when t and v have one and e^{Mt} is symbolic (flow.expm_symbolic);
         exact by construction (not simplified: SymPy's simplify costs seconds here)."""
-        if self._closed is None and not getattr(self, "_tried", False):
+        if derive and self._closed is None and not getattr(self, "_tried", False):
             self._tried = True
             vc = self.v.closed_form() if self.t.closed_form is not None else None
             if vc is not None:

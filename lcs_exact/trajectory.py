@@ -136,14 +136,15 @@ class Trajectory:
         d = digits or self.digits
         lcs = self.lcs
 
-        def num(r: Real) -> dict:
+        def num(r: Real, cf=None) -> dict:
             text = r.decimal(d)
             value, _, err = text.partition(" +/- ")
-            cf = r.closed_form
+            cf = r.closed_form if cf is None else cf
             return {"value": value, "error": err or "0", "exact": None if cf is None else str(cf)}
 
         def vec(v: ExactVector) -> list:
-            return [num(c) for c in v]
+            cf = v.closed_form()  # derived with SymPy where possible (fixtures are written once)
+            return [num(c, None if cf is None else cf[i]) for i, c in enumerate(v)]
 
         def mat(m: fmpq_mat) -> list:
             return [[str(m[i, j]) for j in range(m.ncols())] for i in range(m.nrows())]

@@ -317,3 +317,19 @@ def test_time_limit_returns_partial_trajectory():
         L.simulate(carts(), x0, 3, time_limit=0)
     tr = err.value.trajectory
     assert tr.partial and "time_limit" in tr.stop_reason
+
+
+def test_section7_final_state_closed_form(section7):
+    """x(3) = e^{A(2 - π/2)}(0, 0, 0, 1) in closed form (χ = s^4 + 3s^2 + 1 splits over Q(√5));
+    the closed form, evaluated by SymPy, agrees with mpmath's expm to 35 digits, and the fixture
+    carries it."""
+    x3 = section7.state(3)
+    cf = x3.closed_form()
+    assert cf is not None
+    want = mp.expm(mp.matrix(A_CARTS) * (2 - mp.pi / 2)) * mp.matrix([0, 0, 0, 1])
+    with mp.workdps(50):
+        for i in range(4):
+            assert abs(mp.mpf(str(sp.N(cf[i], 45))) - want[i]) < mp.mpf(10) ** -35
+    fx = section7.to_fixture(30)
+    assert all(c["exact"] is not None for c in fx["final_state"])
+    assert sp.N(sp.sympify(fx["final_state"][3]["exact"]) - cf[3], 40) == 0
