@@ -59,6 +59,25 @@ def rank(rows: list[list[Fraction]]) -> int:
     return r
 
 
+def fdet(a: list[list[Fraction]]) -> Fraction:
+    """Determinant by Fraction elimination (an independent reference for the flint results)."""
+    a = [list(map(Fraction, r)) for r in a]
+    n = len(a)
+    det = Fraction(1)
+    for c in range(n):
+        p = next((i for i in range(c, n) if a[i][c] != 0), None)
+        if p is None:
+            return Fraction(0)
+        if p != c:
+            a[c], a[p] = a[p], a[c]
+            det = -det
+        det *= a[c][c]
+        for i in range(c + 1, n):
+            f = a[i][c] / a[c][c]
+            a[i] = [x - f * y for x, y in zip(a[i], a[c])]
+    return det
+
+
 def same_span(basis: fmpq_mat, cols: list[list[int]]) -> bool:
     """Im(basis) (columns) equals span(cols)."""
     b = [[F(basis[i, j]) for i in range(basis.nrows())] for j in range(basis.ncols())]

@@ -12,7 +12,7 @@ from itertools import combinations
 
 import pytest
 from flint import fmpq, fmpq_mat
-from helpers import F, vec
+from helpers import F, fdet, vec
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -27,22 +27,6 @@ PROP = settings(derandomize=True, deadline=None, max_examples=50)
 # independent Fraction references
 # ---------------------------------------------------------------------------------------------
 
-def fdet(a: list[list[Fraction]]) -> Fraction:
-    a = [list(map(Fraction, r)) for r in a]
-    n = len(a)
-    det = Fraction(1)
-    for c in range(n):
-        p = next((i for i in range(c, n) if a[i][c] != 0), None)
-        if p is None:
-            return Fraction(0)
-        if p != c:
-            a[c], a[p] = a[p], a[c]
-            det = -det
-        det *= a[c][c]
-        for i in range(c + 1, n):
-            f = a[i][c] / a[c][c]
-            a[i] = [x - f * y for x, y in zip(a[i], a[c])]
-    return det
 
 
 def fsolve(a: list[list[Fraction]], b: list[Fraction]) -> list[Fraction]:

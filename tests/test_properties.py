@@ -24,6 +24,8 @@ import sympy as sp
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
+from helpers import fdet as det
+
 from lcs_exact import LCS
 from lcs_exact.models import mechanical
 
@@ -117,23 +119,6 @@ def rank(a) -> int:
     return len(rref(a)[1]) if a else 0
 
 
-def det(a) -> Fraction:
-    n = len(a)
-    a = [list(r) for r in a]
-    d = Fraction(1)
-    for c in range(n):
-        p = next((i for i in range(c, n) if a[i][c] != 0), None)
-        if p is None:
-            return Fraction(0)
-        if p != c:
-            a[c], a[p] = a[p], a[c]
-            d = -d
-        d *= a[c][c]
-        for i in range(c + 1, n):
-            if a[i][c] != 0:
-                f = a[i][c] / a[c][c]
-                a[i] = [x - f * y for x, y in zip(a[i], a[c])]
-    return d
 
 
 def solve(a, b):
@@ -677,16 +662,22 @@ def test_theorem_5_2_relative_degree_2(data):
     check_theorem_5_2(lcs, A, B, C, D, data.draw(special_states(A, C)))
 
 
+def checked_verdict(lcs, A, B, C, D):
+    """lcs.well_posedness(), its P-matrix verdicts on M and N checked against the references."""
+    wp = lcs.well_posedness()
+    M, N = leading_matrices(A, B, C, D)
+    assert wp.M_is_P == (M is not None and is_P(M))
+    assert wp.N_is_P == (N is not None and is_P(N))
+    return wp
+
+
 @settings(max_examples=100, **SETTINGS)
 @given(st.data())
 def test_theorem_5_2_mixed_relative_degrees(data):
     """Rows of relative degree 0, 1, 2 mixed; kept when Theorem 6.3 applies (checked independently)."""
     A, B, C, D, sure = data.draw(structured_systems("mixed"))
     lcs = build(A, B, C, D)
-    wp = lcs.well_posedness()
-    M, N = leading_matrices(A, B, C, D)
-    assert wp.M_is_P == (M is not None and is_P(M))
-    assert wp.N_is_P == (N is not None and is_P(N))
+    wp = checked_verdict(lcs, A, B, C, D)
     if sure:
         assert wp
     assume(bool(wp))
@@ -699,10 +690,7 @@ def test_theorem_5_2_random_well_posed(data):
     """(d) random (A, B, C, D), filtered by well-posedness (verdict checked independently)."""
     A, B, C, D, _ = data.draw(random_systems())
     lcs = build(A, B, C, D)
-    wp = lcs.well_posedness()
-    M, N = leading_matrices(A, B, C, D)
-    assert wp.M_is_P == (M is not None and is_P(M))
-    assert wp.N_is_P == (N is not None and is_P(N))
+    wp = checked_verdict(lcs, A, B, C, D)
     assume(bool(wp))
     check_theorem_5_2(lcs, A, B, C, D, data.draw(special_states(A, C)))
 

@@ -100,13 +100,17 @@ def test_no_event_at_zero_for_consistent_start():
     assert all(close(num(c), want[i]) for i, c in enumerate(tr.state(1)))
 
 
-def test_max_events_returns_partial_trajectory():
+@pytest.mark.parametrize("limit, events", [({"max_events": 1}, 2), ({"time_limit": 0}, None)])
+def test_limits_return_partial_trajectory(limit, events):
+    """A run stopped by a limit raises LimitExceeded naming it; nothing computed is lost."""
+    (name,) = limit
     x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
-    with pytest.raises(L.LimitExceeded, match="max_events") as err:
-        L.simulate(carts(), x0, 3, max_events=1)
+    with pytest.raises(L.LimitExceeded, match=name) as err:
+        L.simulate(carts(), x0, 3, **limit)
     tr = err.value.trajectory
-    assert tr.partial and "max_events" in tr.stop_reason
-    assert len(tr.events) == 2 and tr.events[0].time.closed_form == 1
+    assert tr.partial and name in tr.stop_reason
+    if events is not None:  # the limit is checked after recording the event that exceeds it
+        assert len(tr.events) == events and tr.events[0].time.closed_form == 1
 
 
 def test_fixture_schema(section7):
@@ -309,14 +313,6 @@ def test_time_limit_interrupts_a_root_search():
         with pytest.raises(L.LimitExceeded, match="time_limit = 0 s reached while isolating"):
             theta(carts(), [0, -1, 0, 0], {0}, 10)
     assert theta(carts(), [0, -1, 0, 0], {0}, 10).closed_form == sp.pi / 2  # no limit outside
-
-
-def test_time_limit_returns_partial_trajectory():
-    x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
-    with pytest.raises(L.LimitExceeded, match="time_limit") as err:
-        L.simulate(carts(), x0, 3, time_limit=0)
-    tr = err.value.trajectory
-    assert tr.partial and "time_limit" in tr.stop_reason
 
 
 def test_section7_final_state_closed_form(section7):
