@@ -298,6 +298,8 @@ _ARB_FUNCS = {
     sympy.exp: lambda a: a.exp(), sympy.log: lambda a: a.log(), sympy.sin: lambda a: a.sin(),
     sympy.cos: lambda a: a.cos(), sympy.tan: lambda a: a.tan(), sympy.atan: lambda a: a.atan(),
     sympy.asin: lambda a: a.asin(), sympy.acos: lambda a: a.acos(),
+    sympy.sinh: lambda a: a.sinh(), sympy.cosh: lambda a: a.cosh(), sympy.tanh: lambda a: a.tanh(),
+    sympy.atanh: lambda a: a.atanh(), sympy.asinh: lambda a: a.asinh(),
 }
 
 
@@ -334,12 +336,22 @@ def _sympy_to_arb(e) -> arb:
                      f"exp, log, trigonometric functions)")
 
 
+def _bound_up(err) -> str:
+    """A 3-digit decimal >= err (nstr rounds to nearest, within 0.5%: scale by 1.01 first)."""
+    from mpmath import mpf, nstr
+    return nstr(err * mpf("1.01"), 3) if err else "0"
+
+
 def _decimal_of_fmpq(q: fmpq, digits: int) -> str:
+    """q to ``digits`` significant digits; exact strings stand alone, rounded ones carry a bound."""
+    from fractions import Fraction
     from mpmath import mp, mpf, nstr
     if q.q == 1 and len(str(abs(int(q.p)))) <= digits:
         return str(int(q.p))  # an integer is exact as it stands ("0", not "0.0")
     with mp.workdps(digits + 10):
-        return nstr(mpf(int(q.p)) / int(q.q), digits, strip_zeros=True)
+        text = nstr(mpf(int(q.p)) / int(q.q), digits, strip_zeros=True)
+        err = abs(Fraction(text) - Fraction(int(q.p), int(q.q)))
+        return text if err == 0 else f"{text} +/- {_bound_up(mpf(err.numerator) / err.denominator)}"
 
 
 def _decimal_of_ball(b: arb, digits: int) -> str:
@@ -350,7 +362,7 @@ def _decimal_of_ball(b: arb, digits: int) -> str:
         m = mpf(mid.str(digits + 15, radius=False)) if not mid.is_zero() else mpf(0)
         s = nstr(m, digits, strip_zeros=False, min_fixed=-5, max_fixed=digits + 1)
         err = abs(mpf(s) - m) + mpf(b.rad().str(5, radius=False)) * 2 + abs(m) * mpf(10) ** (-(digits + 12))
-        return f"{s} +/- {nstr(err, 3)}"
+        return f"{s} +/- {_bound_up(err)}"
 
 
 # ---------------------------------------------------------------------------------------------

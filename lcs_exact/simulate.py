@@ -151,10 +151,11 @@ def _run(lcs, traj: Trajectory, z: ExactVector, T, max_events, time_limit, start
         state_before = z
         mode, chain, z, impulse = _select_and_reinitialize(lcs, z, t)
         if chain or mode_before is not None:
+            if len(traj.events) >= max_events:
+                raise LimitExceeded(f"max_events = {max_events} reached: the next event is at "
+                                    f"t = {_label(t)}")
             traj.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
                                      len(chain), impulse, triggers))
-        if len(traj.events) > max_events:
-            raise LimitExceeded(f"max_events = {max_events} reached at t = {_label(t)}")
         if time_limit is not None and _time.monotonic() - started > time_limit:
             raise LimitExceeded(f"time_limit = {time_limit} s reached at t = {_label(t)}")
         phase = Phase(mode, z)

@@ -100,7 +100,7 @@ def test_no_event_at_zero_for_consistent_start():
     assert all(close(num(c), want[i]) for i, c in enumerate(tr.state(1)))
 
 
-@pytest.mark.parametrize("limit, events", [({"max_events": 1}, 2), ({"time_limit": 0}, None)])
+@pytest.mark.parametrize("limit, events", [({"max_events": 1}, 1), ({"time_limit": 0}, None)])
 def test_limits_return_partial_trajectory(limit, events):
     """A run stopped by a limit raises LimitExceeded naming it; nothing computed is lost."""
     (name,) = limit
@@ -109,7 +109,7 @@ def test_limits_return_partial_trajectory(limit, events):
         L.simulate(carts(), x0, 3, **limit)
     tr = err.value.trajectory
     assert tr.partial and name in tr.stop_reason
-    if events is not None:  # the limit is checked after recording the event that exceeds it
+    if events is not None:  # exactly max_events events are kept
         assert len(tr.events) == events and tr.events[0].time.closed_form == 1
 
 
@@ -329,3 +329,34 @@ def test_section7_final_state_closed_form(section7):
     fx = section7.to_fixture(30)
     assert all(c["exact"] is not None for c in fx["final_state"])
     assert sp.N(sp.sympify(fx["final_state"][3]["exact"]) - cf[3], 40) == 0
+
+
+def test_event_exactly_at_t_end_is_reported():
+    """q'' = -g (g ≡ 1 a constant state) from q = 1/2 at rest: q = 1/2 - t^2/2 hits the stop at
+    t = 1 with v = -1. With t_end = 1 the impact is reported and x(t_end) is the state after it
+    (as at any event time), consistent with t_end = 3."""
+    lcs = L.LCS([[0, 1, 0], [0, 0, -1], [0, 0, 0]], [[0], [1], [0]], [[1, 0, 0]], [[0]])
+    for t_end in (1, 3):
+        tr = L.simulate(lcs, ["1/2", 0, 1], t_end)
+        e = tr.events[0]
+        assert e.time.closed_form == 1 and e.modes == (frozenset({0}),)
+        assert [str(c) for c in e.state_before.rational().entries()] == ["0", "-1", "1"]
+        assert [str(c) for c in tr.state(1).rational().entries()] == ["0", "0", "1"]
+    assert len(L.simulate(lcs, ["1/2", 0, 1], 1).events) == 1
+
+
+def test_decimal_error_bounds_are_upper_bounds():
+    """decimal(): a rounded rational carries a bound >= the true error; exact values stand alone."""
+    from fractions import Fraction
+    from lcs_exact.reals import as_real
+    assert as_real("1/4").decimal(5) == "0.25" and as_real(0).decimal(5) == "0"
+    for q in ("1/3", "2/7", 123456789012345):
+        text, _, err = as_real(q).decimal(5).partition(" +/- ")
+        assert abs(Fraction(text) - Fraction(q)) <= Fraction(err)
+    # a transcendental value: |value - true| <= error, the true value from mpmath at 60 digits
+    x3 = L.simulate(carts(), L.expm_action(A_CARTS, -1, [0, -1, -1, 0]), 3).state(3)
+    with mp.workdps(60):
+        want = mp.expm(mp.matrix(A_CARTS) * (2 - mp.pi / 2)) * mp.matrix([0, 0, 0, 1])
+        for i in range(4):
+            text, _, err = x3[i].decimal(30).partition(" +/- ")
+            assert abs(mp.mpf(text) - want[i]) <= mp.mpf(err)
