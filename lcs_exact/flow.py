@@ -29,7 +29,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 from .errors import LCSError
 from .rational import matrix_to_sympy, submatrix, zeros
 from .subspaces import left_kernel
-from .reals import (ExactVector, ExpVector, Real, RationalVector, _max_prec, _sympy_to_arb, ball_sign,
+from .reals import (ExactVector, ExpVector, orbit_zero_forms, Real, RationalVector, _max_prec, _sympy_to_arb, ball_sign,
                     check_deadline, expm_action, expm_apply, invariant_forms, unresolved, workprec)
 from .modes import format_mode
 
@@ -65,7 +65,7 @@ class Phase:
         if q is not None:
             # every form vanishing on the whole phase: the left kernel of the Krylov matrix
             # [z, A_I z, ..., A_I^{n-1} z] (it contains the annihilator of V_I)
-            self.zero_forms = left_kernel(_krylov(self.M, q))
+            self.zero_forms = orbit_zero_forms(self.M, q)
         else:
             # z in V_I: the annihilator of V_I (A_I-invariant) vanishes on the whole phase, and so
             # do the A_I-invariant relations already known on z
@@ -258,15 +258,6 @@ def _stack(*ms: fmpq_mat) -> fmpq_mat:
     from .rational import vstack
     m = vstack(*ms)
     return image(m.transpose()).transpose() if m.nrows() else m
-
-
-def _krylov(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
-    from .rational import hstack
-    cols, v = [], q
-    for _ in range(M.nrows()):
-        cols.append(v)
-        v = M * v
-    return hstack(*cols)
 
 
 def _rsign(v) -> int:
@@ -715,9 +706,12 @@ def _exp_candidates(sym) -> list:
     if poly.degree() < 1 or poly.degree() > 12:
         return []
     out = []
-    for r in sympy.roots(poly, filter=None):
-        if r.is_real and r.is_positive and r != 1:
-            out.append(sympy.log(r) / g)
+    for factor, _ in poly.factor_list()[1]:
+        if factor.degree() > 2:
+            continue  # cubic/quartic radicals: unreadable and slow to prove (minutes in SymPy)
+        for r in sympy.roots(factor, filter=None):
+            if r.is_real and r.is_positive and r != 1:
+                out.append(sympy.log(r) / g)
     return out
 
 

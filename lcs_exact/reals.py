@@ -688,6 +688,18 @@ def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
     return U
 
 
+def orbit_zero_forms(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
+    """Every form g with g e^{Mt} q ≡ 0: the left kernel of the Krylov matrix [q, Mq, ...,
+    M^{n-1} q] (Cayley-Hamilton), exact."""
+    from .rational import hstack
+    from .subspaces import left_kernel
+    cols, v = [], q
+    for _ in range(M.nrows()):
+        cols.append(v)
+        v = M * v
+    return left_kernel(hstack(*cols))
+
+
 def expm_action(M: Any, t: Any, v: Any) -> ExactVector:
     """e^{M t} v as an exact vector (M, v: any matrix/vector input LCS accepts; t exact).
 
@@ -711,7 +723,10 @@ def expm_action(M: Any, t: Any, v: Any) -> ExactVector:
     q = v.rational()
     if q is not None and is_zero(M * q):  # an equilibrium: e^{Mt} v = v
         return v
-    zf = invariant_forms(v.zero_forms, M) if v.zero_forms.nrows() else None
+    if q is not None:  # forms vanishing on the whole orbit e^{Ms} q (e.g. coordinates M leaves at 0)
+        zf = orbit_zero_forms(M, q)
+    else:
+        zf = invariant_forms(v.zero_forms, M) if v.zero_forms.nrows() else None
     return ExpVector(M, t, v, zf)
 
 

@@ -122,3 +122,20 @@ def test_tangential_touch_from_a_transcendental_start_is_no_event():
     got = [num(c) for c in tr.state(3)]
     want = mp.expm(A * 2) * v
     assert all(close(g, want[i]) for i, g in enumerate(got))
+
+
+def test_structural_zero_of_an_exact_start():
+    """x0 = e^{-R}(0, -1, 1, 0) with R rotating only (c, s): q(0) = 0 exactly (a form vanishing on
+    the whole orbit of R), so the impact at t = 0 is decided without refining balls. With
+    q'' = -c + u, c = cos(t - 1): the stop holds while u = cos(t - 1) >= 0, release at 1 + π/2,
+    then free flight: x(3) = (cos 2 + 2 - π/2, 1 - sin 2, cos 2, -sin 2) (by hand)."""
+    A = [[0, 1, 0, 0], [0, 0, -1, 0], [0, 0, 0, 1], [0, 0, -1, 0]]
+    R = [[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, -1, 0]]
+    lcs = L.LCS(A, [[0], [1], [0], [0]], [[1, 0, 0, 0]], [[0]])
+    tr = L.simulate(lcs, L.expm_action(R, -1, [0, -1, 1, 0]), 3)
+    assert tr.certified and len(tr.events) == 2
+    e0, e1 = tr.events
+    assert e0.time.closed_form == 0 and e0.modes == (frozenset({0}),)
+    assert close(num(e1.time), 1 + mp.pi / 2) and e1.mode_after == frozenset()
+    want = [mp.cos(2) + 2 - mp.pi / 2, 1 - mp.sin(2), mp.cos(2), -mp.sin(2)]
+    assert all(close(num(c), w) for c, w in zip(tr.state(3), want))
