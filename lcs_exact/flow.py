@@ -243,7 +243,8 @@ class Phase:
         if prove_closed_form(tstar) is not None and vanishes_at(self, c.g, tstar.closed_form):
             return None  # f >= 0 on [a, b]: convex with f(t*) = f'(t*) = 0
         s = ball_sign(lambda p: self.value(c, tstar.arb(p + 20), p),
-                      lambda: f"{c.name} at its critical point near t = {float(a):.17g} (tangential touch?)", prec)
+                      lambda: f"{c.name} at its critical point t ≈ {float(tstar.arb(64).mid()):.17g} "
+                              "(phase time; tangential touch?)", prec)
         if s > 0 or s == 0:
             return None
         return _UNDECIDED
