@@ -61,9 +61,14 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     >>> tr.events[0].state_after
     (0, 1, 0, 0)
     """
-    if digits < 1:
-        raise ValueError(f"digits must be >= 1, got {digits}")
-    T = as_real(t_end)
+    if isinstance(digits, bool) or not isinstance(digits, int) or digits < 1:
+        raise ValueError(f"digits must be a positive integer, got {digits!r}")
+    if x0 is None:
+        raise ValueError("x0 is required: a vector of length n (rational entries or an exact vector)")
+    try:
+        T = as_real(t_end)
+    except (LCSError, TypeError, ValueError) as e:
+        raise type(e)(f"t_end: {e}") from e
     if T.sign() < 0:
         raise ValueError(f"t_end must be >= 0, got {t_end}")
     z0 = as_exact_vector(x0, lcs.n)

@@ -360,3 +360,12 @@ def test_decimal_error_bounds_are_upper_bounds():
         for i in range(4):
             text, _, err = x3[i].decimal(30).partition(" +/- ")
             assert abs(mp.mpf(text) - want[i]) <= mp.mpf(err)
+
+
+def test_bad_run_arguments_are_named():
+    for kw, word in ((dict(digits="30"), "digits"), (dict(digits=0), "digits"), (dict(t_end="abc"), "t_end"),
+                     (dict(x0=None), "x0")):
+        args = dict(x0=[0, 1, 0, 0], t_end=1)
+        args.update(kw)
+        with pytest.raises((ValueError, L.LCSError), match=word):
+            L.simulate(carts(), args.pop("x0"), args.pop("t_end"), **args)
