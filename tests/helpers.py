@@ -4,6 +4,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 import mpmath as mp
+import pytest
 from flint import fmpq, fmpq_mat
 
 from lcs_exact import LCS
@@ -100,3 +101,15 @@ def num(r, digits: int = 40):
 def close(a, b, tol=TOL) -> bool:
     """|a - b| <= tol * max(1, |b|) (28 digits by default)."""
     return abs(a - b) <= tol * max(1, abs(b))
+
+
+def mpmath_digits(dps: int):
+    """An autouse fixture running every test of a module with mpmath at ``dps`` digits (whatever
+    other modules set); assign it to a module-level name: ``_mp = mpmath_digits(60)``."""
+    @pytest.fixture(autouse=True)
+    def _fixture():
+        old = mp.mp.dps
+        mp.mp.dps = dps
+        yield
+        mp.mp.dps = old
+    return _fixture

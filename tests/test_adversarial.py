@@ -30,19 +30,14 @@ from scipy.linalg import expm as fexpm
 import lcs_exact as L
 from lcs_exact.models import mechanical
 
-from helpers import num as _num
+from helpers import mpmath_digits, num as _num
 
 mp.mp.dps = 50
 TOL = mp.mpf(10) ** -25
 DIGITS = 30
 
 
-@pytest.fixture(autouse=True)
-def _mp50():
-    old = mp.mp.dps
-    mp.mp.dps = 50
-    yield
-    mp.mp.dps = old
+_mp50 = mpmath_digits(50)
 
 
 # -------------------------------------------------------------------------------------------------

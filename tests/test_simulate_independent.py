@@ -20,18 +20,14 @@ import sympy as sp
 import lcs_exact as L
 from lcs_exact.models import mechanical, two_carts, two_carts_with_hook
 
+from helpers import mpmath_digits
+
 mp.mp.dps = 60
 TOL = mp.mpf(10) ** -25
 DIGITS = 30
 
 
-@pytest.fixture(autouse=True)
-def _mpmath_60_digits():
-    """Every expected value is computed with mpmath at 60 digits (whatever other modules set)."""
-    old = mp.mp.dps
-    mp.mp.dps = 60
-    yield
-    mp.mp.dps = old
+_mpmath_60_digits = mpmath_digits(60)  # every expected value is computed at 60 digits
 
 
 # -------------------------------------------------------------------------------------------------
