@@ -1,0 +1,959 @@
+"""Exact real and complex numbers with a safe zero test: a small ctypes binding to FLINT's Calcium.
+
+Calcium (``ca_*``, ``qqbar_*``, part of FLINT 3) represents a number exactly, as an element of
+a field Q(a_1, ..., a_n) whose generators are algebraic numbers or closed forms (pi, exp, log,
+...).  Its predicates never answer wrongly: they answer true, false or *unknown*.  python-flint
+has no Python binding for Calcium, but the FLINT library it ships (``python_flint.libs/``)
+exports it, so this module loads that very library with :mod:`ctypes`.
+
+Representation
+--------------
+* :class:`Ca` wraps one ``ca_t``: a private ctypes buffer (twice ``sizeof(ca_struct)``),
+  initialized with ``ca_init`` and freed with ``ca_clear`` when the wrapper is collected.
+  The buffer never leaves the wrapper, so no two wrappers share a ``ca_t``.
+* All numbers live in one module-level ``ca_ctx_t``, created on first use and cleared at
+  interpreter exit (``atexit``); after that no ``ca_clear`` is called any more.
+* Every call into FLINT holds one module-level re-entrant lock: the context is mutated even
+  by queries (caches), so the lock makes the module safe to use from several threads (they
+  are serialized).  A running Calcium call cannot be interrupted (Ctrl-C waits for it).
+
+Invariants
+----------
+* A :class:`Ca` is immutable and always holds a *number*: never one of Calcium's special
+  values (Unknown, Undefined, infinities).  An operation whose result would be special raises
+  instead: ``ZeroDivisionError`` (divisor proven zero), ``ValueError`` (undefined or infinite,
+  e.g. ``log(0)``), :class:`~lcs_exact.errors.UnresolvedSign` (Calcium could not decide,
+  e.g. whether a divisor is zero).
+* Nothing that Calcium could abort on is called: divisions go through ``ca_inv`` (which
+  answers Unknown or infinity instead of aborting) and are checked before the product is
+  formed; negative powers go through that inverse; results are checked for special values.
+* Enclosures are rigorous: the true value lies in the returned ``flint.acb``
+  (see :meth:`Ca.enclosure`).
+
+What ``None`` means
+-------------------
+:meth:`Ca.is_zero`, :meth:`Ca.is_rational`, :meth:`Ca.is_real`, :meth:`Ca.sign` and
+:meth:`Ca.to_fmpq` return ``None`` when Calcium could not decide.  ``None`` is never a guess
+and never means "probably": callers must treat it as "undecided" (for a sign, fall back to a
+ball, or raise :class:`~lcs_exact.errors.UnresolvedSign`).
+
+Layout
+------
+The struct layouts below are those of FLINT 3.6.0 on 64-bit Linux (``src/ca_types.h``,
+``src/qqbar.h``, ``src/acb_types.h``, ``src/arb_types.h``, ``src/arf_types.h``,
+``src/fmpz_types.h``, ``src/flint.h.in``; identical from 3.3.0 to the development head).
+On first use they are checked against the library itself (sentinel-filled buffers around
+``ca_ctx_init``, ``ca_init``, ``ca_i``, ``qqbar_init``, ``acb_init``); a mismatch makes
+:func:`available` return False instead of risking memory corruption.
+
+>>> from lcs_exact import calcium
+>>> calcium.available()
+True
+>>> x = (calcium.Ca.i() * calcium.Ca.pi()).exp() + 1     # e^{i pi} + 1
+>>> x.is_zero()
+True
+"""
+from __future__ import annotations
+
+import atexit
+import ctypes
+import threading
+from fractions import Fraction
+from numbers import Integral
+from pathlib import Path
+from typing import Any, Sequence
+
+import flint
+from flint import acb, arb, arf, fmpq, fmpz
+
+from .errors import NotRational, UnresolvedSign
+from .rational import to_fmpq
+
+__all__ = ["available", "Ca"]
+
+# ---------------------------------------------------------------------------------------------
+# FLINT 3.6 struct layouts (64-bit).  fmpz is one slong; truth_t is an enum (int).
+# ---------------------------------------------------------------------------------------------
+
+_slong = ctypes.c_int64
+_ulong = ctypes.c_uint64
+_ptr = ctypes.c_void_p
+
+T_TRUE, T_FALSE, T_UNKNOWN = 0, 1, 2              # gr_types.h: typedef enum {T_TRUE, T_FALSE, T_UNKNOWN}
+_CA_UNKNOWN, _CA_UNDEFINED, _CA_INF = 1, 2, 3     # ca.h: low bits of ca_struct.field for special values
+_CA_OPT_PREC_LIMIT, _CA_OPT_QQBAR_DEG_LIMIT, _CA_OPT_LOW_PREC = 3, 4, 5
+
+
+class _fmpq(ctypes.Structure):
+    _fields_ = [("num", _slong), ("den", _slong)]
+
+
+class _fmpz_poly(ctypes.Structure):
+    _fields_ = [("coeffs", _ptr), ("alloc", _slong), ("length", _slong)]
+
+
+class _fmpq_poly(ctypes.Structure):
+    _fields_ = [("coeffs", _ptr), ("alloc", _slong), ("length", _slong), ("den", _slong)]
+
+
+class _mag(ctypes.Structure):
+    _fields_ = [("exp", _slong), ("man", _ulong)]
+
+
+class _arf(ctypes.Structure):
+    _fields_ = [("exp", _slong), ("size", _slong), ("d", _ulong * 2)]   # ARF_NOPTR_LIMBS = 2
+
+
+class _arb(ctypes.Structure):
+    _fields_ = [("mid", _arf), ("rad", _mag)]
+
+
+class _acb(ctypes.Structure):
+    _fields_ = [("real", _arb), ("imag", _arb)]
+
+
+class _qqbar(ctypes.Structure):
+    _fields_ = [("poly", _fmpz_poly), ("enclosure", _acb)]
+
+
+class _lnf_elem(ctypes.Structure):
+    _fields_ = [("num", _slong), ("den", _slong)]
+
+
+class _qnf_elem(ctypes.Structure):
+    _fields_ = [("num", _slong * 3), ("den", _slong)]
+
+
+class _nf_elem(ctypes.Union):
+    _fields_ = [("elem", _fmpq_poly), ("lelem", _lnf_elem), ("qelem", _qnf_elem)]
+
+
+class _ca_elem(ctypes.Union):
+    _fields_ = [("q", _fmpq), ("nf", _nf_elem), ("mpoly_q", _ptr)]
+
+
+class _ca(ctypes.Structure):
+    _fields_ = [("field", _ulong), ("elem", _ca_elem)]
+
+
+class _ca_cache(ctypes.Structure):      # ca_ext_cache_struct and ca_field_cache_struct
+    _fields_ = [("items", _ptr), ("length", _slong), ("alloc", _slong),
+                ("hash_size", _slong), ("hash_table", _ptr)]
+
+
+class _ca_ctx(ctypes.Structure):
+    _fields_ = [("ext_cache", _ca_cache), ("field_cache", _ca_cache), ("field_qq", _ulong),
+                ("field_qq_i", _ulong), ("mctx", _ptr), ("mctx_len", _slong),
+                ("options", ctypes.POINTER(_slong))]
+
+
+#: sizeof() of each struct, as read in the FLINT 3.6 headers (checked at first use).
+STRUCT_SIZES = {"fmpz": 8, "fmpq": 16, "fmpz_poly_struct": 24, "mag_struct": 16, "arf_struct": 32,
+                "arb_struct": 48, "acb_struct": 96, "qqbar_struct": 120, "ca_struct": 40,
+                "ca_ctx_struct": 120}
+_CTYPES = {"fmpz": _slong, "fmpq": _fmpq, "fmpz_poly_struct": _fmpz_poly, "mag_struct": _mag,
+           "arf_struct": _arf, "arb_struct": _arb, "acb_struct": _acb, "qqbar_struct": _qqbar,
+           "ca_struct": _ca, "ca_ctx_struct": _ca_ctx}
+_CA_WORDS = 2 * STRUCT_SIZES["ca_struct"] // 8          # over-allocation: 2 x sizeof
+_SENTINEL = 0xA5A5A5A5A5A5A5A5
+
+# name: (restype, argtypes); pointers are passed as ints (addresses) or ctypes byref.
+_P, _S, _I, _C = _ptr, _slong, ctypes.c_int, ctypes.c_char_p
+_SIGNATURES: dict[str, tuple[Any, list[Any]]] = {
+    "ca_ctx_init": (None, [_P]), "ca_ctx_clear": (None, [_P]),
+    "ca_init": (None, [_P, _P]), "ca_clear": (None, [_P, _P]), "ca_set": (None, [_P, _P, _P]),
+    "ca_set_si": (None, [_P, _S, _P]), "ca_set_fmpz": (None, [_P, _P, _P]),
+    "ca_set_fmpq": (None, [_P, _P, _P]), "ca_set_qqbar": (None, [_P, _P, _P]),
+    "ca_pi": (None, [_P, _P]), "ca_i": (None, [_P, _P]),
+    "ca_neg": (None, [_P, _P, _P]), "ca_add": (None, [_P, _P, _P, _P]),
+    "ca_sub": (None, [_P, _P, _P, _P]), "ca_mul": (None, [_P, _P, _P, _P]),
+    "ca_inv": (None, [_P, _P, _P]), "ca_pow_si": (None, [_P, _P, _S, _P]),
+    "ca_exp": (None, [_P, _P, _P]), "ca_log": (None, [_P, _P, _P]), "ca_sqrt": (None, [_P, _P, _P]),
+    "ca_sin": (None, [_P, _P, _P]), "ca_cos": (None, [_P, _P, _P]), "ca_atan": (None, [_P, _P, _P]),
+    "ca_acos": (None, [_P, _P, _P]), "ca_asin": (None, [_P, _P, _P]), "ca_re": (None, [_P, _P, _P]),
+    "ca_im": (None, [_P, _P, _P]), "ca_conj": (None, [_P, _P, _P]), "ca_abs": (None, [_P, _P, _P]),
+    "ca_check_is_zero": (_I, [_P, _P]), "ca_check_is_rational": (_I, [_P, _P]),
+    "ca_check_is_real": (_I, [_P, _P]), "ca_check_gt": (_I, [_P, _P, _P]),
+    "ca_get_fmpq": (_I, [_P, _P, _P]), "ca_get_acb": (None, [_P, _P, _S, _P]),
+    "ca_get_str": (_P, [_P, _P]), "ca_ctx_get_option": (_S, [_P, _S]),
+    "qqbar_init": (None, [_P]), "qqbar_clear": (None, [_P]),
+    "_qqbar_vec_init": (_P, [_S]), "_qqbar_vec_clear": (None, [_P, _S]),
+    "qqbar_roots_fmpz_poly": (None, [_P, _P, _I]), "qqbar_equal": (_I, [_P, _P]),
+    "qqbar_degree": (_S, [_P]), "qqbar_get_acb": (None, [_P, _P, _S]),
+    "fmpz_init": (None, [_P]), "fmpz_clear": (None, [_P]), "fmpz_set_str": (_I, [_P, _C, _I]),
+    "fmpz_get_str": (_P, [_P, _I, _P]),
+    "fmpq_clear": (None, [_P]),
+    "fmpz_poly_init": (None, [_P]), "fmpz_poly_clear": (None, [_P]),
+    "fmpz_poly_set_coeff_fmpz": (None, [_P, _S, _P]),
+    "acb_init": (None, [_P]), "acb_clear": (None, [_P]),
+    "arf_init": (None, [_P]), "arf_clear": (None, [_P]), "arf_set_mag": (None, [_P, _P]),
+    "arf_get_fmpz_2exp": (None, [_P, _P, _P]), "arf_is_finite": (_I, [_P]), "mag_is_finite": (_I, [_P]),
+    "flint_free": (None, [_P]),
+}
+
+_PREC_LIMIT_ALGEBRAIC = 8192        # bits: root selection in Ca.algebraic gives up above this
+
+
+# ---------------------------------------------------------------------------------------------
+# the library and the context
+# ---------------------------------------------------------------------------------------------
+
+class _Backend:
+    """The loaded library, the one ``ca_ctx_t``, and the lock around every FLINT call."""
+
+    __slots__ = ("lib", "path", "version", "ctx_buf", "ctx", "lock", "alive")
+
+    def __init__(self, lib: ctypes.CDLL, path: Path, version: str):
+        self.lib, self.path, self.version = lib, path, version
+        self.lock = threading.RLock()
+        self.ctx_buf = (_ulong * (2 * STRUCT_SIZES["ca_ctx_struct"] // 8))(
+            *([_SENTINEL] * (2 * STRUCT_SIZES["ca_ctx_struct"] // 8)))
+        self.ctx = ctypes.addressof(self.ctx_buf)
+        self.alive = False
+
+    def close(self) -> None:
+        with self.lock:
+            if self.alive:
+                self.alive = False
+                self.lib.ca_ctx_clear(self.ctx)
+
+
+_backend: _Backend | None = None
+_backend_error: str | None = None
+_init_lock = threading.Lock()
+
+
+def _find_library() -> Path:
+    libdir = Path(flint.__file__).resolve().parent.parent / "python_flint.libs"
+    found = sorted(libdir.glob("libflint*.so*"))
+    if not found:
+        raise OSError(f"no libflint*.so* in {libdir}")
+    return found[0]
+
+
+def _self_check(b: _Backend) -> None:
+    """Check the struct layouts against the library (raises RuntimeError on a mismatch)."""
+    for name, size in STRUCT_SIZES.items():
+        if ctypes.sizeof(_CTYPES[name]) != size:
+            raise RuntimeError(f"ctypes sizeof({name}) = {ctypes.sizeof(_CTYPES[name])}, expected {size}")
+    lib, n = b.lib, STRUCT_SIZES["ca_ctx_struct"] // 8
+    # the context: ca_ctx_init writes exactly the first 120 bytes of a sentinel-filled buffer
+    lib.ca_ctx_init(b.ctx)
+    b.alive = True
+    words = list(b.ctx_buf)
+    if any(w != _SENTINEL for w in words[n:]):
+        raise RuntimeError("ca_ctx_init wrote past sizeof(ca_ctx_struct) = 120")
+    cx = _ca_ctx.from_address(b.ctx)
+    if not (cx.field_qq and cx.field_qq_i and cx.mctx is None and cx.mctx_len == 0
+            and cx.ext_cache.length >= 1 and cx.field_cache.length >= 2):
+        raise RuntimeError("ca_ctx_struct fields are not where FLINT 3.6 puts them")
+    for opt, default in ((_CA_OPT_PREC_LIMIT, 4096), (_CA_OPT_QQBAR_DEG_LIMIT, 120), (_CA_OPT_LOW_PREC, 64)):
+        if cx.options[opt] != default or lib.ca_ctx_get_option(b.ctx, opt) != default:
+            raise RuntimeError("ca_ctx_struct.options is not where FLINT 3.6 puts it")
+    # a number: ca_init makes 0 in QQ (field = ctx->field_qq, num 0, den 1); ca_i puts i in QQ(i)
+    m = _CA_WORDS
+    buf = (_ulong * m)(*([_SENTINEL] * m))
+    lib.ca_init(ctypes.addressof(buf), b.ctx)
+    if list(buf[:3]) != [cx.field_qq, 0, 1] or any(w != _SENTINEL for w in buf[3:]):
+        raise RuntimeError("ca_init does not write ca_struct as expected")
+    lib.ca_i(ctypes.addressof(buf), b.ctx)
+    ok = buf[0] == cx.field_qq_i and all(w == _SENTINEL for w in buf[STRUCT_SIZES["ca_struct"] // 8:])
+    lib.ca_clear(ctypes.addressof(buf), b.ctx)
+    if not ok:
+        raise RuntimeError("ca_i does not write ca_struct as expected")
+    # acb_init zeroes exp/size of each arf and exp/man of each mag; qqbar_init makes the
+    # number 0 with minimal polynomial s (poly = {coeffs, alloc >= 2, length 2}) and acb_init
+    acb_words = [0, 1, 4, 5, 6, 7, 10, 11]      # real.mid.exp/size, real.rad, imag.mid.exp/size, imag.rad
+    for init, clear, size in (("qqbar_init", "qqbar_clear", 120), ("acb_init", "acb_clear", 96)):
+        k = size // 8
+        buf = (_ulong * (2 * k))(*([_SENTINEL] * (2 * k)))
+        getattr(lib, init)(ctypes.addressof(buf))
+        w = list(buf)
+        degree = lib.qqbar_degree(ctypes.addressof(buf)) if init == "qqbar_init" else None
+        getattr(lib, clear)(ctypes.addressof(buf))
+        if init == "qqbar_init":
+            ok = w[0] not in (0, _SENTINEL) and 2 <= w[1] < _SENTINEL and w[2] == 2 and degree == 1
+            ok = ok and all(w[3 + i] == 0 for i in acb_words)
+        else:
+            ok = all(w[i] == 0 for i in acb_words)
+        if not ok or any(x != _SENTINEL for x in w[k:]):
+            raise RuntimeError(f"{init} does not write {size} bytes as expected")
+
+
+def _get() -> _Backend:
+    """The backend, loaded and checked on first call; raises RuntimeError when unavailable."""
+    global _backend, _backend_error
+    if _backend is not None:
+        return _backend
+    with _init_lock:
+        if _backend is not None:
+            return _backend
+        if _backend_error is not None:
+            raise RuntimeError(f"Calcium is not available: {_backend_error}")
+        b = None
+        try:
+            if ctypes.sizeof(ctypes.c_long) != 8 or ctypes.sizeof(ctypes.c_void_p) != 8:
+                raise OSError("the binding assumes a 64-bit LP64 platform")
+            path = _find_library()
+            lib = ctypes.CDLL(str(path))        # the library python-flint has already loaded
+            version = ctypes.cast(ctypes.addressof(ctypes.c_char.in_dll(lib, "flint_version")),
+                                  ctypes.c_char_p).value.decode()
+            major, minor = (int(p) for p in version.split(".")[:2])
+            if major != 3 or minor < 3:
+                raise OSError(f"FLINT {version}: the struct layouts are those of FLINT 3.3 to 3.6")
+            for name, (restype, argtypes) in _SIGNATURES.items():
+                fn = getattr(lib, name)         # AttributeError if a symbol is missing
+                fn.restype, fn.argtypes = restype, argtypes
+            b = _Backend(lib, path, version)
+            with b.lock:
+                _self_check(b)
+        except Exception as exc:                # noqa: BLE001 -- any failure means "not available"
+            _backend_error = f"{type(exc).__name__}: {exc}"
+            if b is not None and b.alive:       # do not leak a context whose layout we doubt
+                b.alive = False
+            raise RuntimeError(f"Calcium is not available: {_backend_error}") from exc
+        atexit.register(b.close)
+        _backend = b
+        return b
+
+
+def available() -> bool:
+    """Whether Calcium can be used: library found, symbols present, struct layouts verified.
+
+    Never raises.  The first call loads the library and creates the context.
+
+    Examples
+    --------
+    >>> available()
+    True
+    """
+    try:
+        _get()
+        return True
+    except Exception:                           # noqa: BLE001
+        return False
+
+
+# ---------------------------------------------------------------------------------------------
+# small helpers (call with the lock held)
+# ---------------------------------------------------------------------------------------------
+
+def _truth(t: int) -> bool | None:
+    return True if t == T_TRUE else False if t == T_FALSE else None
+
+
+def _take_str(lib: ctypes.CDLL, address: int | None) -> str:
+    """Copy a FLINT-allocated C string into Python and free it with flint_free."""
+    if not address:
+        raise MemoryError("FLINT returned a NULL string")
+    try:
+        return ctypes.string_at(address).decode()
+    finally:
+        lib.flint_free(address)
+
+
+def _fmpz_to_int(lib: ctypes.CDLL, address: int) -> int:
+    return int(_take_str(lib, lib.fmpz_get_str(None, 16, address)), 16)
+
+
+def _arf_to_python(lib: ctypes.CDLL, address: int) -> tuple[int, int]:
+    """Exact (man, exp) with value man * 2^exp of a finite arf_t."""
+    man, exp = _slong(0), _slong(0)
+    try:
+        lib.arf_get_fmpz_2exp(ctypes.byref(man), ctypes.byref(exp), address)
+        return _fmpz_to_int(lib, ctypes.addressof(man)), _fmpz_to_int(lib, ctypes.addressof(exp))
+    finally:
+        lib.fmpz_clear(ctypes.byref(man))
+        lib.fmpz_clear(ctypes.byref(exp))
+
+
+def _arb_to_flint(lib: ctypes.CDLL, address: int) -> arb:
+    """A python-flint arb containing the arb_t at ``address`` (exact midpoint, radius rounded up)."""
+    mid_at, rad_at = address, address + ctypes.sizeof(_arf)
+    if not (lib.arf_is_finite(mid_at) and lib.mag_is_finite(rad_at)):
+        return arb(0, "inf")                    # [+/- inf]: still contains the value
+    mid = arf(_arf_to_python(lib, mid_at))
+    tmp = (_ulong * (2 * ctypes.sizeof(_arf) // 8))()
+    lib.arf_init(ctypes.addressof(tmp))
+    try:
+        lib.arf_set_mag(ctypes.addressof(tmp), rad_at)           # exact: a mag is a 30-bit float
+        rad = arf(_arf_to_python(lib, ctypes.addressof(tmp)))
+    finally:
+        lib.arf_clear(ctypes.addressof(tmp))
+    ball = arb(mid, rad)
+    # python-flint keeps an arf midpoint exactly and rounds the radius up; check both anyway
+    if not (ball.mid() == arb(mid) and ball.rad() >= arb(rad)):
+        raise RuntimeError("python-flint did not transfer the ball exactly")
+    return ball
+
+
+def _acb_to_flint(lib: ctypes.CDLL, address: int) -> acb:
+    return acb(_arb_to_flint(lib, address), _arb_to_flint(lib, address + ctypes.sizeof(_arb)))
+
+
+class _Fmpz:
+    """A temporary fmpz_t set from a Python int (cleared on exit of the ``with`` block)."""
+
+    __slots__ = ("lib", "v")
+
+    def __init__(self, lib: ctypes.CDLL, value: int):
+        self.lib, self.v = lib, _slong(0)
+        if lib.fmpz_set_str(ctypes.byref(self.v), format(int(value), "x").encode(), 16) != 0:
+            lib.fmpz_clear(ctypes.byref(self.v))
+            raise ValueError(f"fmpz_set_str failed on {value!r}")
+
+    def __enter__(self) -> Any:
+        return ctypes.byref(self.v)
+
+    def __exit__(self, *exc: Any) -> None:
+        self.lib.fmpz_clear(ctypes.byref(self.v))
+
+
+# ---------------------------------------------------------------------------------------------
+# the number
+# ---------------------------------------------------------------------------------------------
+
+def _coerce(x: Any) -> "Ca":
+    return x if isinstance(x, Ca) else Ca(x)
+
+
+class Ca:
+    """An exact complex number of Calcium (immutable).
+
+    ``Ca(x)`` reads an exact rational: int, ``fmpz``, ``fmpq``, ``Fraction``, a ``"p/q"`` or
+    decimal string (anything :func:`lcs_exact.rational.to_fmpq` accepts), or another ``Ca``.
+    Arithmetic (``+ - * /``, ``**`` with an int exponent) mixes with those rationals.
+    ``==``, ``<``, ``bool()`` and ``hash()`` are refused (TypeError): decide with
+    :meth:`is_zero` / :meth:`sign`, which may answer None (undecided).
+
+    Examples
+    --------
+    >>> x = Ca(2).sqrt()
+    >>> (x * x - 2).is_zero(), (x - Fraction(14142, 10000)).is_zero()
+    (True, False)
+    >>> Ca("3/4") + 1
+    Ca(7/4)
+    """
+
+    __slots__ = ("_buf", "_ptr", "_b")
+
+    # ---- construction -------------------------------------------------------------------
+
+    def __init__(self, value: Any = 0):
+        b = _get()
+        self._b = None
+        self._buf = (_ulong * _CA_WORDS)()
+        self._ptr = ctypes.addressof(self._buf)
+        if isinstance(value, Ca):
+            with b.lock:
+                b.lib.ca_init(self._ptr, b.ctx)
+                self._b = b
+                b.lib.ca_set(self._ptr, value._ptr, b.ctx)
+            return
+        q = to_fmpq(value, "Ca value")
+        p, d = int(q.p), int(q.q)
+        with b.lock:
+            b.lib.ca_init(self._ptr, b.ctx)
+            self._b = b
+            if d == 1 and -(1 << 62) < p < (1 << 62):
+                b.lib.ca_set_si(self._ptr, p, b.ctx)
+            else:
+                fq = _fmpq(0, 0)
+                try:
+                    for field, v in (("num", p), ("den", d)):
+                        ok = b.lib.fmpz_set_str(ctypes.addressof(fq) + getattr(_fmpq, field).offset,
+                                                format(v, "x").encode(), 16)
+                        if ok != 0:
+                            raise ValueError(f"fmpz_set_str failed on {v!r}")
+                    b.lib.ca_set_fmpq(self._ptr, ctypes.byref(fq), b.ctx)   # canonical: gcd 1, den > 0
+                finally:
+                    b.lib.fmpq_clear(ctypes.byref(fq))
+
+    @classmethod
+    def _new(cls) -> "Ca":
+        """A fresh wrapper holding 0, to be overwritten by a FLINT call (caller holds the lock)."""
+        b = _get()
+        self = cls.__new__(cls)
+        self._b = None
+        self._buf = (_ulong * _CA_WORDS)()
+        self._ptr = ctypes.addressof(self._buf)
+        b.lib.ca_init(self._ptr, b.ctx)
+        self._b = b
+        return self
+
+    def __del__(self) -> None:
+        b = getattr(self, "_b", None)
+        if b is not None and b.alive:
+            with b.lock:
+                if b.alive:
+                    b.lib.ca_clear(self._ptr, b.ctx)
+            self._b = None
+
+    def __copy__(self) -> "Ca":
+        return self                             # immutable; never copy the ca_t buffer
+
+    def __deepcopy__(self, memo: Any) -> "Ca":
+        return self
+
+    def __reduce__(self) -> Any:
+        raise TypeError("Ca cannot be pickled (it wraps a FLINT object)")
+
+    @classmethod
+    def pi(cls) -> "Ca":
+        """The constant pi.
+
+        >>> Ca.pi().enclosure(30)
+        [3.14159265 +/- 5.09e-9]
+        """
+        b = _get()
+        with b.lock:
+            r = cls._new()
+            b.lib.ca_pi(r._ptr, b.ctx)
+        return r
+
+    @classmethod
+    def i(cls) -> "Ca":
+        """The imaginary unit.
+
+        >>> (Ca.i() ** 2 + 1).is_zero()
+        True
+        """
+        b = _get()
+        with b.lock:
+            r = cls._new()
+            b.lib.ca_i(r._ptr, b.ctx)
+        return r
+
+    @classmethod
+    def algebraic(cls, coeffs: Sequence[Any], approx: Any) -> "Ca":
+        """The root of ``sum(coeffs[j] * s**j)`` (low degree first) singled out by ``approx``.
+
+        ``coeffs`` are exact rationals (not all zero beyond degree 0).  ``approx`` is a
+        ``flint.acb`` / ``flint.arb`` / complex / float / rational.  A ball of nonzero radius
+        selects the unique root inside it; a point selects the root certified strictly nearest
+        to it.  The roots' enclosures are refined (up to 8192 bits) until the choice is proven.
+
+        Raises
+        ------
+        ValueError
+            The polynomial is constant, or ``approx`` does not single out one root (a ball
+            meeting no root or several distinct roots, a point equidistant from two roots).
+
+        Examples
+        --------
+        >>> phi = Ca.algebraic([-1, -1, 1], 1.6)            # s^2 - s - 1, golden ratio
+        >>> (phi * phi - phi - 1).is_zero(), phi.is_real()
+        (True, True)
+        >>> Ca.algebraic([1, 0, 1], 0)
+        Traceback (most recent call last):
+        ...
+        ValueError: approx 0 does not single out one root of 1 + s^2 (2 roots are as near)
+        """
+        qs = [to_fmpq(c, "polynomial coefficient") for c in coeffs]
+        while qs and qs[-1] == 0:
+            qs.pop()
+        if len(qs) < 2:
+            raise ValueError(f"the polynomial {list(coeffs)!r} has no roots (degree < 1)")
+        desc = _poly_str(qs)
+        den = 1
+        for q in qs:
+            den = den * int(q.q) // _gcd(den, int(q.q))
+        ints = [int(q.p) * (den // int(q.q)) for q in qs]
+        try:
+            target = approx if isinstance(approx, acb) else acb(approx)
+        except Exception:                       # noqa: BLE001
+            raise TypeError(f"approx {approx!r} is not a number python-flint can read as acb") from None
+        ball_mode = not (target.real.rad() == 0 and target.imag.rad() == 0)
+        deg = len(ints) - 1
+        b = _get()
+        lib = b.lib
+        qsize = ctypes.sizeof(_qqbar)
+        with b.lock:
+            poly = (_ulong * (2 * ctypes.sizeof(_fmpz_poly) // 8))()
+            lib.fmpz_poly_init(ctypes.addressof(poly))
+            vec = None
+            try:
+                for j, c in enumerate(ints):
+                    with _Fmpz(lib, c) as f:
+                        lib.fmpz_poly_set_coeff_fmpz(ctypes.addressof(poly), j, f)
+                vec = lib._qqbar_vec_init(deg)
+                lib.qqbar_roots_fmpz_poly(vec, ctypes.addressof(poly), 0)
+                roots: list[int] = []           # addresses of the distinct roots
+                for k in range(deg):
+                    at = vec + k * qsize
+                    if not 1 <= lib.qqbar_degree(at) <= deg:
+                        raise RuntimeError("qqbar_roots_fmpz_poly output does not have the expected layout")
+                    if not any(lib.qqbar_equal(at, r) for r in roots):
+                        roots.append(at)
+                chosen = _select_root(lib, roots, target, ball_mode, approx, desc)
+                r = cls._new()
+                lib.ca_set_qqbar(r._ptr, chosen, b.ctx)
+            finally:
+                if vec is not None:
+                    lib._qqbar_vec_clear(vec, deg)
+                lib.fmpz_poly_clear(ctypes.addressof(poly))
+        return r
+
+    # ---- arithmetic -----------------------------------------------------------------------
+
+    def _binary(self, other: Any, fname: str, swap: bool = False) -> "Ca":
+        try:
+            o = _coerce(other)
+        except NotRational:
+            return NotImplemented
+        x, y = (o, self) if swap else (self, o)
+        b = self._b or _get()
+        with b.lock:
+            r = Ca._new()
+            getattr(b.lib, fname)(r._ptr, x._ptr, y._ptr, b.ctx)
+            r._check(fname)
+        return r
+
+    def __add__(self, other: Any) -> "Ca":
+        return self._binary(other, "ca_add")
+
+    def __radd__(self, other: Any) -> "Ca":
+        return self._binary(other, "ca_add", swap=True)
+
+    def __sub__(self, other: Any) -> "Ca":
+        return self._binary(other, "ca_sub")
+
+    def __rsub__(self, other: Any) -> "Ca":
+        return self._binary(other, "ca_sub", swap=True)
+
+    def __mul__(self, other: Any) -> "Ca":
+        return self._binary(other, "ca_mul")
+
+    def __rmul__(self, other: Any) -> "Ca":
+        return self._binary(other, "ca_mul", swap=True)
+
+    def __truediv__(self, other: Any) -> "Ca":
+        try:
+            o = _coerce(other)
+        except NotRational:
+            return NotImplemented
+        return self * o._inverse()
+
+    def __rtruediv__(self, other: Any) -> "Ca":
+        try:
+            o = _coerce(other)
+        except NotRational:
+            return NotImplemented
+        return o * self._inverse()
+
+    def _inverse(self) -> "Ca":
+        """1/self; ca_inv answers uinf (proven zero) or Unknown (undecided) instead of aborting."""
+        return self._unary("ca_inv")
+
+    def __neg__(self) -> "Ca":
+        return self._unary("ca_neg")
+
+    def __pos__(self) -> "Ca":
+        return self
+
+    def __abs__(self) -> "Ca":
+        return self._unary("ca_abs")
+
+    def __pow__(self, k: Any) -> "Ca":
+        if isinstance(k, bool) or not isinstance(k, (Integral, fmpz)):
+            return NotImplemented
+        k = int(k)
+        if not -(1 << 62) < k < (1 << 62):
+            raise OverflowError(f"exponent {k} is too large")
+        base = self if k >= 0 else self._inverse()
+        b = self._b or _get()
+        with b.lock:
+            r = Ca._new()
+            b.lib.ca_pow_si(r._ptr, base._ptr, abs(k), b.ctx)
+            r._check("ca_pow_si")
+        return r
+
+    def _unary(self, fname: str) -> "Ca":
+        b = self._b or _get()
+        with b.lock:
+            r = Ca._new()
+            getattr(b.lib, fname)(r._ptr, self._ptr, b.ctx)
+            r._check(fname)
+        return r
+
+    def _check(self, fname: str) -> None:
+        """Refuse a special value (caller holds the lock); the wrapper is then dropped."""
+        field = self._buf[0]
+        if not field & 3:
+            return
+        what = fname[3:] if fname.startswith("ca_") else fname
+        if field == _CA_UNKNOWN:
+            if what == "inv":
+                raise UnresolvedSign("division by a number that Calcium cannot prove nonzero")
+            raise UnresolvedSign(f"{what}: Calcium cannot decide whether the argument is a singular point")
+        if what == "inv":
+            raise ZeroDivisionError("division by a number that is exactly zero")
+        if field == _CA_UNDEFINED:
+            raise ValueError(f"{what}: the result is undefined")
+        raise ValueError(f"{what}: the result is infinite")
+
+    # ---- functions ------------------------------------------------------------------------
+
+    def exp(self) -> "Ca":
+        """e**self.
+
+        >>> (Ca(2).log().exp() - 2).is_zero()
+        True
+        """
+        return self._unary("ca_exp")
+
+    def log(self) -> "Ca":
+        """Principal natural logarithm; ``ValueError`` at 0.
+
+        >>> (Ca(2).log() + Ca(3).log() - Ca(6).log()).is_zero()
+        True
+        """
+        return self._unary("ca_log")
+
+    def sqrt(self) -> "Ca":
+        """Principal square root.
+
+        >>> Ca(-4).sqrt()
+        Ca(2*I)
+        """
+        return self._unary("ca_sqrt")
+
+    def sin(self) -> "Ca":
+        """Sine.
+
+        >>> Ca.pi().sin().is_zero()
+        True
+        """
+        return self._unary("ca_sin")
+
+    def cos(self) -> "Ca":
+        """Cosine.
+
+        >>> (Ca.pi().cos() + 1).is_zero()
+        True
+        """
+        return self._unary("ca_cos")
+
+    def atan(self) -> "Ca":
+        """Principal arctangent; ``ValueError`` at +-i.
+
+        >>> (4 * Ca(1).atan() - Ca.pi()).is_zero()
+        True
+        """
+        return self._unary("ca_atan")
+
+    def acos(self) -> "Ca":
+        """Principal arccosine.
+
+        >>> (Ca(-1).acos() - Ca.pi()).is_zero()
+        True
+        """
+        return self._unary("ca_acos")
+
+    def asin(self) -> "Ca":
+        """Principal arcsine.
+
+        >>> (2 * Ca(1).asin() - Ca.pi()).is_zero()
+        True
+        """
+        return self._unary("ca_asin")
+
+    def re(self) -> "Ca":
+        """Real part.
+
+        >>> (Ca(3) + 4 * Ca.i()).re()
+        Ca(3)
+        """
+        return self._unary("ca_re")
+
+    def im(self) -> "Ca":
+        """Imaginary part.
+
+        >>> (Ca(3) + 4 * Ca.i()).im()
+        Ca(4)
+        """
+        return self._unary("ca_im")
+
+    def conj(self) -> "Ca":
+        """Complex conjugate.
+
+        >>> (Ca(3) + 4 * Ca.i()).conj()
+        Ca(3 - 4*I)
+        """
+        return self._unary("ca_conj")
+
+    # ---- decisions ------------------------------------------------------------------------
+
+    def _predicate(self, fname: str) -> bool | None:
+        b = self._b
+        with b.lock:
+            return _truth(getattr(b.lib, fname)(self._ptr, b.ctx))
+
+    def is_zero(self) -> bool | None:
+        """True / False when Calcium proves it; None when it cannot decide (never a guess).
+
+        >>> (Ca.pi() - Fraction(22, 7)).is_zero()
+        False
+        """
+        return self._predicate("ca_check_is_zero")
+
+    def is_rational(self) -> bool | None:
+        """True / False when proven; None when undecided.
+
+        >>> (Ca.i() * Ca.pi()).exp().is_rational(), Ca(2).sqrt().is_rational()
+        (True, False)
+        """
+        return self._predicate("ca_check_is_rational")
+
+    def is_real(self) -> bool | None:
+        """True / False when proven; None when undecided.
+
+        >>> Ca(2).sqrt().is_real(), Ca(-2).sqrt().is_real()
+        (True, False)
+        """
+        return self._predicate("ca_check_is_real")
+
+    def sign(self) -> int | None:
+        """-1, 0 or 1 for a number proven real; None when Calcium cannot decide.
+
+        Raises ``ValueError`` for a number proven non-real.
+
+        >>> (Ca.pi() - Fraction(22, 7)).sign(), Ca(0).sign(), (Ca(2).sqrt() - 2).sign()
+        (-1, 0, -1)
+        """
+        z = self.is_zero()
+        if z is not False:
+            return None if z is None else 0
+        real = self.is_real()
+        if real is False:
+            raise ValueError(f"sign of the non-real number {self}")
+        if real is None:
+            return None
+        b = self._b
+        with b.lock:
+            zero = Ca._new()
+            gt = _truth(b.lib.ca_check_gt(self._ptr, zero._ptr, b.ctx))
+        return None if gt is None else 1 if gt else -1
+
+    def to_fmpq(self) -> fmpq | None:
+        """The value as an ``fmpq`` when Calcium proves it rational, else None.
+
+        >>> (Ca.i() * Ca.pi()).exp().to_fmpq(), Ca(2).sqrt().to_fmpq()
+        (-1, None)
+        """
+        b = self._b
+        with b.lock:
+            q = _fmpq(0, 1)
+            try:
+                if not b.lib.ca_get_fmpq(ctypes.byref(q), self._ptr, b.ctx):
+                    return None
+                base = ctypes.addressof(q)
+                p = _fmpz_to_int(b.lib, base + _fmpq.num.offset)
+                d = _fmpz_to_int(b.lib, base + _fmpq.den.offset)
+            finally:
+                b.lib.fmpq_clear(ctypes.byref(q))
+        return fmpq(p, d)
+
+    def enclosure(self, prec: int = 53) -> acb:
+        """A rigorous ball: the exact value lies in the returned ``flint.acb``.
+
+        ``ca_get_acb`` evaluates with adaptive working precision aiming at ``prec`` accurate
+        bits (it stops at Calcium's precision limit, 4096 bits by default, e.g. for an
+        unsimplified exact zero).  The ball is then transferred exactly: each midpoint as
+        ``man * 2^exp`` (``arf_get_fmpz_2exp``, integers through ``fmpz_get_str``), each radius
+        likewise after the exact ``arf_set_mag``; python-flint keeps the midpoint exactly and
+        rounds the radius up (both checked).  No decimal string is involved.
+
+        >>> e = Ca.pi().enclosure(64)
+        >>> e.imag == 0 and e.real.rad() < 2.0 ** -60 and e.real.contains(flint.arb.pi())
+        True
+        """
+        prec = int(prec)
+        if prec < 2:
+            raise ValueError(f"prec must be >= 2, not {prec}")
+        b = self._b
+        with b.lock:
+            buf = (_ulong * (2 * ctypes.sizeof(_acb) // 8))()
+            at = ctypes.addressof(buf)
+            b.lib.acb_init(at)
+            try:
+                b.lib.ca_get_acb(at, self._ptr, prec, b.ctx)
+                return _acb_to_flint(b.lib, at)
+            finally:
+                b.lib.acb_clear(at)
+
+    # ---- refused operations and printing ----------------------------------------------------
+
+    def __bool__(self) -> bool:
+        raise TypeError("the truth value of a Ca is not decided by bool(): use is_zero() (True/False/None)")
+
+    def __eq__(self, other: Any) -> bool:
+        raise TypeError("Ca == is refused: use (x - y).is_zero(), which answers True/False/None")
+
+    def __ne__(self, other: Any) -> bool:
+        raise TypeError("Ca != is refused: use (x - y).is_zero(), which answers True/False/None")
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __str__(self) -> str:
+        b = self._b
+        with b.lock:
+            return _take_str(b.lib, b.lib.ca_get_str(self._ptr, b.ctx))
+
+    def __repr__(self) -> str:
+        return f"Ca({self})"
+
+
+# ---------------------------------------------------------------------------------------------
+# root selection for Ca.algebraic
+# ---------------------------------------------------------------------------------------------
+
+def _gcd(a: int, b: int) -> int:
+    while b:
+        a, b = b, a % b
+    return abs(a)
+
+
+def _poly_str(qs: list[fmpq]) -> str:
+    terms = []
+    for j, q in enumerate(qs):
+        if q == 0:
+            continue
+        c = "" if (q == 1 and j) else "-" if (q == -1 and j) else f"({q})" if (j and q.q != 1) else f"{q}"
+        terms.append(c if j == 0 else f"{c}s" if j == 1 else f"{c}s^{j}")
+    return " + ".join(terms)
+
+
+def _select_root(lib: ctypes.CDLL, roots: list[int], target: acb, ball_mode: bool, approx: Any,
+                 desc: str) -> int:
+    """The address of the root singled out by ``target`` (caller holds the lock)."""
+    buf = (_ulong * (2 * ctypes.sizeof(_acb) // 8))()
+    at = ctypes.addressof(buf)
+    prec = 64
+    while True:
+        encl = []
+        lib.acb_init(at)
+        try:
+            for r in roots:
+                lib.qqbar_get_acb(at, r, prec)
+                encl.append(_acb_to_flint(lib, at))
+        finally:
+            lib.acb_clear(at)
+        with flint.ctx.workprec(prec + 32):
+            if ball_mode:
+                meet = [k for k, e in enumerate(encl) if e.overlaps(target)]
+                if not meet:
+                    raise ValueError(f"no root of {desc} lies in approx {approx}")
+                if len(meet) == 1:
+                    return roots[meet[0]]
+                failure = f"{len(meet)} roots may lie in it"
+            else:
+                mid = acb(target.real.mid(), target.imag.mid())
+                dist = [abs(e - mid) for e in encl]
+                best = min(range(len(roots)), key=lambda k: dist[k].mid())
+                if all(dist[best] < dist[k] for k in range(len(roots)) if k != best):
+                    return roots[best]
+                failure = f"{sum(1 for d in dist if not dist[best] < d)} roots are as near"
+        prec *= 2
+        if prec > _PREC_LIMIT_ALGEBRAIC:
+            raise ValueError(f"approx {approx} does not single out one root of {desc} ({failure})")
