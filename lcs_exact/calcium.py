@@ -432,7 +432,7 @@ class Ca:
     >>> (x * x - 2).is_zero(), (x - Fraction(14142, 10000)).is_zero()
     (True, False)
     >>> Ca("3/4") + 1
-    Ca(7/4)
+    Ca(1.75000 {7/4})
     """
 
     __slots__ = ("_buf", "_ptr", "_b")
@@ -502,8 +502,8 @@ class Ca:
     def pi(cls) -> "Ca":
         """The constant pi.
 
-        >>> Ca.pi().enclosure(30)
-        [3.14159265 +/- 5.09e-9]
+        >>> Ca.pi().enclosure(30).real.overlaps(flint.arb.pi())
+        True
         """
         b = _get()
         with b.lock:
@@ -529,9 +529,11 @@ class Ca:
         """The root of ``sum(coeffs[j] * s**j)`` (low degree first) singled out by ``approx``.
 
         ``coeffs`` are exact rationals (not all zero beyond degree 0).  ``approx`` is a
-        ``flint.acb`` / ``flint.arb`` / complex / float / rational.  A ball of nonzero radius
-        selects the unique root inside it; a point selects the root certified strictly nearest
-        to it.  The roots' enclosures are refined (up to 8192 bits) until the choice is proven.
+        ``flint.acb`` / ``flint.arb`` / complex / float / rational.  An ``acb`` / ``arb`` of
+        nonzero radius selects the unique root inside it (rigorous: exactly one distinct root
+        meets the ball); anything else is a point (a ball's midpoint) and selects the root
+        certified strictly nearest to it.  The roots' enclosures (``qqbar_get_acb``) are refined
+        up to 8192 bits until the choice is proven.  Repeated roots count once.
 
         Raises
         ------
@@ -547,7 +549,7 @@ class Ca:
         >>> Ca.algebraic([1, 0, 1], 0)
         Traceback (most recent call last):
         ...
-        ValueError: approx 0 does not single out one root of 1 + s^2 (2 roots are as near)
+        ValueError: approx 0 does not single out one root of s^2 + 1 (2 roots are as near)
         """
         qs = [to_fmpq(c, "polynomial coefficient") for c in coeffs]
         while qs and qs[-1] == 0:
@@ -559,11 +561,15 @@ class Ca:
         for q in qs:
             den = den * int(q.q) // _gcd(den, int(q.q))
         ints = [int(q.p) * (den // int(q.q)) for q in qs]
-        try:
-            target = approx if isinstance(approx, acb) else acb(approx)
-        except Exception:                       # noqa: BLE001
-            raise TypeError(f"approx {approx!r} is not a number python-flint can read as acb") from None
-        ball_mode = not (target.real.rad() == 0 and target.imag.rad() == 0)
+        if isinstance(approx, (acb, arb)):
+            target = acb(approx)
+            ball_mode = not (target.real.rad() == 0 and target.imag.rad() == 0)
+        else:                                   # a point: complex, float, or an exact rational
+            try:
+                target = acb(approx) if isinstance(approx, (complex, float, int)) else acb(to_fmpq(approx, "approx"))
+            except Exception:                   # noqa: BLE001
+                raise TypeError(f"approx {approx!r} is not a number python-flint can read as acb") from None
+            target, ball_mode = acb(target.real.mid(), target.imag.mid()), False
         deg = len(ints) - 1
         b = _get()
         lib = b.lib
@@ -714,7 +720,7 @@ class Ca:
         """Principal square root.
 
         >>> Ca(-4).sqrt()
-        Ca(2*I)
+        Ca(2.00000*I {2*a where a = I [a^2+1=0]})
         """
         return self._unary("ca_sqrt")
 
@@ -778,7 +784,7 @@ class Ca:
         """Complex conjugate.
 
         >>> (Ca(3) + 4 * Ca.i()).conj()
-        Ca(3 - 4*I)
+        Ca(3.00000 - 4.00000*I {-4*a+3 where a = I [a^2+1=0]})
         """
         return self._unary("ca_conj")
 
@@ -865,7 +871,7 @@ class Ca:
         rounds the radius up (both checked).  No decimal string is involved.
 
         >>> e = Ca.pi().enclosure(64)
-        >>> e.imag == 0 and e.real.rad() < 2.0 ** -60 and e.real.contains(flint.arb.pi())
+        >>> e.imag == 0 and e.real.rad() < 2.0 ** -60 and e.real.overlaps(flint.arb.pi())
         True
         """
         prec = int(prec)
@@ -915,13 +921,18 @@ def _gcd(a: int, b: int) -> int:
 
 
 def _poly_str(qs: list[fmpq]) -> str:
-    terms = []
-    for j, q in enumerate(qs):
+    """``[-1, -1, 1]`` -> ``"s^2 - s - 1"`` (for messages)."""
+    out = ""
+    for j in range(len(qs) - 1, -1, -1):
+        q = qs[j]
         if q == 0:
             continue
-        c = "" if (q == 1 and j) else "-" if (q == -1 and j) else f"({q})" if (j and q.q != 1) else f"{q}"
-        terms.append(c if j == 0 else f"{c}s" if j == 1 else f"{c}s^{j}")
-    return " + ".join(terms)
+        sign = "-" if q < 0 else "+"
+        a = -q if q < 0 else q
+        coef = "" if (a == 1 and j) else f"({a})*" if (j and a.q != 1) else f"{a}*" if j else f"{a}"
+        term = coef + ("" if j == 0 else "s" if j == 1 else f"s^{j}")
+        out = (f"-{term}" if sign == "-" else term) if not out else f"{out} {sign} {term}"
+    return out
 
 
 def _select_root(lib: ctypes.CDLL, roots: list[int], target: acb, ball_mode: bool, approx: Any,
