@@ -24,18 +24,32 @@ Invariants
   instead: ``ZeroDivisionError`` (divisor proven zero), ``ValueError`` (undefined or infinite,
   e.g. ``log(0)``), :class:`~lcs_exact.errors.UnresolvedSign` (Calcium could not decide,
   e.g. whether a divisor is zero).
-* Nothing that Calcium could abort on is called: divisions go through ``ca_inv`` (which
-  answers Unknown or infinity instead of aborting) and are checked before the product is
-  formed; negative powers go through that inverse; results are checked for special values.
+* A FLINT abort would kill the process, so no call gets an input Calcium documents as
+  invalid: divisions go through ``ca_inv`` (which answers Unknown or infinity for a zero
+  divisor, never aborts) and are checked before the product is formed; negative powers go
+  through that inverse; every result is checked for special values before it is used.  (The
+  aborts left in Calcium's sources are internal-consistency checks.)
 * Enclosures are rigorous: the true value lies in the returned ``flint.acb``
   (see :meth:`Ca.enclosure`).
+* ``str(x)`` is Calcium's ``ca_get_str``: a 6-digit value, then the exact form in braces
+  (``1.41421 {a where a = 1.41421 [a^2-2=0]}``); an integer prints alone (``3``).
 
 What ``None`` means
 -------------------
-:meth:`Ca.is_zero`, :meth:`Ca.is_rational`, :meth:`Ca.is_real`, :meth:`Ca.sign` and
-:meth:`Ca.to_fmpq` return ``None`` when Calcium could not decide.  ``None`` is never a guess
-and never means "probably": callers must treat it as "undecided" (for a sign, fall back to a
-ball, or raise :class:`~lcs_exact.errors.UnresolvedSign`).
+:meth:`Ca.is_zero`, :meth:`Ca.is_rational`, :meth:`Ca.is_real` and :meth:`Ca.sign` return
+``None`` when Calcium could not decide.  ``None`` is never a guess and never means
+"probably": callers must treat it as "undecided" (for a sign, fall back to a ball, or raise
+:class:`~lcs_exact.errors.UnresolvedSign`).  :meth:`Ca.to_fmpq` returns ``None`` whenever the
+value is not *proven* rational (undecided, or proven irrational).
+
+Pitfalls
+--------
+* Calcium caches every generator (``exp(1)``, ``log(2)``, fields built from them) in the
+  context for the life of the process: memory per *number* is returned on collection, but
+  memory per distinct *generator* is not (measured: 20,000 distinct ``log(k)`` keep 9 MB).
+* A zero test can be slow (it may compute to 4096 bits, factor, or run Groebner bases) and
+  cannot be interrupted; the examples in ``tests/test_calcium.py`` take milliseconds.
+* ``Ca`` objects cannot be pickled; ``copy.copy`` returns the same (immutable) object.
 
 Layout
 ------
@@ -162,7 +176,7 @@ _P, _S, _I, _C = _ptr, _slong, ctypes.c_int, ctypes.c_char_p
 _SIGNATURES: dict[str, tuple[Any, list[Any]]] = {
     "ca_ctx_init": (None, [_P]), "ca_ctx_clear": (None, [_P]),
     "ca_init": (None, [_P, _P]), "ca_clear": (None, [_P, _P]), "ca_set": (None, [_P, _P, _P]),
-    "ca_set_si": (None, [_P, _S, _P]), "ca_set_fmpz": (None, [_P, _P, _P]),
+    "ca_set_si": (None, [_P, _S, _P]),
     "ca_set_fmpq": (None, [_P, _P, _P]), "ca_set_qqbar": (None, [_P, _P, _P]),
     "ca_pi": (None, [_P, _P]), "ca_i": (None, [_P, _P]),
     "ca_neg": (None, [_P, _P, _P]), "ca_add": (None, [_P, _P, _P, _P]),
@@ -180,7 +194,7 @@ _SIGNATURES: dict[str, tuple[Any, list[Any]]] = {
     "_qqbar_vec_init": (_P, [_S]), "_qqbar_vec_clear": (None, [_P, _S]),
     "qqbar_roots_fmpz_poly": (None, [_P, _P, _I]), "qqbar_equal": (_I, [_P, _P]),
     "qqbar_degree": (_S, [_P]), "qqbar_get_acb": (None, [_P, _P, _S]),
-    "fmpz_init": (None, [_P]), "fmpz_clear": (None, [_P]), "fmpz_set_str": (_I, [_P, _C, _I]),
+    "fmpz_clear": (None, [_P]), "fmpz_set_str": (_I, [_P, _C, _I]),
     "fmpz_get_str": (_P, [_P, _I, _P]),
     "fmpq_clear": (None, [_P]),
     "fmpz_poly_init": (None, [_P]), "fmpz_poly_clear": (None, [_P]),
@@ -224,11 +238,17 @@ _init_lock = threading.Lock()
 
 
 def _find_library() -> Path:
+    """The libflint that python-flint loads (wheel: ``site-packages/python_flint.libs/``), else
+    the system's libflint (a python-flint built against a shared FLINT)."""
     libdir = Path(flint.__file__).resolve().parent.parent / "python_flint.libs"
     found = sorted(libdir.glob("libflint*.so*"))
-    if not found:
-        raise OSError(f"no libflint*.so* in {libdir}")
-    return found[0]
+    if found:
+        return found[0]
+    import ctypes.util
+    name = ctypes.util.find_library("flint")
+    if name is None:
+        raise OSError(f"no libflint*.so* in {libdir} and no system libflint")
+    return Path(name)
 
 
 def _self_check(b: _Backend) -> None:
@@ -309,7 +329,7 @@ def _get() -> _Backend:
                 _self_check(b)
         except Exception as exc:                # noqa: BLE001 -- any failure means "not available"
             _backend_error = f"{type(exc).__name__}: {exc}"
-            if b is not None and b.alive:       # do not leak a context whose layout we doubt
+            if b is not None and b.alive:       # never clear (or use) a context whose layout we doubt
                 b.alive = False
             raise RuntimeError(f"Calcium is not available: {_backend_error}") from exc
         atexit.register(b.close)
@@ -425,6 +445,13 @@ class Ca:
     Arithmetic (``+ - * /``, ``**`` with an int exponent) mixes with those rationals.
     ``==``, ``<``, ``bool()`` and ``hash()`` are refused (TypeError): decide with
     :meth:`is_zero` / :meth:`sign`, which may answer None (undecided).
+
+    Raises
+    ------
+    NotRational
+        ``x`` is not an exact rational (e.g. an ``arb``, ``"pi"``).
+    RuntimeError
+        Calcium is not available (see :func:`available`).
 
     Examples
     --------

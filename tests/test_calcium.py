@@ -440,11 +440,11 @@ def test_memory_of_enclosures_strings_and_roots():
         x.enclosure(128), str(x), Ca.algebraic([-2, 0, 1], 1.4).to_fmpq()
     gc.collect()
     before = _rss_kb()
-    for _ in range(10000):
+    for _ in range(12000):                    # measured growth: 0 kB; a leaked string (~128 B) each: 1.5 MB
         x.enclosure(128), str(x), Ca.algebraic([-2, 0, 1], 1.4).to_fmpq()
     gc.collect()
     grown = _rss_kb() - before
-    assert grown < 4096, f"RSS grew by {grown} kB"
+    assert grown < 768, f"RSS grew by {grown} kB"
 
 
 def test_threads_share_the_context_safely():
