@@ -189,6 +189,19 @@ def test_exp_A_pi_with_symbolic_time_is_not_rational():
     assert entry.to_fmpq() is None
 
 
+def test_exponential_sum_with_quartic_eigenvalues():
+    # eigenvalues i phi and i/phi of s^4 + 3 s^2 + 1 differ by i, so e^{pi i phi} = -e^{pi i/phi}
+    # (a "quartic radical" zero: SymPy needed minutes for such a proof in the engine)
+    l1 = Ca.algebraic([1, 0, 3, 0, 1], 1.618j)
+    l2 = Ca.algebraic([1, 0, 3, 0, 1], 0.618j)
+    t0 = time.perf_counter()
+    assert ((PI * l1).exp() + (PI * l2).exp()).is_zero() is True
+    assert ((2 * PI * l1).exp() - (2 * PI * l2).exp()).is_zero() is True
+    assert ((PI * l1).exp() - (PI * l2).exp()).is_zero() is False
+    assert ((PI * l1).exp() + (PI * l2).exp() + Fraction(1, 10 ** 30)).is_zero() is False
+    print(f"\nquartic exponential sums: {time.perf_counter() - t0:.4f} s")
+
+
 # ---------------------------------------------------------------------------------------------
 # known non-zeros, rationality
 # ---------------------------------------------------------------------------------------------
