@@ -72,7 +72,7 @@ from __future__ import annotations
 import atexit
 import ctypes
 import threading
-from fractions import Fraction
+from fractions import Fraction  # noqa: F401 -- used by the doctests
 from numbers import Integral
 from pathlib import Path
 from typing import Any, Sequence
