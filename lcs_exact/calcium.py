@@ -995,3 +995,77 @@ def _select_root(lib: ctypes.CDLL, roots: list[int], target: acb, ball_mode: boo
         prec *= 2
         if prec > _PREC_LIMIT_ALGEBRAIC:
             raise ValueError(f"approx {approx} does not single out one root of {desc} ({failure})")
+
+
+# ---------------------------------------------------------------------------------------------
+# closed forms written as SymPy expressions
+# ---------------------------------------------------------------------------------------------
+
+def _sympy_node(e: Any, rec) -> Ca | None:
+    """One node of a SymPy expression tree as a Ca (children through ``rec``); dispatch by class
+    name, so this module never imports SymPy."""
+    name = type(e).__name__
+    if getattr(e, "is_Rational", False):
+        return Ca(fmpq(int(e.p), int(e.q)))
+    if name == "Pi":
+        return Ca.pi()
+    if name == "Exp1":
+        return Ca(1).exp()
+    if name == "ImaginaryUnit":
+        return Ca.i()
+    args = [rec(a) for a in e.args]
+    if any(a is None for a in args):
+        return None
+    if name == "Add":
+        out = args[0]
+        for a in args[1:]:
+            out = out + a
+        return out
+    if name == "Mul":
+        out = args[0]
+        for a in args[1:]:
+            out = out * a
+        return out
+    if name == "Pow":
+        ex = e.args[1]
+        if getattr(ex, "is_Integer", False):
+            return args[0] ** int(ex)
+        if getattr(ex, "is_Rational", False) and int(ex.q) == 2:
+            return args[0].sqrt() ** int(ex.p)
+        return (args[0].log() * args[1]).exp()
+    unary = {"exp": Ca.exp, "log": Ca.log, "sin": Ca.sin, "cos": Ca.cos, "atan": Ca.atan,
+             "acos": Ca.acos, "asin": Ca.asin}
+    if name in unary and len(args) == 1:
+        return unary[name](args[0])
+    if name == "tan" and len(args) == 1:
+        return args[0].sin() / args[0].cos()
+    if name in ("sinh", "cosh") and len(args) == 1:
+        p, m = args[0].exp(), (-args[0]).exp()
+        return (p - m) / 2 if name == "sinh" else (p + m) / 2
+    return None
+
+
+def from_sympy(expr: Any) -> Ca | None:
+    """The Calcium number of a SymPy closed form (rationals, pi, E, I, +, *, integer and
+    half-integer powers, exp, log, sin, cos, tan, atan, asin, acos, sinh, cosh); None when the
+    expression uses anything else or Calcium is unavailable.  The tree is walked with an
+    explicit stack (deep sums cannot exhaust the Python stack).
+
+    >>> import sympy
+    >>> from_sympy(sympy.exp(sympy.I * sympy.pi) + 1).is_zero()
+    True
+    """
+    if not available():
+        return None
+    done: dict = {}
+    stack = [(expr, False)]
+    while stack:
+        node, ready = stack.pop()
+        if id(node) in done:
+            continue
+        if ready:
+            done[id(node)] = _sympy_node(node, lambda a: done[id(a)])
+            continue
+        stack.append((node, True))
+        stack.extend((a, False) for a in node.args if id(a) not in done)
+    return done[id(expr)]

@@ -69,7 +69,7 @@ class Mode:
         return submatrix(self.lcs.D, self.I, self.I)
 
     # --- V_I (3.2) ---------------------------------------------------------------------------
-    def _annihilator(self) -> fmpq_mat:
+    def annihilator(self) -> fmpq_mat:
         """W with V_I = Ker W, by (3.2): V_{i+1} = {x : exists u, Kx + Lu in V_i, Mx + Nu = 0}."""
         if "W" not in self._cache:
             n, A = self.lcs.n, self.lcs.A
@@ -92,7 +92,7 @@ class Mode:
     def consistent_subspace(self) -> fmpq_mat:
         """V_I = V(A, B_.I, C_I., D_II) (Def. 3.1, recursion (3.2)): an n x dim basis (columns)."""
         if "V" not in self._cache:
-            self._cache["V"] = kernel(self._annihilator())
+            self._cache["V"] = kernel(self.annihilator())
         return self._cache["V"]
 
     # --- T_I (3.5) ---------------------------------------------------------------------------
@@ -161,7 +161,7 @@ class Mode:
         if "F" not in self._cache:
             self.require_autonomous()
             n, m = self.lcs.n, len(self.I)
-            V, T, W = self.consistent_subspace(), self.jump_space(), self._annihilator()
+            V, T, W = self.consistent_subspace(), self.jump_space(), self.annihilator()
             if m == 0:
                 self._cache["F"] = zeros(0, n)
                 return self._cache["F"]
@@ -180,6 +180,19 @@ class Mode:
         if "AI" not in self._cache:
             self._cache["AI"] = self.lcs.A + self._L * self.feedback() if self.I else self.lcs.A
         return self._cache["AI"]
+
+    def spectrum(self):
+        """The spectral data of e^{A_I t} (:class:`~lcs_exact.expm.Spectrum`), computed once."""
+        if "spectrum" not in self._cache:
+            from .expm import Spectrum
+            self._cache["spectrum"] = Spectrum(self.closed_loop())
+        return self._cache["spectrum"]
+
+    def memo(self, key: str, build):
+        """Data of this mode computed once by ``build()`` (e.g. the RCP forms of selection)."""
+        if key not in self._cache:
+            self._cache[key] = build()
+        return self._cache[key]
 
     def contains(self, x: fmpq_mat) -> bool:
         """x in V_I (Algorithm 7.1, step two), exact for rational x."""

@@ -33,7 +33,7 @@ __all__ = [
     "RationalLike", "to_fmpq", "to_matrix", "to_vector", "is_rational_vector",
     "zeros", "identity", "is_zero", "hstack", "vstack", "submatrix", "column", "mat_rows", "mat_equal",
     "RationalFunction", "RationalMatrix", "laurent_coefficients", "sign_of_form", "lex_sign",
-    "fmpq_to_sympy", "matrix_to_sympy",
+    "fmpq_to_sympy", "matrix_to_sympy", "adjugate_coefficients", "poly_at_matrix", "resolvent",
 ]
 
 RationalLike = Union[int, str, Fraction, fmpq, fmpz, Rational, float]
@@ -601,3 +601,50 @@ class RationalMatrix:
         if n * m > 64:
             return None
         return f"${sympy.latex(self.to_sympy())}$"
+
+
+# ---------------------------------------------------------------------------------------------
+# the resolvent (sI - A)^{-1} (5.3)
+# ---------------------------------------------------------------------------------------------
+
+
+def adjugate_coefficients(A: fmpq_mat, chi: fmpq_poly | None = None) -> list[fmpq_mat]:
+    """adj(sI - A) = sum_j s^{n-1-j} B_j (Faddeev-LeVerrier: B_0 = I, B_j = A B_{j-1} + c_j I,
+    with det(sI - A) = s^n + c_1 s^{n-1} + ... + c_n).
+
+    For any monic ``chi`` of degree d (not only the characteristic polynomial) the same recursion
+    gives sum_j s^{d-1-j} B_j = (chi(s) I - chi(A)) (sI - A)^{-1}, a polynomial in s and A.
+
+    >>> [b.entries() for b in adjugate_coefficients(fmpq_mat([[0, 1], [-1, 0]]))]
+    [[1, 0, 0, 1], [0, 1, -1, 0]]
+    """
+    n = A.nrows()
+    c = (chi if chi is not None else A.charpoly()).coeffs()[::-1]  # c[j]: coefficient of s^{d-j}
+    bs = [identity(n)]
+    for j in range(1, len(c) - 1):
+        bs.append(A * bs[-1] + identity(n) * c[j])
+    return bs
+
+
+def poly_at_matrix(p: fmpq_poly, S: fmpq_mat) -> fmpq_mat:
+    """p(S) for p in Q[s] (Horner), exactly."""
+    n = S.nrows()
+    out = zeros(n, n)
+    for c in reversed(p.coeffs()):
+        out = out * S + identity(n) * c
+    return out
+
+
+def resolvent(A: fmpq_mat, left: fmpq_mat, right: fmpq_mat | None = None) -> RationalMatrix:
+    """left (sI - A)^{-1} right over Q(s) (right = I when None): R(s), G(s) - D of (5.3).
+
+    >>> resolvent(fmpq_mat([[0, 1], [-1, 0]]), fmpq_mat([[1, 0]]))
+    RationalMatrix([['s/(s^2 + 1)', '1/(s^2 + 1)']])
+    """
+    chi = A.charpoly()
+    bs = adjugate_coefficients(A, chi)
+    n = A.nrows()
+    mats = [left * b * right if right is not None else left * b for b in bs]
+    r, c = mats[0].nrows(), mats[0].ncols()
+    return RationalMatrix([[RationalFunction(fmpq_poly([mats[n - 1 - d][i, j] for d in range(n)]), chi)
+                            for j in range(c)] for i in range(r)])

@@ -1,136 +1,111 @@
 """Exact reals and exact vectors (DESIGN.md section 2, layer 2).
 
-An exact real is an exact *definition* (rational, closed form, sum, component of e^{Mt} v,
-isolated root of c . e^{Mt} z) that evaluates to an ``arb`` ball of any requested precision with
-the true value inside.  Balls are cached (the most accurate one is kept) and refined on demand.
+An exact real (:class:`Real`) or vector (:class:`ExactVector`) is an immutable exact
+*definition* - a rational, a sum, a component, e^{Mt} v, P v, a positive multiple c q, or a root
+of an exponential sum (:mod:`lcs_exact.roots`) - that evaluates to an ``arb`` ball of any
+requested precision with the true value inside.
 
-Composition is structural: e^{Ma}(e^{Mb} v) = e^{M(a+b)} v, and when a + b is proven 0 the
-vector is v again; a rational matrix on a rational vector stays rational; a vector whose
-components are proven rational collapses to ``fmpq_mat``.
+Anchors and evaluation.  Every node caches its best ball and the precision it was computed at (an
+*anchor*).  ``node.arb(prec)`` evaluates the definitions it depends on in a loop over an explicit
+stack, walking forward from the nearest anchors at >= prec bits (or exact leaves), never by
+recursion: a state after 10,000 events is evaluated in O(10,000) steps and cannot exhaust the
+Python stack, and a state whose anchor is good enough costs nothing.  The simulation anchors each
+event at its working precision (:meth:`lcs_exact.balls.Policy.working_prec`).
 
-Sign decisions on a state x (``ExactVector.sign_of_form``) go in this order:
-1. x proven rational: exact;
-2. the form lies in the rational span of the relations known to vanish on x (``zero_forms``:
-   the annihilator of V_I along a phase of mode I, the left kernel of a projection, the
-   constraint whose root defines an event time): exact zero by structure;
-3. a ball that excludes 0, refined up to ``max_prec`` bits;
-4. otherwise an *unresolved zero*: :class:`~lcs_exact.errors.UnresolvedSign`, or - inside
-   :func:`assumption_policy` with ``allow=True`` - decided as zero and recorded.
+Signs.  ``x.sign_of_form(g)`` decides the sign of g . x, in this order (DESIGN.md section 2):
+exact when x is proven rational; 0 when g lies in the rational span of the forms proven to vanish
+on x (``zero_forms``: the annihilator of V_I along a phase, forms vanishing on the orbit of a
+rational phase start, the constraint whose root ended the phase, all pulled back through
+projections); by homogeneity (x = c q with c > 0 certified and q structured: the sign of g q);
+then a ball that excludes 0, an exact zero test of the closed form (``prove_zero``: Calcium) and
+refinement up to the policy's ceiling; otherwise an *unresolved zero*
+(:meth:`~lcs_exact.balls.Policy.unresolved`).
+
+Closed forms are lazy: ``r.closed_form`` (a SymPy expression, for display) is derived on first
+access; nothing on the evaluation path imports SymPy.
 """
 from __future__ import annotations
 
 import abc
-import contextlib
-import contextvars
-from typing import Any, Iterator
+from typing import Any, Callable, Iterator
 
-import sympy
-from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
+from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from .errors import UnresolvedSign
-from .rational import identity, is_zero, matrix_to_sympy, submatrix, to_fmpq, to_matrix, vstack, zeros
+from .balls import (DEFAULT_POLICY, Policy, accuracy_bits, closed_form_arb, decide_sign, digits_to_bits,
+                    workprec)
+from .errors import NotRational, ShapeError, UnresolvedSign
+from .expm import Spectrum, spectrum_of
+from .rational import is_zero, to_fmpq, to_matrix, to_vector, zeros
+from .subspaces import in_row_span, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
-__all__ = ["Real", "RationalReal", "ClosedFormReal", "SumReal", "ExactVector", "RationalVector",
-           "ExpVector", "ProjectedVector", "expm_action", "as_real", "as_exact_vector",
-           "assumption_policy", "DEFAULT_MAX_PREC", "digits_to_bits"]
-
-DEFAULT_MAX_PREC = 4096
-
-
-def digits_to_bits(digits: int) -> int:
-    return int(digits * 3.3219280948873626) + 1
-
-
-@contextlib.contextmanager
-def workprec(prec: int):
-    """Scoped flint precision (ctx.prec is global): restored in ``finally``."""
-    old = ctx.prec
-    ctx.prec = prec
-    try:
-        yield
-    finally:
-        ctx.prec = old
+__all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
+           "ExactVector", "RationalVector", "ScaledVector", "ExpVector", "ProjectedVector",
+           "ComponentsVector", "as_real", "as_exact_vector", "expm_action", "evaluate",
+           "homogenized", "orbit_start", "format_form", "decimal_of_fmpq", "decimal_of_ball"]
 
 
 # ---------------------------------------------------------------------------------------------
-# the policy for unresolved zeros (scoped, not global)
+# nodes and their iterative evaluation
 # ---------------------------------------------------------------------------------------------
 
-_policy: contextvars.ContextVar = contextvars.ContextVar("lcs_exact_sign_policy", default=None)
+
+class _Node:
+    """A definition with a cached ball (the anchor) and the definitions it depends on."""
+
+    def __init__(self, policy: Policy | None = None):
+        self._ball = None
+        self._prec = 0
+        self.policy = policy or DEFAULT_POLICY
+
+    def _deps(self) -> tuple:
+        """The nodes whose balls at the same precision :meth:`_compute` reads."""
+        return ()
+
+    @abc.abstractmethod
+    def _compute(self, prec: int):
+        """The ball at ``prec`` bits, assuming every dependency has a ball at >= prec bits."""
+
+    def _store(self, ball, prec: int) -> None:
+        if self._ball is None or _radius_le(ball, self._ball):
+            self._ball = ball
+        self._prec = max(self._prec, prec)
+
+    @property
+    def anchor_prec(self) -> int:
+        """The working precision of the cached ball (0 when none is cached)."""
+        return self._prec
+
+    def arb(self, prec: int):
+        """A ball computed at working precision >= ``prec`` bits (cached; the true value inside)."""
+        if self._prec < prec:
+            evaluate(self, prec)
+        return self._ball
 
 
-@contextlib.contextmanager
-def assumption_policy(allow: bool, max_prec: int = DEFAULT_MAX_PREC):
-    """Within the block, unresolved zeros raise (allow=False) or are assumed and recorded.
-
-    Yields the list that collects the recorded assumptions (strings).
-    """
-    record: list[str] = []
-    token = _policy.set({"allow": allow, "record": record, "max_prec": max_prec})
-    try:
-        yield record
-    finally:
-        _policy.reset(token)
+def _radius_le(a, b) -> bool:
+    if isinstance(a, arb):
+        return a.rad() <= b.rad()
+    ra = max((a[i, j].rad() for i in range(a.nrows()) for j in range(a.ncols())), default=arb(0))
+    rb = max((b[i, j].rad() for i in range(b.nrows()) for j in range(b.ncols())), default=arb(0))
+    return ra <= rb
 
 
-_deadline: contextvars.ContextVar = contextvars.ContextVar("lcs_exact_deadline", default=None)
-
-
-@contextlib.contextmanager
-def deadline(seconds: float | None):
-    """Within the block, :func:`check_deadline` raises LimitExceeded after ``seconds`` (wall clock)."""
-    import time
-    token = _deadline.set(None if seconds is None else (time.monotonic() + seconds, seconds))
-    try:
-        yield
-    finally:
-        _deadline.reset(token)
-
-
-def check_deadline(where: str = "") -> None:
-    """Raise LimitExceeded when the current :func:`deadline` has passed (called inside long
-    searches, so a time limit also interrupts one hard phase, not only between events)."""
-    d = _deadline.get()
-    if d is not None:
-        import time
-        if time.monotonic() > d[0]:
-            from .errors import LimitExceeded
-            raise LimitExceeded(f"time_limit = {d[1]} s reached{where}")
-
-
-def _max_prec() -> int:
-    p = _policy.get()
-    return p["max_prec"] if p else DEFAULT_MAX_PREC
-
-
-def unresolved(what) -> int:
-    """An unresolved zero: raise, or record the assumption that it is 0 and return 0.
-
-    ``what`` is the description, or a callable making it (built only when needed).
-    """
-    what = what() if callable(what) else what
-    p = _policy.get()
-    if p and p["allow"]:
-        if what not in p["record"]:
-            p["record"].append(what)
-        return 0
-    raise UnresolvedSign(f"cannot decide the sign of {what}: the ball contains 0 at "
-                         f"{_max_prec()} bits and no structural proof of zero is known")
-
-
-def ball_sign(compute, what, start: int = 64) -> int:
-    """Sign of a quantity given by ``compute(prec) -> arb``, certified by refinement; 0 if unresolved-and-allowed."""
-    prec = start
-    while True:
-        check_deadline()
-        b = compute(prec)
-        if b > 0:
-            return 1
-        if b < 0:
-            return -1
-        if prec >= _max_prec():
-            return unresolved(what)
-        prec = min(2 * prec, _max_prec())
+def evaluate(node: _Node, prec: int) -> None:
+    """Give ``node`` and every definition it needs a ball at ``prec`` bits, in a loop: post-order
+    over an explicit stack, stopping at anchors that already have >= prec bits."""
+    stack: list = [(node, False)]
+    while stack:
+        cur, ready = stack.pop()
+        if cur._prec >= prec:
+            continue
+        if ready:
+            with workprec(prec):
+                cur._store(cur._compute(prec), prec)
+            continue
+        stack.append((cur, True))
+        for d in cur._deps():
+            if d._prec < prec:
+                stack.append((d, False))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -138,72 +113,86 @@ def ball_sign(compute, what, start: int = 64) -> int:
 # ---------------------------------------------------------------------------------------------
 
 
-class Real(abc.ABC):
+class Real(_Node):
     """An exact real number: evaluates to an arb ball of any precision (true value inside)."""
 
-    closed_form: Any = None  # SymPy expression when proven
+    _cf_done = False
+    _cf = None
 
-    def __init__(self):
-        self._ball: arb | None = None
-        self._ball_prec = 0
+    # --- structure ----------------------------------------------------------------------------
+    def known_rational(self) -> fmpq | None:
+        """The value as fmpq when it is already known to be rational (cheap: never derives a
+        closed form; the engine's fast paths use this)."""
+        return None
 
-    # evaluation ------------------------------------------------------------------------------
-    @abc.abstractmethod
-    def _eval(self, prec: int) -> arb:
-        """A ball of the value computed at ``prec`` bits (subclasses)."""
+    def rational(self) -> fmpq | None:
+        """The value as fmpq when it is proven rational, deriving the closed form if needed
+        (lazy, like ``closed_form``); None when it is not proven rational."""
+        q = self.known_rational()
+        if q is None and self.policy.closed_forms != "off":
+            cf = self.closed_form
+            if cf is not None and cf.is_Rational:
+                q = fmpq(int(cf.p), int(cf.q))
+        return q
 
-    def arb(self, prec: int) -> arb:
-        """A ball computed with working precision ``prec`` bits (cached)."""
-        if self._ball is None or self._ball_prec < prec:
-            with workprec(prec):
-                b = self._eval(prec)
-            if self._ball is None or b.rad() <= self._ball.rad():
-                self._ball, self._ball_prec = b, prec
-            else:
-                self._ball_prec = prec
-        return self._ball
+    @property
+    def closed_form(self):
+        """A SymPy expression of the value when proven (derived on first access), else None."""
+        if not self._cf_done:
+            self._cf = None if self.policy.closed_forms == "off" else self._closed_form()
+            self._cf_done = True
+        return self._cf
 
+    def _closed_form(self):
+        return None
+
+    def to_ca(self):
+        """The value as a Calcium number (exact), or None when no closed form is known."""
+        return None
+
+    # --- evaluation ---------------------------------------------------------------------------
     def ball(self, digits: int = 30) -> arb:
-        """An arb ball containing the value with relative radius < 10^-digits (0 is exact)."""
+        """An arb ball containing the value with relative radius < 10^-digits (absolute for a
+        value that is zero or below 10^-digits)."""
         need = digits_to_bits(digits) + 4
-        prec = max(64, need + 16)
-        for _ in range(12):
+        q = self.known_rational()
+        if q is not None:  # exact (or rounded to far more than the digits asked)
+            with workprec(need + 64):
+                return arb(q)
+        prec = max(self._prec, need + 16)
+        for _ in range(16):
             b = self.arb(prec)
-            if b.is_exact() or (b.rel_accuracy_bits() >= need):
+            if b.is_exact() or accuracy_bits(b) >= need:
                 return b
             if b.contains(0) and b.rad() < arb(2) ** (-need):
-                return b  # a number that is (nearly) zero: absolute accuracy is what counts
+                return b
             prec *= 2
         raise UnresolvedSign(f"could not evaluate {self!r} to {digits} digits")
 
     def decimal(self, digits: int = 30) -> str:
-        """The value to ``digits`` significant digits, followed by an error bound ``+/- e``."""
-        b = self.ball(digits + 2)
-        q = self.rational()
+        """The value to ``digits`` significant digits, followed by an error bound ``+/- e``
+        unless it is exact."""
+        q = self.known_rational()
         if q is not None:
-            return _decimal_of_fmpq(q, digits)
-        return _decimal_of_ball(b, digits)
+            return decimal_of_fmpq(q, digits)
+        return decimal_of_ball(self.ball(digits + 2), digits)
 
     def __float__(self) -> float:
         return float(self.ball(20).mid())
 
-    # structure -------------------------------------------------------------------------------
-    def rational(self) -> fmpq | None:
-        """The value as fmpq when it is proven rational, else None."""
-        cf = self.closed_form
-        if cf is not None and getattr(cf, "is_Rational", False):
-            return fmpq(int(cf.p), int(cf.q))
-        return None
-
     def sign(self) -> int:
         """Certified sign (-1, 0, +1); a zero must be proven (rational or closed form)."""
-        q = self.rational()
+        q = self.known_rational()
         if q is not None:
             return (q > 0) - (q < 0)
-        if self.closed_form is not None and self.closed_form == 0:
-            return 0
-        return ball_sign(self.arb, lambda: f"the real {self!r}")
+        return decide_sign(self.arb, policy=self.policy, what=lambda: f"the real {self!r}",
+                           start=max(64, self._prec), prove_zero=self._prove_zero)
 
+    def _prove_zero(self) -> bool | None:
+        c = self.to_ca()
+        return None if c is None else c.is_zero()
+
+    # --- arithmetic ---------------------------------------------------------------------------
     def __add__(self, o):
         return SumReal(self, as_real(o))
 
@@ -215,6 +204,20 @@ class Real(abc.ABC):
 
     def __rsub__(self, o):
         return SumReal(as_real(o), self, -1)
+
+    def __neg__(self):
+        return ScaledReal(self, fmpq(-1))
+
+    def __mul__(self, o):
+        return ScaledReal(self, to_fmpq(o, "factor"))
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, o):
+        q = to_fmpq(o, "divisor")
+        if q == 0:
+            raise ZeroDivisionError("division of an exact real by 0")
+        return ScaledReal(self, 1 / q)
 
     def __lt__(self, o):
         return (self - o).sign() < 0
@@ -228,112 +231,695 @@ class Real(abc.ABC):
     def __ge__(self, o):
         return (self - o).sign() >= 0
 
+    # --- display ------------------------------------------------------------------------------
+    def _label(self) -> str:
+        """Short text: the known closed form or rational, else 15 digits (never derives one)."""
+        q = self.known_rational()
+        if q is not None:
+            return str(q)
+        if self._cf_done and self._cf is not None:
+            return str(self._cf)
+        return self.decimal(15).split(" +/-")[0]
+
     def __repr__(self):
-        if self.closed_form is not None:
-            return f"Real({self.closed_form})"
+        cf = self.closed_form
+        if cf is not None:
+            return f"Real({cf})"
         return f"Real({self.decimal(20)})"
 
     def _repr_latex_(self):
-        if self.closed_form is not None:
-            return f"${sympy.latex(self.closed_form)}$"
+        cf = self.closed_form
+        if cf is not None:
+            import sympy
+            return f"${sympy.latex(cf)}$"
         return f"${self.decimal(20)}$"
 
 
 class RationalReal(Real):
     """A rational number."""
 
-    def __init__(self, q: Any):
-        super().__init__()
+    def __init__(self, q: Any, policy: Policy | None = None):
+        super().__init__(policy)
         self.q = to_fmpq(q)
-        self.closed_form = sympy.Rational(int(self.q.p), int(self.q.q))
+        if self.q.q == 1:  # an integer is an exact ball at every precision
+            self._ball, self._prec = arb(self.q), 1 << 30
 
-    def _eval(self, prec):
+    def _compute(self, prec):
         return arb(self.q)
 
-    def rational(self):
+    def known_rational(self):
         return self.q
 
+    def _closed_form(self):
+        import sympy
+        return sympy.Rational(int(self.q.p), int(self.q.q))
 
-class ClosedFormReal(Real):
-    """A real given by a SymPy expression built from rationals, pi, E, +, *, rational powers,
-    exp, log, sin, cos, tan, atan, asin, acos, sqrt (evaluated rigorously with arb)."""
-
-    def __init__(self, expr: Any):
-        super().__init__()
-        self.closed_form = sympy.nsimplify(expr) if isinstance(expr, float) else sympy.sympify(expr)
-        _sympy_to_arb(self.closed_form)  # validate now: raises for unsupported expressions
-
-    def _eval(self, prec):
-        return _sympy_to_arb(self.closed_form)
+    def to_ca(self):
+        from . import calcium
+        return calcium.Ca(self.q) if calcium.available() else None
 
 
 class SumReal(Real):
     """a + sign * b."""
 
-    def __init__(self, a: Real, b: Real, sign: int = 1):
-        super().__init__()
+    def __init__(self, a: Real, b: Real, sign: int = 1, policy: Policy | None = None):
+        super().__init__(policy or (a.policy if a.policy is not DEFAULT_POLICY else b.policy))
         self.a, self.b, self.s = a, b, sign
-        if a.closed_form is not None and b.closed_form is not None:
-            self.closed_form = sympy.simplify(a.closed_form + sign * b.closed_form)
 
-    def _eval(self, prec):
-        if self.closed_form is not None:
-            return _sympy_to_arb(self.closed_form)
+    def _deps(self):
+        return (self.a, self.b)
+
+    def _compute(self, prec):
         a, b = self.a.arb(prec), self.b.arb(prec)
         return a + b if self.s == 1 else a - b
 
+    def known_rational(self):
+        qa, qb = self.a.known_rational(), self.b.known_rational()
+        if qa is None or qb is None:
+            return None
+        return qa + qb if self.s == 1 else qa - qb
 
-def as_real(x: Any) -> Real:
+    def _closed_form(self):
+        ca, cb = self.a.closed_form, self.b.closed_form
+        if ca is None or cb is None:
+            return None
+        return ca + cb if self.s == 1 else ca - cb
+
+    def to_ca(self):
+        ca, cb = self.a.to_ca(), self.b.to_ca()
+        if ca is None or cb is None:
+            return None
+        return ca + cb if self.s == 1 else ca - cb
+
+
+class ScaledReal(Real):
+    """q * a for a rational q."""
+
+    def __init__(self, a: Real, q: fmpq, policy: Policy | None = None):
+        super().__init__(policy or a.policy)
+        self.a, self.q = a, q
+
+    def _deps(self):
+        return (self.a,)
+
+    def _compute(self, prec):
+        return self.a.arb(prec) * arb(self.q)
+
+    def known_rational(self):
+        qa = self.a.known_rational()
+        return None if qa is None else qa * self.q
+
+    def sign(self):
+        if self.q == 0:
+            return 0
+        return self.a.sign() * ((self.q > 0) - (self.q < 0))
+
+    def _closed_form(self):
+        c = self.a.closed_form
+        if c is None:
+            return None
+        import sympy
+        return sympy.Rational(int(self.q.p), int(self.q.q)) * c
+
+    def to_ca(self):
+        c = self.a.to_ca()
+        if c is None:
+            return None
+        from . import calcium
+        return c * calcium.Ca(self.q)
+
+
+class ClosedFormReal(Real):
+    """A real given by a SymPy expression built from rationals, pi, E, +, *, rational powers,
+    exp, log and (inverse, hyperbolic) trigonometric functions, evaluated rigorously with arb."""
+
+    def __init__(self, expr: Any, policy: Policy | None = None):
+        super().__init__(policy)
+        import sympy
+        self.expr = sympy.sympify(expr)
+        with workprec(64):
+            closed_form_arb(self.expr)  # validate now: raises for unsupported expressions
+        self._cf, self._cf_done = self.expr, True
+
+    def _compute(self, prec):
+        return closed_form_arb(self.expr)
+
+    def known_rational(self):
+        if self.expr.is_Rational:
+            return fmpq(int(self.expr.p), int(self.expr.q))
+        return None
+
+    def to_ca(self):
+        from . import calcium
+        return calcium.from_sympy(self.expr) if calcium.available() else None
+
+
+class ComponentReal(Real):
+    """Component i of an exact vector."""
+
+    def __init__(self, vec: "ExactVector", i: int):
+        super().__init__(vec.policy)
+        self.vec, self.i = vec, i
+
+    def _deps(self):
+        return (self.vec,)
+
+    def _compute(self, prec):
+        return self.vec.arb(prec)[self.i, 0]
+
+    def known_rational(self):
+        q = self.vec.known_rational()
+        if q is not None:
+            return q[self.i, 0]
+        if self.vec.proven_zero(self.i):
+            return fmpq(0)
+        return None
+
+    def sign(self):
+        q = self.known_rational()
+        if q is not None:
+            return (q > 0) - (q < 0)
+        e = fmpq_mat(1, self.vec.n, [int(j == self.i) for j in range(self.vec.n)])
+        return self.vec.sign_of_form(e)
+
+    def _closed_form(self):
+        q = self.known_rational()
+        if q is not None:
+            import sympy
+            return sympy.Rational(int(q.p), int(q.q))
+        cf = self.vec.closed_form()
+        return None if cf is None else cf[self.i]
+
+    def to_ca(self):
+        v = self.vec.to_ca()
+        return None if v is None else v[self.i]
+
+
+# ---------------------------------------------------------------------------------------------
+# exact vectors
+# ---------------------------------------------------------------------------------------------
+
+
+class ExactVector(_Node):
+    """An exact vector in R^n: evaluates to an n x 1 ``arb_mat`` ball of any precision.
+
+    ``zero_forms`` (an m x n ``fmpq_mat``, a row basis) are linear forms proven to vanish on the
+    vector; they are fixed at construction (vectors are immutable).
+    """
+
+    n: int
+
+    def __init__(self, n: int, zero_forms: fmpq_mat | None = None, policy: Policy | None = None):
+        super().__init__(policy)
+        self.n = n
+        zf = zero_forms if zero_forms is not None and zero_forms.nrows() else zeros(0, n)
+        self.zero_forms = row_basis(zf) if zf.nrows() > 1 else zf
+        self._twin: ExactVector | None = None  # an exact equal found by a proof (see prove_zero)
+        self._ca = None
+        self._ca_done = False
+
+    # --- structure ----------------------------------------------------------------------------
+    def known_rational(self) -> fmpq_mat | None:
+        """The vector as an n x 1 ``fmpq_mat`` when already known to be rational (cheap)."""
+        return self._twin.known_rational() if self._twin is not None else None
+
+    def rational(self) -> fmpq_mat | None:
+        """The vector as an n x 1 ``fmpq_mat`` when proven rational, deriving the closed forms
+        of the times in its definition if needed (lazy); None when not proven."""
+        q = self.known_rational()
+        if q is None and self.policy.closed_forms != "off":
+            q = self.exact_rational()
+        return q
+
+    def exact_rational(self, depth: int = 40) -> fmpq_mat | None:
+        """The vector as a rational vector when closed forms prove it (may derive the closed forms
+        of the times in its definition, e.g. e^{A(theta - 1)} q with theta = 1 proven is q);
+        None when not proven.  ``depth`` bounds how far back the definition is followed."""
+        q = self.known_rational()
+        if q is not None or depth <= 0:
+            return q
+        q = self._exact_rational(depth - 1)
+        if q is not None and self._twin is None:
+            self._twin = RationalVector(q, policy=self.policy)
+        return q
+
+    def _exact_rational(self, depth: int) -> fmpq_mat | None:
+        return None
+
+    def proven_zero(self, i: int) -> bool:
+        """Component i is 0 by a proven relation."""
+        if not self.zero_forms.nrows():
+            return False
+        return in_row_span(fmpq_mat(1, self.n, [int(j == i) for j in range(self.n)]), self.zero_forms)
+
+    def closed_form(self, derive: bool = True):
+        """A SymPy column vector when every component has a proven closed form, else None.
+
+        ``derive=False`` returns only what is cheaply known; True may derive it with SymPy (the
+        symbolic e^{Mt}: up to a second for a new matrix)."""
+        if self._twin is not None:
+            return self._twin.closed_form(derive)
+        return None
+
+    def to_ca(self) -> list | None:
+        """The components as Calcium numbers (exact), or None (cached)."""
+        if not self._ca_done:
+            self._ca_done = True
+            try:
+                self._ca = self._to_ca()
+            except (ZeroDivisionError, ValueError, UnresolvedSign):
+                self._ca = None  # Calcium could not build it (an undecided divisor): no closed form
+        return self._ca
+
+    def _to_ca(self):
+        return None
+
+    # --- signs --------------------------------------------------------------------------------
+    def sign_of_form(self, form: fmpq_mat) -> int:
+        """Certified sign of form . x (see the module docstring for the order of the tests)."""
+        q = self.known_rational()
+        if q is not None:
+            v = (form * q)[0, 0]
+            return (v > 0) - (v < 0)
+        if is_zero(form):
+            return 0
+        if self.zero_forms.nrows() and in_row_span(form, self.zero_forms):
+            return 0
+        s = self._structural_sign(form)
+        if s is not None:
+            return s
+        return decide_sign(lambda p: (arb_mat(form) * self.arb(p))[0, 0], policy=self.policy,
+                           what=lambda: f"the form {format_form(form)} at {self!r}",
+                           start=max(64, self._prec), prove_zero=lambda: self.prove_zero(form))
+
+    def _structural_sign(self, form: fmpq_mat) -> int | None:
+        return None
+
+    def prove_zero(self, form: fmpq_mat) -> bool | None:
+        """form . x == 0 by an exact proof: True, False (proven nonzero), None (unknown).
+
+        Tries the Calcium closed form of the vector; when every component is rational there,
+        the vector gets an exact twin (a rational vector) used from then on."""
+        xs = self.to_ca()
+        if xs is None:
+            return None
+        qs = [c.to_fmpq() for c in xs]
+        if all(q is not None for q in qs):
+            self._twin = RationalVector(fmpq_mat(self.n, 1, qs), policy=self.policy)
+            v = (form * self._twin.q)[0, 0]
+            return v == 0
+        from . import calcium
+        acc = calcium.Ca(0)
+        for j, c in enumerate(xs):
+            if form[0, j] != 0:
+                acc = acc + c * calcium.Ca(form[0, j])
+        return acc.is_zero()
+
+    # --- access -------------------------------------------------------------------------------
+    def __len__(self):
+        return self.n
+
+    def __getitem__(self, i: int) -> Real:
+        if not -self.n <= i < self.n:
+            raise IndexError(f"component {i} of a vector of length {self.n}")
+        return ComponentReal(self, i % self.n)
+
+    def __iter__(self) -> Iterator[Real]:
+        return (ComponentReal(self, i) for i in range(self.n))
+
+    def tolist(self) -> list[Real]:
+        return list(self)
+
+    def ball(self, digits: int = 30) -> list[arb]:
+        """Certified balls of the components, each to ``digits`` digits."""
+        return [c.ball(digits) for c in self]
+
+    def __repr__(self):
+        q = self.known_rational()
+        if q is not None:
+            return "(" + ", ".join(str(q[i, 0]) for i in range(self.n)) + ")"
+        return "(" + ", ".join(c._label() for c in self) + ")"
+
+
+class RationalVector(ExactVector):
+    """A rational vector (n x 1 ``fmpq_mat``)."""
+
+    def __init__(self, q: fmpq_mat, policy: Policy | None = None):
+        super().__init__(q.nrows(), None, policy)
+        self.q = q
+        if all(q[i, 0].q == 1 for i in range(q.nrows())):  # integer entries: exact balls
+            self._ball, self._prec = arb_mat(q), 1 << 30
+
+    def _compute(self, prec):
+        return arb_mat(self.q)
+
+    def known_rational(self):
+        return self.q
+
+    def closed_form(self, derive: bool = True):
+        import sympy
+        return sympy.Matrix([sympy.Rational(int(self.q[i, 0].p), int(self.q[i, 0].q)) for i in range(self.n)])
+
+    def _to_ca(self):
+        from . import calcium
+        return [calcium.Ca(self.q[i, 0]) for i in range(self.n)] if calcium.available() else None
+
+
+class ScaledVector(ExactVector):
+    """c v with c an exact real proven positive and v an exact vector (homogeneity: the LCS is
+    linear, so phases from c v have the event times of v and c times its states)."""
+
+    def __init__(self, c: Real, v: ExactVector, policy: Policy | None = None):
+        super().__init__(v.n, v.zero_forms, policy or v.policy)
+        self.c, self.v = c, v
+
+    def _deps(self):
+        return (self.c, self.v)
+
+    def _compute(self, prec):
+        return self.v.arb(prec) * self.c.arb(prec)
+
+    def known_rational(self):
+        qc = self.c.known_rational()
+        qv = self.v.known_rational()
+        if qc is not None and qv is not None:
+            return qv * qc
+        return super().known_rational()
+
+    def _structural_sign(self, form):
+        return self.v.sign_of_form(form)  # c > 0
+
+    def _exact_rational(self, depth):
+        qv = self.v.exact_rational(depth)
+        cf = self.c.closed_form if qv is not None else None
+        if cf is not None and cf.is_Rational:
+            return qv * fmpq(int(cf.p), int(cf.q))
+        return None
+
+    def closed_form(self, derive: bool = True):
+        cc, cv = self.c.closed_form, self.v.closed_form(derive)
+        return None if cc is None or cv is None else cv * cc
+
+    def _to_ca(self):
+        cc, cv = self.c.to_ca(), self.v.to_ca()
+        return None if cc is None or cv is None else [x * cc for x in cv]
+
+
+class ProjectedVector(ExactVector):
+    """P v for a rational matrix P (a projection P_I, an impulse map, a feedback); the forms r
+    with r P in the span of v's zero forms vanish on it."""
+
+    def __init__(self, P: fmpq_mat, v: ExactVector, policy: Policy | None = None,
+                 zero_forms: fmpq_mat | None = None):
+        zf = pulled_back_forms(P, v.zero_forms)
+        if zero_forms is not None and zero_forms.nrows():
+            zf = row_basis(zf, zero_forms) if zf.nrows() else zero_forms
+        super().__init__(P.nrows(), zf, policy or v.policy)
+        self.P, self.v = P, v
+
+    def _deps(self):
+        return (self.v,)
+
+    def _compute(self, prec):
+        return arb_mat(self.P) * self.v.arb(prec)
+
+    def known_rational(self):
+        q = self.v.known_rational()
+        if q is not None:
+            return self.P * q
+        return super().known_rational()
+
+    def _structural_sign(self, form):
+        return self.v.sign_of_form(form * self.P)
+
+    def _exact_rational(self, depth):
+        q = self.v.exact_rational(depth)
+        return None if q is None else self.P * q
+
+    def closed_form(self, derive: bool = True):
+        if self._twin is not None:
+            return self._twin.closed_form(derive)
+        cf = self.v.closed_form(derive)
+        if cf is None:
+            return None
+        from .rational import matrix_to_sympy
+        return (matrix_to_sympy(self.P) * cf).applyfunc(_tidy)
+
+    def _to_ca(self):
+        xs = self.v.to_ca()
+        if xs is None:
+            return None
+        from . import calcium
+        out = []
+        for i in range(self.n):
+            acc = calcium.Ca(0)
+            for j in range(self.v.n):
+                if self.P[i, j] != 0:
+                    acc = acc + xs[j] * calcium.Ca(self.P[i, j])
+            out.append(acc)
+        return out
+
+
+class ExpVector(ExactVector):
+    """e^{M t} v: M rational (through its :class:`~lcs_exact.expm.Spectrum`), t an exact real, v
+    an exact vector.  ``modal(prec)``, when given, supplies the per-eigenvalue vectors of v at
+    ``prec`` (a phase computes them once for all its functions)."""
+
+    def __init__(self, spectrum: Spectrum, t: Real, v: ExactVector, zero_forms: fmpq_mat | None = None,
+                 policy: Policy | None = None, modal: Callable[[int], list] | None = None):
+        super().__init__(spectrum.n, zero_forms, policy or v.policy)
+        self.spectrum, self.t, self.v = spectrum, t, v
+        self._modal = modal
+
+    @property
+    def M(self) -> fmpq_mat:
+        return self.spectrum.M
+
+    def _deps(self):
+        return (self.t, self.v)
+
+    def _compute(self, prec):
+        t = self.t.arb(prec)
+        modal = self._modal(prec) if self._modal is not None else None
+        return self.spectrum.apply(t, self.v.arb(prec), prec, modal)
+
+    def known_rational(self):
+        if self._twin is not None:
+            return self._twin.known_rational()
+        if self.t.known_rational() == 0:
+            return self.v.known_rational()
+        return None
+
+    def _exact_rational(self, depth):
+        inner, s = orbit_start(self.v, self.spectrum.M)  # e^{Mt} e^{Ms} w = e^{M(t+s)} w
+        q = inner.exact_rational(depth)
+        if q is None:
+            return None
+        tc = self.t.closed_form
+        if tc is not None and s is not None:
+            sc = s.closed_form
+            tc = None if sc is None else tc + sc
+        if tc is None:
+            return None
+        if tc == 0:
+            return q
+        if all(q[i, 0] == 0 for i in range(self.n)):
+            return q
+        from . import calcium
+        if not calcium.available():
+            return None
+        try:  # e^{M t*} q exactly (Calcium), rational when every component is
+            xs = self.spectrum.ca_apply(calcium.from_sympy(tc), [calcium.Ca(q[i, 0]) for i in range(self.n)],
+                                        calcium)
+            qs = None if xs is None else [x.to_fmpq() for x in xs]
+        except (ValueError, ZeroDivisionError, UnresolvedSign):
+            return None
+        return None if qs is None or any(x is None for x in qs) else fmpq_mat(self.n, 1, qs)
+
+    def closed_form(self, derive: bool = True):
+        if self._twin is not None:
+            return self._twin.closed_form(derive)
+        if not derive:
+            return None
+        q = self.exact_rational()
+        if q is not None:
+            return self._twin.closed_form()
+        if "_sym" not in self.__dict__:
+            self._sym = None
+            tc = self.t.closed_form
+            vc = self.v.closed_form(derive) if tc is not None else None
+            if vc is not None:
+                from .expm import symbolic_expm, t_symbol
+                E = symbolic_expm(self.spectrum)
+                if E is not None:
+                    self._sym = (E.subs(t_symbol(), tc) * vc).applyfunc(_tidy)
+        return self._sym
+
+    def _to_ca(self):
+        tc = self.t.to_ca()
+        if tc is None:
+            return None
+        xs = self.v.to_ca()
+        if xs is None:
+            return None
+        from . import calcium
+        return self.spectrum.ca_apply(tc, xs, calcium)
+
+
+class ComponentsVector(ExactVector):
+    """A vector of exact reals (e.g. an initial state with closed-form entries)."""
+
+    def __init__(self, comps: list[Real], policy: Policy | None = None):
+        zf = [j for j, c in enumerate(comps) if c.known_rational() == 0]
+        Z = fmpq_mat(len(zf), len(comps), [int(j == z) for z in zf for j in range(len(comps))])
+        super().__init__(len(comps), Z, policy)
+        self.comps = comps
+
+    def _deps(self):
+        return tuple(self.comps)
+
+    def _compute(self, prec):
+        return arb_mat([[c.arb(prec)] for c in self.comps])
+
+    def known_rational(self):
+        qs = [c.known_rational() for c in self.comps]
+        if all(q is not None for q in qs):
+            return fmpq_mat(self.n, 1, qs)
+        return super().known_rational()
+
+    def closed_form(self, derive: bool = True):
+        cs = [c.closed_form for c in self.comps]
+        if any(c is None for c in cs):
+            return None
+        import sympy
+        return sympy.Matrix(cs)
+
+    def _to_ca(self):
+        cs = [c.to_ca() for c in self.comps]
+        return None if any(c is None for c in cs) else cs
+
+
+def _tidy(e):
+    """Light SymPy clean-up of a closed-form entry (no simplify: it costs seconds)."""
+    import sympy
+    return sympy.nsimplify(e, rational=False) if e.is_number and e.is_Float else sympy.expand(e)
+
+
+# ---------------------------------------------------------------------------------------------
+# constructors
+# ---------------------------------------------------------------------------------------------
+
+
+def _is_sympy(x: Any) -> bool:
+    return type(x).__module__.startswith("sympy")
+
+
+def as_real(x: Any, policy: Policy | None = None) -> Real:
     """An exact real from a Real, a rational-like value or a SymPy expression."""
     if isinstance(x, Real):
         return x
-    if isinstance(x, sympy.Basic):
-        if x.is_Rational:
-            return RationalReal(fmpq(int(x.p), int(x.q)))
-        return ClosedFormReal(x)
-    return RationalReal(x)
+    if _is_sympy(x):
+        if getattr(x, "is_Rational", False):
+            return RationalReal(fmpq(int(x.p), int(x.q)), policy)
+        try:
+            return ClosedFormReal(x, policy)
+        except (TypeError, ValueError, AttributeError) as e:
+            raise NotRational(f"{x} is not a supported exact real: {e}") from None
+    return RationalReal(x, policy)
 
 
-_ARB_FUNCS = {
-    sympy.exp: lambda a: a.exp(), sympy.log: lambda a: a.log(), sympy.sin: lambda a: a.sin(),
-    sympy.cos: lambda a: a.cos(), sympy.tan: lambda a: a.tan(), sympy.atan: lambda a: a.atan(),
-    sympy.asin: lambda a: a.asin(), sympy.acos: lambda a: a.acos(),
-    sympy.sinh: lambda a: a.sinh(), sympy.cosh: lambda a: a.cosh(), sympy.tanh: lambda a: a.tanh(),
-    sympy.atanh: lambda a: a.atanh(), sympy.asinh: lambda a: a.asinh(),
-}
+def as_exact_vector(x: Any, n: int | None = None, name: str = "x0", policy: Policy | None = None) -> ExactVector:
+    """An ExactVector from an ExactVector, an ``fmpq_mat`` column or any vector input (entries
+    rational-like, or SymPy closed forms)."""
+    if isinstance(x, ExactVector):
+        if n is not None and x.n != n:
+            raise ShapeError(f"{name} has length {x.n}, expected {n}")
+        return x
+    if isinstance(x, fmpq_mat):
+        return RationalVector(to_vector(x, x.nrows() if n is None and x.ncols() == 1 else
+                                        (n if n is not None else x.ncols()), name), policy)
+    if hasattr(x, "tolist") and not _is_sympy(x):
+        x = x.tolist()
+    if isinstance(x, (str, bytes)) or not hasattr(x, "__iter__"):
+        raise ShapeError(f"{name} must be a vector{'' if n is None else f' of length {n}'}, got {type(x).__name__}")
+    flat = []
+    for e in x:
+        if isinstance(e, (list, tuple)) and len(e) == 1:
+            e = e[0]
+        flat.append(e)
+    if n is not None and len(flat) != n:
+        raise ShapeError(f"{name} has length {len(flat)}, expected {n}")
+    if any(_is_sympy(e) and not getattr(e, "is_Rational", False) for e in flat):
+        return ComponentsVector([as_real(e, policy) for e in flat], policy)
+    return RationalVector(to_vector(flat, len(flat), name), policy)
 
 
-def _sympy_to_arb(e) -> arb:
-    """Rigorous arb value of a SymPy expression at the current precision."""
-    if e.is_Rational:
-        return arb(fmpq(int(e.p), int(e.q)))
-    if e is sympy.pi:
-        return arb.pi()
-    if e is sympy.E:
-        return arb(1).exp()
-    if e.is_Add:
-        out = arb(0)
-        for a in e.args:
-            out += _sympy_to_arb(a)
-        return out
-    if e.is_Mul:
-        out = arb(1)
-        for a in e.args:
-            out *= _sympy_to_arb(a)
-        return out
-    if e.is_Pow:
-        base, ex = e.args
-        b = _sympy_to_arb(base)
-        if ex.is_Integer:
-            return b ** int(ex)
-        if ex.is_Rational:
-            return b ** arb(fmpq(int(ex.p), int(ex.q)))
-        return (b.log() * _sympy_to_arb(ex)).exp()
-    f = _ARB_FUNCS.get(e.func)
-    if f is not None and len(e.args) == 1:
-        return f(_sympy_to_arb(e.args[0]))
-    raise ValueError(f"closed form {e} is outside the supported set (rationals, pi, E, +, *, powers, "
-                     f"exp, log, trigonometric functions)")
+def orbit_start(v: ExactVector, M: fmpq_mat) -> tuple[ExactVector, Real | None]:
+    """(w, s) with v = e^{M s} w and w not itself of that form (s None when v is not e^{M s} w):
+    a phase from v follows the orbit of w, so forms vanishing on the orbit of w vanish on it."""
+    s = None
+    while isinstance(v, ExpVector) and (v.spectrum.M is M or v.spectrum.M == M):
+        s = v.t if s is None else s + v.t
+        v = v.v
+    return v, s
+
+
+def homogenized(x: ExactVector) -> ExactVector:
+    """x itself, or c q (c > 0 certified, q rational) when the forms proven to vanish on x leave
+    a single direction q (rank n - 1): then every sign at x is the sign at q, exactly."""
+    if x.known_rational() is not None or isinstance(x, ScaledVector) or x.zero_forms.nrows() != x.n - 1:
+        return x
+    q = kernel(x.zero_forms)
+    i = next(i for i in range(x.n) if q[i, 0] != 0)
+    c = ScaledReal(ComponentReal(x, i), 1 / q[i, 0])
+    s = c.sign()
+    if s == 0:
+        return RationalVector(zeros(x.n, 1), x.policy)
+    if s < 0:
+        c, q = -c, -q
+    return ScaledVector(c, RationalVector(q, x.policy), x.policy)
+
+
+def expm_action(M: Any, t: Any, v: Any, *, policy: Policy | None = None) -> ExactVector:
+    """e^{M t} v as an exact vector (M, v: any matrix/vector input LCS accepts; t exact).
+
+    Composes structurally: expm_action(M, a, expm_action(M, b, v)) = e^{M(a+b)} v, and is v
+    itself (rational again) when a + b is proven 0.
+
+    >>> x0 = expm_action([[0, 1], [-1, 0]], -1, [1, 0])
+    >>> expm_action([[0, 1], [-1, 0]], 1, x0).known_rational().transpose()
+    [1, 0]
+    """
+    if isinstance(M, Spectrum):
+        sp = M
+    else:
+        Mq = to_matrix(M, "M")
+        if Mq.nrows() != Mq.ncols():
+            raise ShapeError(f"M must be square, got {Mq.nrows()}x{Mq.ncols()}")
+        sp = spectrum_of(Mq)
+    t = as_real(t, policy)
+    v = as_exact_vector(v, sp.n, "v", policy)
+    if isinstance(v, ExpVector) and v.spectrum.M == sp.M:
+        t, v = t + v.t, v.v
+    if t.known_rational() == 0:
+        return v
+    q = v.known_rational()
+    if q is not None and is_zero(sp.M * q):  # an equilibrium: e^{Mt} v = v
+        return v
+    if q is not None:  # forms vanishing on the whole orbit e^{Ms} q (e.g. coordinates M leaves at 0)
+        zf = orbit_zero_forms(sp.M, q)
+    else:
+        zf = invariant_forms(v.zero_forms, sp.M) if v.zero_forms.nrows() else None
+    return ExpVector(sp, t, v, zf, policy)
+
+
+# ---------------------------------------------------------------------------------------------
+# text
+# ---------------------------------------------------------------------------------------------
+
+def format_form(form: fmpq_mat) -> str:
+    """A row as text: (1, 0, -1/2)."""
+    return "(" + ", ".join(str(form[0, j]) for j in range(form.ncols())) + ")"
 
 
 def _bound_up(err) -> str:
@@ -342,7 +928,7 @@ def _bound_up(err) -> str:
     return nstr(err * mpf("1.01"), 3) if err else "0"
 
 
-def _decimal_of_fmpq(q: fmpq, digits: int) -> str:
+def decimal_of_fmpq(q: fmpq, digits: int) -> str:
     """q to ``digits`` significant digits; exact strings stand alone, rounded ones carry a bound."""
     from fractions import Fraction
     from mpmath import mp, mpf, nstr
@@ -354,7 +940,7 @@ def _decimal_of_fmpq(q: fmpq, digits: int) -> str:
         return text if err == 0 else f"{text} +/- {_bound_up(mpf(err.numerator) / err.denominator)}"
 
 
-def _decimal_of_ball(b: arb, digits: int) -> str:
+def decimal_of_ball(b: arb, digits: int) -> str:
     """mid rounded to ``digits`` significant digits, with an upper bound on the total error."""
     from mpmath import mp, mpf, nstr
     mid = b.mid()
@@ -363,378 +949,4 @@ def _decimal_of_ball(b: arb, digits: int) -> str:
         s = nstr(m, digits, strip_zeros=False, min_fixed=-5, max_fixed=digits + 1)
         err = abs(mpf(s) - m) + mpf(b.rad().str(5, radius=False)) * 2 + abs(m) * mpf(10) ** (-(digits + 12))
         return f"{s} +/- {_bound_up(err)}"
-
-
-# ---------------------------------------------------------------------------------------------
-# exact vectors
-# ---------------------------------------------------------------------------------------------
-
-
-class ExactVector(abc.ABC):
-    """An exact vector in R^n: evaluates to an arb_mat (n x 1) ball of any precision.
-
-    ``zero_forms`` (an m x n fmpq_mat) are linear forms proven to vanish on the vector.
-    """
-
-    n: int
-
-    def __init__(self, n: int, zero_forms: fmpq_mat | None = None):
-        self.n = n
-        self.zero_forms = zero_forms if zero_forms is not None else zeros(0, n)
-        self._ball: arb_mat | None = None
-        self._ball_prec = 0
-
-    @abc.abstractmethod
-    def _eval(self, prec: int) -> arb_mat:
-        """A ball vector computed at ``prec`` bits (subclasses)."""
-
-    def arb(self, prec: int) -> arb_mat:
-        if self._ball is None or self._ball_prec < prec:
-            with workprec(prec):
-                self._ball = self._eval(prec)
-            self._ball_prec = prec
-        return self._ball
-
-    def rational(self) -> fmpq_mat | None:
-        """The vector as n x 1 fmpq_mat when proven rational."""
-        return None
-
-    def closed_form(self, derive: bool = True):
-        """A SymPy column vector when every component has a proven closed form, else None.
-
-        ``derive=False`` returns only what is already known (cheap); True may derive it with
-        SymPy (e^{Mt} symbolically: up to a second for a new matrix)."""
-        return None
-
-    def __len__(self):
-        return self.n
-
-    def __getitem__(self, i: int) -> Real:
-        return ComponentReal(self, i)
-
-    def __iter__(self) -> Iterator[Real]:
-        return (ComponentReal(self, i) for i in range(self.n))
-
-    def tolist(self) -> list[Real]:
-        return list(self)
-
-    def ball(self, digits: int = 30) -> list[arb]:
-        return [c.ball(digits) for c in self]
-
-    def sign_of_form(self, form: fmpq_mat) -> int:
-        """Certified sign of form . x (see the module docstring for the order of the tests)."""
-        q = self.rational()
-        if q is not None:
-            v = (form * q)[0, 0]
-            return (v > 0) - (v < 0)
-        if is_zero(form):
-            return 0
-        if self.zero_forms.nrows() and _in_row_span(form, self.zero_forms):
-            return 0
-        return ball_sign(lambda p: (arb_mat(form) * self.arb(p))[0, 0],
-                         lambda: f"the form {_fmt_form(form)} at {self!r}")
-
-    def __repr__(self):
-        q = self.rational()
-        if q is not None:
-            return "(" + ", ".join(str(q[i, 0]) for i in range(self.n)) + ")"
-        return "(" + ", ".join(str(c.closed_form) if c.closed_form is not None and c.closed_form.is_Rational
-                               else c.decimal(12).split(" +/-")[0] for c in self) + ")"
-
-
-class ComponentReal(Real):
-    """Component i of an exact vector."""
-
-    def __init__(self, vec: ExactVector, i: int):
-        super().__init__()
-        self.vec, self.i = vec, i
-        q = vec.rational()
-        if q is not None:
-            self.closed_form = sympy.Rational(int(q[i, 0].p), int(q[i, 0].q))
-        else:
-            cf = vec.closed_form(derive=False)
-            if cf is not None:
-                self.closed_form = cf[i]
-            elif vec.zero_forms.nrows():
-                e = fmpq_mat(1, vec.n, [int(j == i) for j in range(vec.n)])
-                if _in_row_span(e, vec.zero_forms):  # x_i = 0 is a proven relation
-                    self.closed_form = sympy.Integer(0)
-
-    def _eval(self, prec):
-        if self.closed_form is not None and self.closed_form == 0:
-            return arb(0)
-        return self.vec.arb(prec)[self.i, 0]
-
-
-class RationalVector(ExactVector):
-    """A rational vector (n x 1 fmpq_mat)."""
-
-    def __init__(self, q: fmpq_mat):
-        super().__init__(q.nrows())
-        self.q = q
-
-    def _eval(self, prec):
-        return arb_mat(self.q)
-
-    def rational(self):
-        return self.q
-
-    def closed_form(self, derive: bool = True):
-        return sympy.Matrix([sympy.Rational(int(self.q[i, 0].p), int(self.q[i, 0].q)) for i in range(self.n)])
-
-
-class ProjectedVector(ExactVector):
-    """P v for a rational matrix P (a projection P_I); r P = 0 rows are zero forms."""
-
-    def __init__(self, P: fmpq_mat, v: ExactVector):
-        super().__init__(P.nrows(), pulled_back_forms(P, v.zero_forms))
-        self.P, self.v = P, v
-
-    def _eval(self, prec):
-        return arb_mat(self.P) * self.v.arb(prec + 4)
-
-    def closed_form(self, derive: bool = True):
-        """P times the closed form of v (exact: P is rational), when v has one."""
-        cache = self.__dict__.setdefault("_closed", {})
-        if False not in cache:  # the known form: a simplified state (simplify detects rationals)
-            cf = self.v.closed_form(derive=False)
-            cache[False] = None if cf is None else \
-                (matrix_to_sympy(self.P) * cf).applyfunc(sympy.simplify)
-        if not derive or cache[False] is not None:
-            return cache[False]
-        if True not in cache:  # derived forms are large and exact as they stand: no simplify
-            cf = self.v.closed_form(derive=True)
-            cache[True] = None if cf is None else matrix_to_sympy(self.P) * cf
-        return cache[True]
-
-    def rational(self):
-        c = self.closed_form(derive=False)
-        if c is not None and all(e.is_Rational for e in c):
-            return fmpq_mat(self.n, 1, [fmpq(int(e.p), int(e.q)) for e in c])
-        return None
-
-
-class ExpVector(ExactVector):
-    """e^{M t} v: M rational, t an exact real, v an exact vector (or rational)."""
-
-    def __init__(self, M: fmpq_mat, t: Real, v: ExactVector, zero_forms: fmpq_mat | None = None,
-                 closed: Any = None):
-        super().__init__(M.nrows(), zero_forms)
-        self.M, self.t, self.v = M, t, v
-        self._closed = closed
-
-    def _eval(self, prec):
-        # same precision below: arb tracks the loss; callers escalate when a ball is too wide
-        t = self.t.arb(prec + 4)
-        return expm_apply(self.M, t, self.v.arb(prec + 4), prec)
-
-    def closed_form(self, derive: bool = True):
-        """e^{Mt} v in closed form when t and v have one and e^{Mt} is symbolic (flow.expm_symbolic);
-        exact by construction (not simplified: SymPy's simplify costs seconds here)."""
-        if derive and self._closed is None and not getattr(self, "_tried", False):
-            self._tried = True
-            vc = self.v.closed_form() if self.t.closed_form is not None else None
-            if vc is not None:
-                from .flow import _t, expm_symbolic
-                E = expm_symbolic(self.M)
-                if E is not None:
-                    self._closed = E.subs(_t, self.t.closed_form) * vc
-        return self._closed
-
-    def rational(self):
-        c = self._closed
-        if c is not None and all(e.is_Rational for e in c):
-            return fmpq_mat(self.n, 1, [fmpq(int(e.p), int(e.q)) for e in c])
-        return None
-
-
-# e^{Mt} v by the spectral sum: no norm blow-up for stiff or oscillatory M, where the error
-# bounds of arb_mat.exp grow like e^{||M|| t}
-_SPECTRAL: dict = {}
-
-
-def _poly_at_matrix(p, S: fmpq_mat) -> fmpq_mat:
-    """p(S) for p in Q[s] (Horner), exactly."""
-    n = S.nrows()
-    out = zeros(n, n)
-    for c in reversed(p.coeffs()):
-        out = out * S + identity(n) * c
-    return out
-
-
-def jordan_chevalley(M: fmpq_mat, r=None) -> tuple[fmpq_mat, fmpq_mat, int]:
-    """(S, N, m): M = S + N with S semisimple, N nilpotent (N^m = 0), SN = NS, both exact.
-
-    S is a polynomial in M found by Newton's iteration S <- S - r(S) r'(S)^{-1} on the squarefree
-    part r of χ (exact in Q[M]; quadratic convergence, so about log2(max multiplicity) steps)."""
-    chi = M.charpoly()
-    if r is None:
-        r = chi.gcd(chi.derivative())
-        r = chi / r
-    r = r / r.coeffs()[-1]
-    dr = r.derivative()
-    S = M
-    for _ in range(M.nrows() + 1):
-        rS = _poly_at_matrix(r, S)
-        if is_zero(rS):
-            break
-        S = S - rS * _poly_at_matrix(dr, S).inv()
-    N = M - S
-    m, P = 1, N
-    while not is_zero(P):
-        P, m = P * N, m + 1
-    return S, N, m
-
-
-def _spectral_data(M: fmpq_mat, prec: int):
-    """[(λ, K_λ)], the nilpotent powers [N^j / j!] with e^{Mt} = Σ_λ e^{λt} K_λ Σ_j t^j N^j / j!.
-
-    M = S + N (Jordan-Chevalley); r = the squarefree part of χ, the minimal polynomial of S;
-    K_λ = q_λ(S) / r'(λ) with q_λ(s) = r(s) / (s - λ) (the spectral projector of S onto the
-    eigenvalue λ; adj(λI - M)/χ'(λ) when χ is squarefree)."""
-    from flint import acb, acb_mat
-    from .system import adjugate_coefficients
-    key = (M.nrows(), tuple(str(e) for e in M.entries()))
-    entry = _SPECTRAL.get(key)
-    if entry is None:
-        chi = M.charpoly()
-        g = chi.gcd(chi.derivative())
-        if g.degree() == 0:
-            S, N, m, r = M, zeros(M.nrows(), M.nrows()), 1, chi
-        else:
-            r = chi / g
-            r = r / r.coeffs()[-1]
-            S, N, m = jordan_chevalley(M, r)
-        nil, P, fact = [], identity(M.nrows()), 1
-        for j in range(m):
-            if j:
-                P, fact = P * N, fact * j
-            nil.append(P * fmpq(1, fact))
-        entry = _SPECTRAL[key] = {"r": r, "dr": r.derivative(), "B": adjugate_coefficients(S, r),
-                                  "nil": nil}
-    cached = entry.get("prec", 0)
-    if cached < prec:
-        with workprec(prec + 20):
-            n = M.nrows()
-            out = []
-            for lam, _ in entry["r"].complex_roots():
-                q = acb_mat(n, n)
-                for B in entry["B"]:  # Horner in λ
-                    q = q * lam + acb_mat(B)
-                d = acb(0)
-                for c in reversed(entry["dr"].coeffs()):
-                    d = d * lam + acb(c)
-                out.append((lam, q * (1 / d)))
-        entry["terms"], entry["nil_arb"], entry["prec"] = out, [arb_mat(P) for P in entry["nil"]], prec
-    return entry["terms"], entry["nil_arb"]
-
-
-def expm_apply(M: fmpq_mat, t: arb, z: arb_mat, prec: int) -> arb_mat:
-    """A ball of e^{M t} z (z: n x m; t a ball, possibly wide: an enclosure over an interval)."""
-    if M.nrows() == 0:
-        return z
-    from flint import acb, acb_mat
-    terms, nil = _spectral_data(M, prec)
-    w = nil[0] * z if len(nil) == 1 else sum((P * z * t ** j for j, P in enumerate(nil[1:], 1)), nil[0] * z)
-    zc = acb_mat(w)
-    acc = acb_mat(M.nrows(), z.ncols())
-    tc = acb(t)
-    for lam, K in terms:
-        acc += (K * zc) * (lam * tc).exp()
-    return arb_mat([[acc[i, j].real for j in range(z.ncols())] for i in range(M.nrows())])
-
-
-def as_exact_vector(x: Any, n: int | None = None) -> ExactVector:
-    """An ExactVector from an ExactVector, an fmpq_mat column or any vector input."""
-    if isinstance(x, ExactVector):
-        q = x.rational()
-        return RationalVector(q) if q is not None and not isinstance(x, RationalVector) else x
-    if isinstance(x, fmpq_mat):
-        return RationalVector(x if x.ncols() == 1 else x.transpose())
-    from .rational import to_vector
-    flat = list(x.tolist() if hasattr(x, "tolist") else x)
-    return RationalVector(to_vector(flat, len(flat) if n is None else n))
-
-
-def pulled_back_forms(P: fmpq_mat, Z: fmpq_mat) -> fmpq_mat:
-    """Rows r with r P in rowspan(Z): the forms that vanish on P v whenever Z v = 0."""
-    from .rational import hstack
-    from .subspaces import image, kernel, left_kernel
-    m = P.nrows()
-    if not Z.nrows():
-        return left_kernel(P)
-    k = kernel(hstack(P.transpose(), -Z.transpose()))  # (r, s) with P^T r = Z^T s
-    if not k.ncols():
-        return zeros(0, m)
-    r = submatrix(k, range(m), None)
-    return image(r).transpose()
-
-
-def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
-    """The largest subspace U of rowspan(R) with U M ⊆ U (rows): R x = 0 => U e^{Mt} x = 0."""
-    from .rational import hstack
-    from .subspaces import image, kernel
-    n = M.nrows()
-    U = image(R.transpose()).transpose() if R.nrows() else zeros(0, n)
-    while U.nrows():
-        # a U M in span(U): kernel of [ (U M)^T, -U^T ] in (a, b)
-        d = U.nrows()
-        k = kernel(hstack((U * M).transpose(), -U.transpose()))
-        a = submatrix(k, range(d), None) if k.ncols() else zeros(d, 0)
-        newU = image((a.transpose() * U).transpose()).transpose() if a.ncols() else zeros(0, n)
-        if newU.nrows() == U.nrows():
-            return U
-        U = newU
-    return U
-
-
-def orbit_zero_forms(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
-    """Every form g with g e^{Mt} q ≡ 0: the left kernel of the Krylov matrix [q, Mq, ...,
-    M^{n-1} q] (Cayley-Hamilton), exact."""
-    from .rational import hstack
-    from .subspaces import left_kernel
-    cols, v = [], q
-    for _ in range(M.nrows()):
-        cols.append(v)
-        v = M * v
-    return left_kernel(hstack(*cols))
-
-
-def expm_action(M: Any, t: Any, v: Any) -> ExactVector:
-    """e^{M t} v as an exact vector (M, v: any matrix/vector input LCS accepts; t exact).
-
-    Composes structurally: expm_action(M, a, expm_action(M, b, v)) = e^{M(a+b)} v, and is v
-    itself (rational again) when a + b is proven 0.
-
-    >>> x0 = expm_action([[0, 1], [-1, 0]], -1, [1, 0])
-    >>> expm_action([[0, 1], [-1, 0]], 1, x0).rational().transpose()
-    [1, 0]
-    """
-    M = to_matrix(M, "M")
-    if M.nrows() != M.ncols():
-        from .errors import ShapeError
-        raise ShapeError(f"M must be square, got {M.nrows()}x{M.ncols()}")
-    t = as_real(t)
-    v = as_exact_vector(v, M.nrows())
-    if isinstance(v, ExpVector) and v.M == M:
-        t, v = t + v.t, v.v
-    if t.closed_form is not None and t.closed_form == 0:
-        return v
-    q = v.rational()
-    if q is not None and is_zero(M * q):  # an equilibrium: e^{Mt} v = v
-        return v
-    if q is not None:  # forms vanishing on the whole orbit e^{Ms} q (e.g. coordinates M leaves at 0)
-        zf = orbit_zero_forms(M, q)
-    else:
-        zf = invariant_forms(v.zero_forms, M) if v.zero_forms.nrows() else None
-    return ExpVector(M, t, v, zf)
-
-
-def _in_row_span(form: fmpq_mat, R: fmpq_mat) -> bool:
-    from .subspaces import rank
-    return rank(vstack(R, form)) == rank(R)
-
-
-def _fmt_form(form: fmpq_mat) -> str:
-    return "(" + ", ".join(str(form[0, j]) for j in range(form.ncols())) + ")"
 

@@ -32,14 +32,14 @@ from .rational import (RationalFunction, RationalMatrix, is_rational_vector, is_
                        lex_sign, sign_of_form, submatrix, to_vector, zeros)
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "LDCPSolution", "select_modes",
-           "initial_solution", "InitialSolution", "is_regular", "mode_admissible"]
+           "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data"]
 
 
 def as_state(lcs, x0: Any):
     """A rational n x 1 ``fmpq_mat``, or an exact vector (anything with ``sign_of_form``)."""
     if hasattr(x0, "sign_of_form") and not isinstance(x0, fmpq_mat):
         if hasattr(x0, "rational"):  # an exact vector proven rational collapses to Q^n
-            r = x0.rational()
+            r = x0.known_rational()
             if r is not None:
                 return to_vector(r, lcs.n)
         if len(x0) != lcs.n:
@@ -86,38 +86,41 @@ def _row_series(m: RationalMatrix, i: int) -> _RowSeries:
     return _RowSeries(b - a, tuple(forms))
 
 
-def _rcp_data(mode) -> dict:
-    """W_I(s), Z_I(s), their Laurent forms and the impulse matrices of mode I (cached)."""
-    if "rcp" not in mode._cache:
-        mode.require_autonomous()
-        lcs = mode.lcs
-        G, R = lcs.G(), lcs.R()
-        I, Ic, n = mode.I, mode.Ic, lcs.n
-        if I:
-            W = -(G.sub(I, I).solve(R.sub(I, range(n))))
-            Z = R.sub(Ic, range(n)) + G.sub(Ic, I) * W if Ic else RationalMatrix([])
-        else:
-            W = RationalMatrix([])
-            Z = R
-        u_rows = [_row_series(W, r) for r in range(len(I))]
-        y_rows = [_row_series(Z, r) for r in range(len(Ic))]
-        # impulse u^{-p} (coefficient of s^p in u(s)) as k x n forms, p = 0..n-1
-        imp = [zeros(lcs.k, n) for _ in range(n)]
-        for r, i in enumerate(I):
-            for c in range(n):
-                poly = W[r, c].polynomial_part().coeffs()
-                for p, v in enumerate(poly):
-                    if p >= n:
-                        raise LCSError(f"internal inconsistency: u(s) of mode {format_mode(I)} has "
-                                       f"polynomial degree {p} >= n")
-                    imp[p][i, c] = v
-        mode._cache["rcp"] = {"W": W, "Z": Z, "u": u_rows, "y": y_rows, "impulse": imp}
-    return mode._cache["rcp"]
+def rcp_data(mode) -> dict:
+    """W_I(s), Z_I(s), their Laurent forms and the impulse matrices of mode I (cached on the mode):
+    ``{"W", "Z", "u", "y", "impulse"}``, impulse[p] the k x n forms of u^{-p} (3.6)."""
+    return mode.memo("rcp", lambda: _build_rcp_data(mode))
+
+
+def _build_rcp_data(mode) -> dict:
+    mode.require_autonomous()
+    lcs = mode.lcs
+    G, R = lcs.G(), lcs.R()
+    I, Ic, n = mode.I, mode.Ic, lcs.n
+    if I:
+        W = -(G.sub(I, I).solve(R.sub(I, range(n))))
+        Z = R.sub(Ic, range(n)) + G.sub(Ic, I) * W if Ic else RationalMatrix([])
+    else:
+        W = RationalMatrix([])
+        Z = R
+    u_rows = [_row_series(W, r) for r in range(len(I))]
+    y_rows = [_row_series(Z, r) for r in range(len(Ic))]
+    # impulse u^{-p} (coefficient of s^p in u(s)) as k x n forms, p = 0..n-1
+    imp = [zeros(lcs.k, n) for _ in range(n)]
+    for r, i in enumerate(I):
+        for c in range(n):
+            poly = W[r, c].polynomial_part().coeffs()
+            for p, v in enumerate(poly):
+                if p >= n:
+                    raise LCSError(f"internal inconsistency: u(s) of mode {format_mode(I)} has "
+                                   f"polynomial degree {p} >= n")
+                imp[p][i, c] = v
+    return {"W": W, "Z": Z, "u": u_rows, "y": y_rows, "impulse": imp}
 
 
 def mode_admissible(mode, x) -> bool:
     """I in S_RCP(x): u_I(s) >= 0 and y_Ic(s) >= 0 for all large s (5.4), by lexicographic signs."""
-    data = _rcp_data(mode)
+    data = rcp_data(mode)
     return all(r.sign(x) >= 0 for r in data["u"]) and all(r.sign(x) >= 0 for r in data["y"])
 
 
@@ -165,7 +168,7 @@ def rcp(lcs, x0: Any) -> list[RCPSolution]:
     for I in _all_modes(lcs.k):
         mode = lcs.mode(I)
         if mode_admissible(mode, x):
-            data = _rcp_data(mode)
+            data = rcp_data(mode)
             uI, yIc = data["W"].apply(x), data["Z"].apply(x)
             u = [RationalFunction(0)] * lcs.k
             y = [RationalFunction(0)] * lcs.k
@@ -415,7 +418,7 @@ def initial_solution(lcs, x0: Any, mode: Any = None) -> InitialSolution:
     if I not in modes:
         raise ValueError(f"mode {format_mode(I)} is not in S(x0) = {sorted(format_mode(m) for m in modes)}")
     m = lcs.mode(I)
-    data = _rcp_data(m)
+    data = rcp_data(m)
     jump = _jump_forms(lcs, data["impulse"])
     P = m.projection()
     if jump != P:
@@ -446,7 +449,7 @@ def is_regular(lcs, x0: Any) -> bool:
                 return False
         return True
     for I in select_modes(lcs, x, method="rcp"):
-        imp = _rcp_data(lcs.mode(I))["impulse"]
+        imp = rcp_data(lcs.mode(I))["impulse"]
         if all(sign_of_form(submatrix(u, [r], None), x) == 0 for u in imp for r in range(lcs.k)):
             return True
     return False

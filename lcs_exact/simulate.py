@@ -4,11 +4,16 @@
     Step one        select I in S(z) (the smallest admissible mode, Remark 4.8)
     Step two        z in V_I ?  yes: step four;  no: step three
     Step three      z := P_I z, go to step one          (the re-initialization chain (4.9))
-    Step four       x(t) = e^{A_I t} z, u_I = F_I x      (flow.Phase)
-    Step five       θ(z, I) by certified root isolation; t := t + θ, z := x(θ-); repeat
+    Step four       x(t) = e^{A_I t} z, u_I = F_I x      (:mod:`lcs_exact.phase`)
+    Step five       theta(z, I) by certified root isolation; t := t + theta, z := x(theta-); repeat
 
-Stops: deadlock (S(z) = ∅) -> :class:`Deadlock`; a re-initialization chain that does not end ->
-:class:`ZenoDetected`; event times accumulating (geometrically shrinking phases with the limit
+Each event state is anchored: its ball is computed at the run's working precision when the event
+is found (:meth:`~lcs_exact.balls.Policy.working_prec`), which grows by the accuracy the run
+measures as lost, so the cost of an event does not grow with its index and refinement walks
+forward from the nearest anchor (:func:`lcs_exact.reals.evaluate`).
+
+Stops: deadlock (S(z) = empty) -> :class:`Deadlock`; a re-initialization chain that does not end
+-> :class:`ZenoDetected`; event times accumulating (geometrically shrinking phases with the limit
 before t_end, Remark 4.11) -> :class:`ZenoDetected`; ``max_events`` / ``time_limit`` ->
 :class:`LimitExceeded`; an undecidable sign -> :class:`UnresolvedSign`.  Each such error carries
 the partial :class:`~lcs_exact.trajectory.Trajectory` in ``.trajectory``.
@@ -20,23 +25,51 @@ from typing import Any
 
 from flint import arb
 
-from .errors import Deadlock, LCSError, LimitExceeded, ZenoDetected
-from .flow import Phase, next_event, state_closed_form
-from .reals import (DEFAULT_MAX_PREC, ExactVector, ExpVector, ProjectedVector, RationalReal,
-                    RationalVector, as_exact_vector, as_real, assumption_policy, deadline,
-                    digits_to_bits)
-from .rational import vstack
-from .selection import _rcp_data, select_modes
-from .trajectory import Event, PhaseRecord, Trajectory
+from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits
+from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, ShapeError, UnresolvedSign,
+                     ZenoDetected)
+from .flow import next_event
+from .phase import Phase
+from .rational import submatrix, vstack
+from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
+from .selection import rcp_data, select_modes
+from .trajectory import Event, PhaseRecord, Status, Trajectory
 
-__all__ = ["simulate"]
+__all__ = ["simulate", "check_accumulation"]
 
 _ZENO_WINDOW = 24
+_CLOSED_FORMS = {"lazy": "lazy", True: "eager", "eager": "eager", False: "off", "off": "off"}
+
+
+def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec):
+    """Validated options (every bad value is a named LCSError that says which argument)."""
+    if isinstance(digits, bool) or not isinstance(digits, int) or not 1 <= digits <= MAX_DIGITS:
+        raise ShapeError(f"digits must be an integer in 1..{MAX_DIGITS}, got {digits!r}")
+    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 0:
+        raise ShapeError(f"max_events must be a nonnegative integer, got {max_events!r}")
+    if time_limit is not None and (isinstance(time_limit, bool) or not isinstance(time_limit, (int, float))
+                                   or not time_limit >= 0):
+        raise ShapeError(f"time_limit must be a nonnegative number of seconds or None, got {time_limit!r}")
+    if closed_forms not in _CLOSED_FORMS:
+        raise ShapeError(f"closed_forms must be 'lazy', True or False, got {closed_forms!r}")
+    if max_prec is not None and (not isinstance(max_prec, int) or max_prec < 64):
+        raise ShapeError(f"max_prec must be an integer >= 64 bits, got {max_prec!r}")
+    if x0 is None:
+        raise ShapeError("x0 is required: a vector of length n (rational entries or an exact vector)")
+    try:
+        T = as_real(t_end)
+    except LCSError as e:
+        raise type(e)(f"t_end: {e}") from e
+    except (TypeError, ValueError) as e:
+        raise ShapeError(f"t_end: {e}") from e
+    if T.sign() < 0:
+        raise ShapeError(f"t_end must be >= 0, got {t_end}")
+    return T
 
 
 def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
              time_limit: float | None = None, allow_unresolved: bool = False,
-             closed_forms: bool = True, max_prec: int | None = None) -> Trajectory:
+             closed_forms: Any = "lazy", max_prec: int | None = None) -> Trajectory:
     """Run Algorithm 7.1 from x0 on [0, t_end] and return the exact :class:`Trajectory`.
 
     Parameters
@@ -46,13 +79,15 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         Rational (any input LCS accepts) or an exact vector such as ``expm_action(A, -1, v)``.
     t_end : rational or exact real, >= 0
     digits : int
-        Correct significant digits promised for every reported number (evaluation is on demand;
-        sign decisions refine up to ``max_prec`` bits, by default max(4096, 8 * digits bits)).
+        Correct significant digits promised for every reported number (1..10000).  Evaluation
+        is on demand; sign decisions refine up to ``max_prec`` bits (default
+        max(4096, 8 * bits(digits))).
     max_events, time_limit : limits; reaching one raises :class:`LimitExceeded` with the
         partial trajectory in ``.trajectory``.
     allow_unresolved : if True, an undecidable sign is assumed zero, recorded in
         ``traj.assumptions``, and the result is not ``certified``; otherwise UnresolvedSign.
-    closed_forms : try to prove closed forms of event times and states (SymPy).
+    closed_forms : ``"lazy"`` (default: proven on first access of ``.closed_form``), True (proven
+        at every event, as the run goes), False (never).
 
     Examples
     --------
@@ -61,168 +96,162 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     >>> tr.events[0].state_after
     (0, 1, 0, 0)
     """
-    if isinstance(digits, bool) or not isinstance(digits, int) or digits < 1:
-        raise ValueError(f"digits must be a positive integer, got {digits!r}")
-    if x0 is None:
-        raise ValueError("x0 is required: a vector of length n (rational entries or an exact vector)")
-    try:
-        T = as_real(t_end)
-    except (LCSError, TypeError, ValueError) as e:
-        raise type(e)(f"t_end: {e}") from e
-    if T.sign() < 0:
-        raise ValueError(f"t_end must be >= 0, got {t_end}")
+    T = _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec)
+    policy = Policy(digits=digits, max_prec=max_prec or 0, allow_unresolved=allow_unresolved,
+                    closed_forms=_CLOSED_FORMS[closed_forms], deadline=Deadline(time_limit))
     z0 = as_exact_vector(x0, lcs.n)
-    if z0.n != lcs.n:
-        from .errors import ShapeError
-        raise ShapeError(f"x0 has length {z0.n}, expected {lcs.n}")
-    mp = max_prec or max(DEFAULT_MAX_PREC, 8 * digits_to_bits(digits))
-    traj = Trajectory(lcs, z0, T, digits)
+    run = _Run(lcs, policy, T, max_events)
     started = _time.monotonic()
-    with assumption_policy(allow_unresolved, mp) as record, deadline(time_limit):
-        try:
-            _run(lcs, traj, z0, T, max_events, time_limit, started, closed_forms)
-        except LCSError as e:
-            traj.partial = True
-            traj.stop_reason = f"{type(e).__name__}: {e}"
-            traj.assumptions = list(record)
-            traj.elapsed = _time.monotonic() - started
-            e.trajectory = traj
-            raise
-        traj.assumptions = list(record)
-    traj.elapsed = _time.monotonic() - started
-    return traj
+    try:
+        run.execute(z0)
+    except LCSError as e:
+        status = _STATUS.get(type(e), Status.FAILED)
+        e.trajectory = run.result(z0, digits, status, f"{type(e).__name__}: {e}", _time.monotonic() - started)
+        raise
+    finally:
+        policy.deadline.disarm()
+    return run.result(z0, digits, Status.COMPLETE, None, _time.monotonic() - started)
 
 
-def _selection_point(z: ExactVector):
-    q = z.rational()
-    return q if q is not None else z
+_STATUS = {LimitExceeded: Status.EVENT_LIMIT, Deadlock: Status.DEADLOCK, ZenoDetected: Status.ZENO,
+           UnresolvedSign: Status.UNRESOLVED, IllPosed: Status.ILL_POSED}
 
 
-def _in_consistent_subspace(mode, z: ExactVector) -> bool:
-    """Step two: z in V_I, decided form by form on the annihilator of V_I (exact or certified)."""
-    W = mode._annihilator()
-    q = z.rational()
-    if q is not None:
-        return all(v == 0 for v in (W * q).entries()) if W.nrows() else True
-    from .rational import submatrix
-    return all(z.sign_of_form(submatrix(W, [r], None)) == 0 for r in range(W.nrows()))
+class _Run:
+    """The state of one run of Algorithm 7.1 (events and phases found so far)."""
 
+    def __init__(self, lcs, policy: Policy, T, max_events: int):
+        self.lcs, self.policy, self.T, self.max_events = lcs, policy, T, max_events
+        self.events: list[Event] = []
+        self.phases: list[PhaseRecord] = []
+        self.durations: list = []
+        self.lost = 0  # accuracy (bits) measured as lost by the anchors so far
 
-def _project(mode, z: ExactVector) -> ExactVector:
-    """Step three: z := P_I z (rational stays rational)."""
-    P = mode.projection()
-    q = z.rational()
-    if q is not None:
-        return RationalVector(P * q)
-    return ProjectedVector(P, z)
+    def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
+        if status is Status.EVENT_LIMIT and reason and "time_limit" in reason:
+            status = Status.TIME_LIMIT
+        return Trajectory(self.lcs, z0, self.T, digits, events=self.events, phases=self.phases,
+                          status=status, stop_reason=reason, assumptions=self.policy.assumptions,
+                          elapsed=elapsed, policy=self.policy)
 
+    def execute(self, z: ExactVector) -> None:
+        lcs, policy = self.lcs, self.policy
+        t = RationalReal(0, policy)
+        mode_before = None
+        triggers: tuple = ()
+        while True:
+            state_before = z
+            mode, chain, z, impulse = self.select_and_reinitialize(z, t)
+            if chain or mode_before is not None:
+                if len(self.events) >= self.max_events:
+                    raise LimitExceeded(f"max_events = {self.max_events} reached: the next event is "
+                                        f"at t = {t._label()}")
+                self.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
+                                         len(chain), impulse, triggers))
+            policy.check_deadline(f" at t = {t._label()}")
+            prec = policy.working_prec(self.lost)
+            phase = Phase(mode, homogenized(z), policy)
+            H = self.T - t
+            if H.sign() == 0:
+                self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase))
+                return
+            hit = next_event(phase, H, prec)
+            if hit is None:
+                self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase))
+                return
+            theta, cons = hit
+            t_new = t + theta
+            z = phase.state(theta, vstack(*[c.g for c in cons]))
+            self.anchor(theta, z, prec)
+            self.phases.append(PhaseRecord(t, t_new, mode.index_set, phase))
+            self.durations.append(theta)
+            self.check_accumulation(t_new)
+            mode_before, triggers, t = mode.index_set, tuple(c.name for c in cons), t_new
 
-def _impulse(mode, z: ExactVector) -> dict:
-    """{i: u^{-i}} of the initial solution in mode I from z (nonzero terms only)."""
-    out = {}
-    for i, U in enumerate(_rcp_data(mode)["impulse"]):
-        if any(e != 0 for e in U.entries()):
-            q = z.rational()
-            out[i] = RationalVector(U * q) if q is not None else ProjectedVector(U, z)
-    return out
-
-
-def _select_and_reinitialize(lcs, z: ExactVector, t):
-    """Steps one to three; returns (mode, chain of jump modes, state after, impulse)."""
-    chain, impulse = [], {}
-    cap = 2 ** lcs.k + lcs.n + 1
-    for _ in range(cap):
-        S = select_modes(lcs, _selection_point(z))
-        if not S:
-            raise Deadlock(f"deadlock at t = {_label(t)}: S(z) is empty at z = {z!r} (Remark 7.2)")
-        I = min(S, key=lambda m: (len(m), sorted(m)))
-        mode = lcs.mode(I)
-        if _in_consistent_subspace(mode, z):
-            return mode, chain, z, impulse
-        if not chain:
-            impulse = _impulse(mode, z)
-        z = _project(mode, z)
-        chain.append(I)
-    raise ZenoDetected(f"re-initialization at t = {_label(t)} did not end after {cap} jumps "
-                       "(infinite multiplicity, Remark 7.2 (2))")
-
-
-def _run(lcs, traj: Trajectory, z: ExactVector, T, max_events, time_limit, started, closed_forms):
-    t = RationalReal(0)
-    mode_before = None
-    triggers: tuple = ()
-    durations: list = []
-    while True:
-        state_before = z
-        mode, chain, z, impulse = _select_and_reinitialize(lcs, z, t)
-        if chain or mode_before is not None:
-            if len(traj.events) >= max_events:
-                raise LimitExceeded(f"max_events = {max_events} reached: the next event is at "
-                                    f"t = {_label(t)}")
-            traj.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
-                                     len(chain), impulse, triggers))
-        if time_limit is not None and _time.monotonic() - started > time_limit:
-            raise LimitExceeded(f"time_limit = {time_limit} s reached at t = {_label(t)}")
-        phase = Phase(mode, z)
-        H = T - t
-        if H.sign() == 0:
-            traj.phases.append(PhaseRecord(t, T, phase))
+    def anchor(self, theta, z: ExactVector, prec: int) -> None:
+        """Anchor the event: its time and state get balls at the working precision; the accuracy
+        they keep tells how much precision the next events need (the loss of this one)."""
+        theta.arb(prec)
+        ball = z.arb(prec)
+        comps = [ball[i, 0] for i in range(z.n) if not ball[i, 0].contains(0)]
+        if not comps:
             return
-        hit = next_event(phase, H, closed_forms)
-        if hit is None:
-            traj.phases.append(PhaseRecord(t, T, phase))
-            return
-        theta, cons = hit
-        t_new = t + theta
-        z = _state_at_event(phase, theta, cons, closed_forms)
-        traj.phases.append(PhaseRecord(t, t_new, phase))
-        durations.append(theta)
-        _check_accumulation(durations, t_new, T)
-        mode_before, triggers, t = mode.index_set, tuple(c.name for c in cons), t_new
+        largest = max(comps, key=lambda b: abs(b.mid()))
+        acc = accuracy_bits(largest)
+        want = self.policy.target_bits + 24
+        if acc < want:
+            self.lost += want - acc
+
+    def select_and_reinitialize(self, z: ExactVector, t):
+        """Steps one to three; returns (mode, chain of jump modes, state after, impulse)."""
+        lcs = self.lcs
+        chain, impulse = [], {}
+        cap = 2 ** lcs.k + lcs.n + 1
+        for _ in range(cap):
+            q = z.known_rational()
+            S = select_modes(lcs, q if q is not None else z)
+            if not S:
+                raise Deadlock(f"deadlock at t = {t._label()}: S(z) is empty at z = {z!r} (Remark 7.2)")
+            I = min(S, key=lambda m: (len(m), sorted(m)))
+            mode = lcs.mode(I)
+            if _in_consistent_subspace(mode, z):
+                return mode, chain, z, impulse
+            if not chain:
+                impulse = _impulse(mode, z)
+            z = _project(mode, z)
+            chain.append(I)
+        raise ZenoDetected(f"re-initialization at t = {t._label()} did not end after {cap} jumps "
+                           "(infinite multiplicity, Remark 7.2 (2))")
+
+    def check_accumulation(self, t_now) -> None:
+        check_accumulation(self.durations, t_now, self.T)
 
 
-def _label(t) -> str:
-    if t.closed_form is not None:
-        return str(t.closed_form)
-    return t.decimal(15).split(" +/-")[0]
-
-
-def _state_at_event(phase: Phase, theta, cons, closed_forms: bool) -> ExactVector:
-    """x(τ-) = e^{A_I θ} z, with the triggering constraints as proven-zero forms."""
-    x = phase.state(theta)
-    extra = vstack(*[c.g for c in cons])
-    if closed_forms and not isinstance(x, RationalVector):
-        cf = state_closed_form(phase, theta)
-        if cf is not None and isinstance(x, ExpVector):
-            x._closed = cf
-            q = x.rational()
-            if q is not None:
-                return RationalVector(q)
-    if isinstance(x, RationalVector):
-        return x
-    x.zero_forms = vstack(x.zero_forms, extra)
-    return x
-
-
-def _check_accumulation(durations: list, t_now, T) -> None:
-    """Right-Zeno (Remark 4.11): phases shrinking geometrically with the limit before t_end."""
+def check_accumulation(durations: list, t_now, t_end) -> None:
+    """Right-Zeno (Remark 4.11): raise :class:`ZenoDetected` when the last phases shrink
+    geometrically (ratio < 0.95 over a window of 24) with the limit of their sum before t_end."""
     if len(durations) < _ZENO_WINDOW:
         return
-    window = durations[-_ZENO_WINDOW:]
-    balls = [d.arb(64) for d in window]
+    balls = [d.arb(64) for d in durations[-_ZENO_WINDOW:]]
     ratios = []
     for a, b in zip(balls, balls[1:]):
         if not (a > 0 and b > 0):
             return
         ratios.append(b / a)
     rho = max(ratios, key=lambda r: r.mid())
-    if not rho < arb("0.95"):
-        return
     if not all(r < arb("0.95") for r in ratios):
         return
     tail = balls[-1] * rho / (1 - rho)
     limit = t_now.arb(64) + tail
-    if limit < T.arb(64):
+    if limit < t_end.arb(64):
         raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically "
-                           f"(ratio <= {float(rho.mid()):.3g}); accumulation point near t ≈ "
+                           f"(ratio <= {float(rho.mid()):.3g}); accumulation point near t = "
                            f"{float(limit.mid()):.15g} < t_end (Remark 4.11)")
+
+
+def _in_consistent_subspace(mode, z: ExactVector) -> bool:
+    """Step two: z in V_I, decided form by form on the annihilator of V_I (exact or certified)."""
+    W = mode.annihilator()
+    q = z.known_rational()
+    if q is not None:
+        return all(v == 0 for v in (W * q).entries()) if W.nrows() else True
+    return all(z.sign_of_form(submatrix(W, [r], None)) == 0 for r in range(W.nrows()))
+
+
+def _project(mode, z: ExactVector) -> ExactVector:
+    """Step three: z := P_I z (rational stays rational)."""
+    P = mode.projection()
+    q = z.known_rational()
+    if q is not None:
+        return RationalVector(P * q, z.policy)
+    return ProjectedVector(P, z)
+
+
+def _impulse(mode, z: ExactVector) -> dict:
+    """{i: u^{-i}} of the initial solution in mode I from z (nonzero terms only)."""
+    out = {}
+    for i, U in enumerate(rcp_data(mode)["impulse"]):
+        if any(e != 0 for e in U.entries()):
+            q = z.known_rational()
+            out[i] = RationalVector(U * q, z.policy) if q is not None else ProjectedVector(U, z)
+    return out

@@ -9,11 +9,12 @@ from __future__ import annotations
 from flint import fmpq_mat
 
 from .errors import ShapeError
-from .rational import hstack, identity, submatrix, zeros
+from .rational import hstack, identity, submatrix, vstack, zeros
 
 __all__ = [
     "rref", "rank", "kernel", "image", "left_kernel", "subspace_sum", "intersection",
     "complement", "contains", "same_subspace", "solve_any", "projection",
+    "row_basis", "in_row_span", "orbit_zero_forms", "invariant_forms", "pulled_back_forms",
 ]
 
 
@@ -142,3 +143,69 @@ def projection(v: fmpq_mat, t: fmpq_mat) -> fmpq_mat:
     coords = s.solve(identity(n))
     return v * submatrix(coords, range(v.ncols()), None) if v.ncols() else zeros(n, n)
 
+
+
+# ---------------------------------------------------------------------------------------------
+# linear forms (rows) known to vanish on a vector, an orbit or a projection (section 4)
+# ---------------------------------------------------------------------------------------------
+
+
+def row_basis(*ms: fmpq_mat) -> fmpq_mat:
+    """A canonical basis (rows) of the span of the rows of all the matrices.
+
+    >>> row_basis(fmpq_mat([[1, 1], [2, 2]]), fmpq_mat([[0, 1]]))
+    [1, 0]
+    [0, 1]
+    """
+    nonempty = [m for m in ms if m.nrows()]
+    if not nonempty:
+        return zeros(0, ms[0].ncols() if ms else 0)
+    m = vstack(*nonempty)
+    return image(m.transpose()).transpose()
+
+
+def in_row_span(form: fmpq_mat, R: fmpq_mat) -> bool:
+    """True when the row ``form`` lies in the row span of R (exact)."""
+    if R.nrows() == 0:
+        return all(form[0, j] == 0 for j in range(form.ncols()))
+    return rank(vstack(R, form)) == rank(R)
+
+
+def orbit_zero_forms(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
+    """Every form g with g e^{Mt} q = 0 for all t: the left kernel of the Krylov matrix
+    [q, Mq, ..., M^{n-1} q] (Cayley-Hamilton), exact.
+
+    >>> orbit_zero_forms(fmpq_mat([[0, 1, 0], [-1, 0, 0], [0, 0, 1]]), fmpq_mat([[1], [0], [0]]))
+    [0, 0, 1]
+    """
+    cols, v = [], q
+    for _ in range(M.nrows()):
+        cols.append(v)
+        v = M * v
+    return left_kernel(hstack(*cols))
+
+
+def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
+    """The largest subspace U of rowspan(R) with U M in U (rows): R x = 0 implies U e^{Mt} x = 0."""
+    n = M.nrows()
+    U = row_basis(R) if R.nrows() else zeros(0, n)
+    while U.nrows():
+        d = U.nrows()
+        k = kernel(hstack((U * M).transpose(), -U.transpose()))  # a U M in span(U)
+        a = submatrix(k, range(d), None) if k.ncols() else zeros(d, 0)
+        newU = row_basis(a.transpose() * U) if a.ncols() else zeros(0, n)
+        if newU.nrows() == U.nrows():
+            return U
+        U = newU
+    return U
+
+
+def pulled_back_forms(P: fmpq_mat, Z: fmpq_mat) -> fmpq_mat:
+    """Rows r with r P in rowspan(Z): the forms that vanish on P v whenever Z v = 0."""
+    m = P.nrows()
+    if not Z.nrows():
+        return left_kernel(P)
+    k = kernel(hstack(P.transpose(), -Z.transpose()))  # (r, s) with P^T r = Z^T s
+    if not k.ncols():
+        return zeros(0, m)
+    return row_basis(submatrix(k, range(m), None).transpose())

@@ -18,10 +18,10 @@ from flint import fmpq_mat, fmpq_poly
 
 from .errors import IllPosed, ShapeError
 from .lcp import p_matrix_violation
-from .rational import (RationalFunction, RationalMatrix, identity, mat_rows, matrix_to_sympy,
-                       submatrix, to_matrix)
+from .rational import (RationalFunction, RationalMatrix, adjugate_coefficients, mat_rows,
+                       matrix_to_sympy, submatrix, to_matrix)
 
-__all__ = ["LCS", "WellPosedness", "adjugate_coefficients"]
+__all__ = ["LCS", "WellPosedness"]
 
 
 def _as_column(data: Any, n: int) -> Any:
@@ -35,20 +35,6 @@ def _as_row(data: Any) -> Any:
     if isinstance(data, (list, tuple)) and data and not isinstance(data[0], (list, tuple)):
         return [list(data)]
     return data
-
-
-def adjugate_coefficients(A: fmpq_mat, chi: fmpq_poly | None = None) -> list[fmpq_mat]:
-    """adj(sI - A) = sum_j s^{n-1-j} B_j (Faddeev-LeVerrier: B_0 = I, B_j = A B_{j-1} + c_j I,
-    with det(sI - A) = s^n + c_1 s^{n-1} + ... + c_n).
-
-    For any monic ``chi`` of degree d (not only the characteristic polynomial) the same recursion
-    gives sum_j s^{d-1-j} B_j = (chi(s) I - chi(A)) (sI - A)^{-1}, a polynomial in s and A."""
-    n = A.nrows()
-    c = (chi if chi is not None else A.charpoly()).coeffs()[::-1]  # c[j]: coefficient of s^{d-j}
-    bs = [identity(n)]
-    for j in range(1, len(c) - 1):
-        bs.append(A * bs[-1] + identity(n) * c[j])
-    return bs
 
 
 class LCS:

@@ -1,23 +1,40 @@
-"""Results of a simulation: :class:`Event` and :class:`Trajectory` (Algorithm 7.1's output).
+"""Results of a simulation: :class:`Event`, :class:`PhaseRecord` and :class:`Trajectory`.
 
-Every number is an exact real (:mod:`lcs_exact.reals`): ``.closed_form`` where proven,
-``.ball(digits)`` / ``.decimal(digits)`` certified to any number of digits.  Indices are 0-based.
-A trajectory stopped early (limit, accumulation of events, deadlock, unresolved sign) is
-``partial`` and says why in ``stop_reason``.
+Every number is an exact real (:mod:`lcs_exact.reals`): ``.closed_form`` where proven (derived on
+first access), ``.ball(digits)`` / ``.decimal(digits)`` certified to any number of digits, under
+the run's precision policy.  Results are immutable values with a :class:`Status`; a trajectory
+stopped early (a limit, an accumulation of events, a deadlock, an unresolved sign) is ``partial``
+and says why in ``stop_reason``.  Indices are 0-based.
 """
 from __future__ import annotations
 
+import enum
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Sequence
 
-from flint import fmpq_mat
+from flint import arb, fmpq, fmpq_mat
 
+from .balls import DEFAULT_POLICY, Policy, accuracy_bits, digits_to_bits, workprec
+from .errors import LCSError
 from .modes import format_mode
 from .reals import ExactVector, ProjectedVector, Real, as_real
 
-__all__ = ["Event", "Trajectory", "PhaseRecord"]
+__all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA"]
 
 SCHEMA = "lcs-exact/trajectory/1"
+
+
+class Status(str, enum.Enum):
+    """How a run ended (diffrax's ``RESULTS``): only ``COMPLETE`` covers [0, t_end]."""
+
+    COMPLETE = "complete"
+    EVENT_LIMIT = "event limit"
+    TIME_LIMIT = "time limit"
+    DEADLOCK = "deadlock"
+    ZENO = "accumulation of events"
+    UNRESOLVED = "unresolved sign"
+    ILL_POSED = "ill-posed"
+    FAILED = "failed"
 
 
 @dataclass(frozen=True)
@@ -25,9 +42,9 @@ class Event:
     """An event (section 4.5): a phase ends or the state jumps.
 
     ``modes`` is the re-initialization chain (4.9): the modes I_1, I_2, ... whose projections
-    were applied, ``multiplicity`` their number m(τ); ``mode_after`` is the mode of the next
+    were applied, ``multiplicity`` their number m(tau); ``mode_after`` is the mode of the next
     continuous phase (the smallest admissible mode, Remark 4.8); ``mode_before`` is None at
-    t = 0.  ``impulse`` maps i to u^{-i} (the coefficient of δ^{(i)}) of the first jump.
+    t = 0.  ``impulse`` maps i to u^{-i} (the coefficient of delta^{(i)}) of the first jump.
     ``triggers`` names the constraints whose sign change ended the phase (``"y_0"``, ``"u_1"``).
     """
 
@@ -44,107 +61,160 @@ class Event:
     def __repr__(self):
         mb = "—" if self.mode_before is None else format_mode(self.mode_before)
         chain = " -> ".join(format_mode(m) for m in self.modes) or "no jump"
-        return (f"Event(t={_short(self.time)}, {mb} => {format_mode(self.mode_after)}, jumps: {chain}, "
+        return (f"Event(t={self.time._label()}, {mb} => {format_mode(self.mode_after)}, jumps: {chain}, "
                 f"x- = {self.state_before!r}, x+ = {self.state_after!r})")
 
     def _repr_latex_(self):
-        import sympy
-        t = sympy.latex(self.time.closed_form) if self.time.closed_form is not None else self.time.decimal(15)
-        return rf"$t = {t}:\ {_latex_mode(self.mode_before or frozenset())} \to {_latex_mode(self.mode_after)}$"
+        cf = self.time.closed_form
+        if cf is not None:
+            import sympy
+            t = sympy.latex(cf)
+        else:
+            t = self.time.decimal(15)
+        return rf"$t = {t}:\ {latex_mode(self.mode_before or frozenset())} \to {latex_mode(self.mode_after)}$"
 
 
 @dataclass(frozen=True)
 class PhaseRecord:
-    """A continuous phase on [t0, t1] (t1 None while open) in mode ``phase.mode``."""
+    """A continuous phase on [t0, t1] in ``mode`` (``phase`` evaluates x(t - t0))."""
 
     t0: Real
     t1: Real
+    mode: frozenset
     phase: Any
 
 
-def _short(r: Real) -> str:
-    if r.closed_form is not None:
-        return str(r.closed_form)
-    return r.decimal(15).split(" +/-")[0]
-
-
 class Trajectory:
-    """The solution of an LCS on [0, t_end] produced by Algorithm 7.1."""
+    """The solution of an LCS on [0, t_end] produced by Algorithm 7.1 (immutable).
 
-    def __init__(self, lcs, x0: ExactVector, t_end: Real, digits: int):
+    ``events``, ``phases``, ``accumulations``, ``assumptions`` are tuples; ``status`` a
+    :class:`Status`; ``partial`` is True unless the run covered [0, t_end].
+    """
+
+    __slots__ = ("lcs", "x0", "t_end", "digits", "events", "phases", "status", "stop_reason",
+                 "assumptions", "accumulations", "elapsed", "policy", "_frozen")
+
+    def __init__(self, lcs, x0: ExactVector, t_end: Real, digits: int, *, events: Sequence = (),
+                 phases: Sequence = (), status: Status = Status.COMPLETE, stop_reason: str | None = None,
+                 assumptions: Sequence = (), accumulations: Sequence = (), elapsed: float = 0.0,
+                 policy: Policy | None = None):
         self.lcs, self.x0, self.t_end, self.digits = lcs, x0, t_end, digits
-        self.events: list[Event] = []
-        self.phases: list[PhaseRecord] = []
-        self.assumptions: list[str] = []
-        self.partial = False
-        self.stop_reason: str | None = None
-        self.elapsed = 0.0
+        self.events = tuple(events)
+        self.phases = tuple(phases)
+        self.status = Status(status)
+        self.stop_reason = stop_reason
+        self.assumptions = tuple(assumptions)
+        self.accumulations = tuple(accumulations)
+        self.elapsed = elapsed
+        self.policy = policy or DEFAULT_POLICY
+        self._frozen = True
+
+    def __setattr__(self, name, value):
+        if getattr(self, "_frozen", False):
+            raise AttributeError(f"Trajectory is immutable (cannot set {name})")
+        object.__setattr__(self, name, value)
+
+    @property
+    def partial(self) -> bool:
+        """True when the run stopped before t_end (see ``status`` and ``stop_reason``)."""
+        return self.status is not Status.COMPLETE
 
     @property
     def certified(self) -> bool:
         """True iff no unresolved zero was assumed (every sign decision is proven)."""
         return not self.assumptions
 
+    @property
+    def t_last(self) -> Real:
+        """The last time the trajectory covers (t_end unless partial)."""
+        return self.phases[-1].t1 if self.phases else (self.events[-1].time if self.events else as_real(0))
+
     # --- evaluation ---------------------------------------------------------------------------
-    def _phase_at(self, t: Real) -> PhaseRecord:
+    def _locate(self, t: Real) -> tuple[int, bool]:
+        """(index of the phase holding t, True when t is exactly that phase's end), decided by
+        certified signs (an event time equal to t is proven through closed forms)."""
         if not self.phases:
-            raise ValueError("the trajectory has no continuous phase")
-        if t < self.phases[0].t0:
-            raise ValueError(f"t = {_short(t)} is before the start of the trajectory")
-        for rec in self.phases:
-            if t is rec.t1 or t <= rec.t1:
-                return rec
-        raise ValueError(f"t = {_short(t)} is after the last computed time {_short(self.phases[-1].t1)}"
+            raise LCSError("the trajectory has no continuous phase")
+        if (t - self.phases[0].t0).sign() < 0:
+            raise ValueError(f"t = {t._label()} is before the start of the trajectory")
+        for i, rec in enumerate(self.phases):
+            s = 0 if t is rec.t1 else (t - rec.t1).sign()
+            if s <= 0:
+                return i, s == 0
+        raise ValueError(f"t = {t._label()} is after the last computed time {self.phases[-1].t1._label()}"
                          + (" (the trajectory is partial)" if self.partial else ""))
+
+    def _phase_at(self, t: Real) -> PhaseRecord:
+        i, _ = self._locate(t)
+        return self.phases[i]
 
     def state(self, t: Any) -> ExactVector:
         """x(t), exact (t rational or an exact real); at an event time, the state after it."""
-        t = as_real(t)
-        for ev in self.events:  # an event exactly at t: the right limit
-            if ev.time is t or (ev.time.closed_form is not None and t.closed_form is not None
-                                and ev.time.closed_form == t.closed_form):
-                return ev.state_after
-        rec = self._phase_at(t)
+        t = as_real(t, self.policy)
+        i, at_end = self._locate(t)
+        if at_end and i + 1 < len(self.phases):
+            return self.phases[i + 1].phase.z  # x(t+): the start of the next phase
+        rec = self.phases[i]
         return rec.phase.state(t - rec.t0)
 
     def u(self, t: Any) -> ExactVector:
         """u(t) on a continuous phase (u_I = F_I x, zero off I)."""
-        t = as_real(t)
+        t = as_real(t, self.policy)
         rec = self._phase_at(t)
-        return ProjectedVector(_full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
+        return ProjectedVector(full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
 
     def y(self, t: Any) -> ExactVector:
         """y(t) = C x + D u on a continuous phase."""
-        t = as_real(t)
+        t = as_real(t, self.policy)
         rec = self._phase_at(t)
         lcs = self.lcs
-        return ProjectedVector(lcs.C + lcs.D * _full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
+        return ProjectedVector(lcs.C + lcs.D * full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
 
-    def sample(self, ts, digits: int = 17) -> list[list]:
-        """[[x_1(t), ..., x_n(t)] for t in ts] as mpmath numbers correct to ``digits`` digits."""
-        import mpmath
-        out = []
-        with mpmath.mp.workdps(digits + 5):
-            for t in ts:
-                x = self.state(t)
-                out.append([mpmath.mpf(c.ball(digits).mid().str(digits + 3, radius=False)) for c in x])
+    def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list[arb]]:
+        """Certified balls of x(t) for every t in ``ts`` (rationals), each component to ``digits``
+        digits (absolute 10^-digits for components below that).  One exponential per eigenvalue
+        and point, from the phase's modal data: thousands of points in well under a second."""
+        from .rational import to_fmpq
+        need = digits_to_bits(digits) + 4
+        out: list = []
+        prec = need + 32
+        for t in ts:
+            tq = to_fmpq(t, "t")
+            rec = self._phase_at(as_real(tq, self.policy))
+            while True:
+                x = self._point(rec, tq, prec)
+                if all(_accurate(b, need) for b in x):
+                    break
+                prec *= 2
+                if prec > 64 * (need + 32):
+                    raise LCSError(f"could not evaluate x({tq}) to {digits} digits")
+            out.append(x)
         return out
 
+    @staticmethod
+    def _point(rec: PhaseRecord, tq: fmpq, prec: int) -> list[arb]:
+        phase = rec.phase
+        with workprec(prec):
+            dt = arb(tq) - rec.t0.arb(prec)
+            x = phase.spectrum.apply(dt, phase.base.arb(prec), prec, phase.modal(prec))
+            if phase.scale is not None:
+                x = x * phase.scale.arb(prec)
+            return [x[i, 0] for i in range(x.nrows())]
+
     # --- export -------------------------------------------------------------------------------
-    def to_fixture(self, digits: int | None = None) -> dict:
+    def to_fixture(self, digits: int | None = None, sample: Any = None) -> dict:
         """A dict in the fixture schema ``lcs-exact/trajectory/1`` (DESIGN.md section 5)."""
         d = digits or self.digits
         lcs = self.lcs
 
-        def num(r: Real, cf=None) -> dict:
+        def num(r: Real) -> dict:
             text = r.decimal(d)
             value, _, err = text.partition(" +/- ")
-            cf = r.closed_form if cf is None else cf
+            cf = r.closed_form
             return {"value": value, "error": err or "0", "exact": None if cf is None else str(cf)}
 
         def vec(v: ExactVector) -> list:
-            cf = v.closed_form()  # derived with SymPy where possible (fixtures are written once)
-            return [num(c, None if cf is None else cf[i]) for i, c in enumerate(v)]
+            return [num(c) for c in v]
 
         def mat(m: fmpq_mat) -> list:
             return [[str(m[i, j]) for j in range(m.ncols())] for i in range(m.nrows())]
@@ -162,10 +232,12 @@ class Trajectory:
                         "modes": [sorted(m) for m in e.modes], "mode_after": sorted(e.mode_after),
                         "state_before": vec(e.state_before), "state_after": vec(e.state_after),
                         "multiplicity": e.multiplicity} for e in self.events],
+            "accumulations": [],
             "final_state": vec(final),
             "certified": self.certified,
             "assumptions": list(self.assumptions),
             "partial": self.partial,
+            "status": self.status.value,
         }
 
     def plot(self, ax=None, points: int = 400, components=None):
@@ -174,13 +246,13 @@ class Trajectory:
         import numpy as np
         if ax is None:
             _, ax = plt.subplots()
-        t_last = float(self.phases[-1].t1)
-        ts = np.linspace(0, t_last, points)
+        t_last = float(self.t_last)
+        ts = [fmpq(int(round(float(x) * 10**9)), 10**9) for x in np.linspace(0, t_last, points)]
+        ts[-1] = min(ts[-1], fmpq(int(t_last * 10**9), 10**9))
+        xs = self.sample(ts, 8)
         comps = range(self.lcs.n) if components is None else components
-        from fractions import Fraction
-        xs = [[float(c) for c in self.state(Fraction(t).limit_denominator(10**9))] for t in ts]
         for i in comps:
-            ax.plot(ts, [x[i] for x in xs], label=f"x{i + 1}")
+            ax.plot([float(t) for t in ts], [float(x[i].mid()) for x in xs], label=f"x{i}")
         for e in self.events:
             ax.axvline(float(e.time), color="gray", lw=0.5, ls="--")
         ax.set_xlabel("t")
@@ -190,31 +262,39 @@ class Trajectory:
     # --- display ------------------------------------------------------------------------------
     def __repr__(self):
         status = "certified" if self.certified else f"NOT certified ({len(self.assumptions)} assumptions)"
-        head = f"<Trajectory on [0, {_short(self.t_end)}]: {len(self.events)} events, {status}"
+        head = f"<Trajectory on [0, {self.t_end._label()}]: {len(self.events)} events, {status}"
         if self.partial:
-            head += f", PARTIAL: {self.stop_reason}"
+            head += f", PARTIAL ({self.status.value}): {self.stop_reason}"
         return head + ">"
 
     def __str__(self):
-        lines = [repr(self)] + [f"  {e!r}" for e in self.events]
-        return "\n".join(lines)
+        return "\n".join([repr(self)] + [f"  {e!r}" for e in self.events])
 
     def _repr_latex_(self):
         rows = []
         for e in self.events[:50]:
-            import sympy
-            t = sympy.latex(e.time.closed_form) if e.time.closed_form is not None else e.time.decimal(12)
-            mb = "-" if e.mode_before is None else _latex_mode(e.mode_before)
-            rows.append(rf"{t} & {mb} & {_latex_mode(e.mode_after)} & {e.multiplicity} \\")
+            cf = e.time.closed_form
+            if cf is not None:
+                import sympy
+                t = sympy.latex(cf)
+            else:
+                t = e.time.decimal(12)
+            mb = "-" if e.mode_before is None else latex_mode(e.mode_before)
+            rows.append(rf"{t} & {mb} & {latex_mode(e.mode_after)} & {e.multiplicity} \\")
         body = "\n".join(rows)
-        return (r"$\begin{array}{llll} t & I^- & I^+ & m \\ \hline " + body + r"\end{array}$")
+        return r"$\begin{array}{llll} t & I^- & I^+ & m \\ \hline " + body + r"\end{array}$"
 
 
-def _latex_mode(m) -> str:
+def _accurate(b: arb, need: int) -> bool:
+    return b.is_exact() or accuracy_bits(b) >= need or (b.rad() < arb(2) ** (-need))
+
+
+def latex_mode(m) -> str:
+    """A mode set in LaTeX: \\{0, 2\\} or \\emptyset."""
     return r"\{" + ", ".join(str(i) for i in sorted(m)) + r"\}" if m else r"\emptyset"
 
 
-def _full_feedback(mode) -> fmpq_mat:
+def full_feedback(mode) -> fmpq_mat:
     """k x n matrix with rows F_I on I and zero rows elsewhere."""
     lcs = mode.lcs
     F = mode.feedback()
@@ -223,3 +303,4 @@ def _full_feedback(mode) -> fmpq_mat:
         for j in range(lcs.n):
             out[i, j] = F[r, j]
     return out
+

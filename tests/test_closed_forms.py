@@ -7,7 +7,10 @@ import mpmath as mp
 import sympy as sp
 
 import lcs_exact as L
-from lcs_exact.flow import _exp_candidates, _solve_candidates, _t
+from lcs_exact.closedforms import exp_candidates as _exp_candidates, solve_candidates as _solve_candidates
+from lcs_exact.expm import t_symbol
+
+_t = t_symbol()
 
 from helpers import close, num
 

@@ -41,7 +41,7 @@ def test_diode_conducts_then_blocks():
 def test_diode_grazing_is_not_an_event():
     # from (1, 0, 0): v = (1 + cos(sqrt2 t))/2 >= 0 touches 0 at pi/sqrt2 with v' = 0, v'' > 0
     tr = L.simulate(DIODE, [1, 0, 0], 4, digits=30)
-    assert tr.events == [] and tr.certified
+    assert tr.events == () and tr.certified
 
 
 # x1' = x2, x2' = -x1 + u, y = x1 + u (D = 1 > 0): u = max(0, -x1), so x1'' = -x1 for x1 > 0 and

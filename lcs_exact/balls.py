@@ -1,0 +1,219 @@
+"""The precision policy: scoped ball precision, certified sign decisions, unresolved zeros.
+
+Exact reals (:mod:`lcs_exact.reals`) are evaluated to ``arb`` balls that contain the true value.
+Every decision made on a ball goes through this module, under one :class:`Policy`:
+
+* ``digits``: correct significant digits promised for every reported number; the working
+  precision of a run starts at ``target_bits = bits(digits) + guard`` and grows with the number
+  of events (each event costs a run ~1.4 bits of accuracy on the two carts; the simulation adds
+  what it measures, see :meth:`Policy.working_prec`).
+* ``max_prec``: the ceiling of refinement for sign decisions (default max(4096, 8 bits(digits))).
+* ``allow_unresolved``: what to do with a sign that is neither certified by a ball nor proven
+  zero - raise :class:`~lcs_exact.errors.UnresolvedSign` (default) or decide it as zero and
+  record the assumption (the result is then not ``certified``).
+* a :class:`Deadline` (``time_limit``) checked inside long searches.
+
+A policy is an immutable value carried by the objects a run creates (states, event times), so a
+refinement made after :func:`~lcs_exact.simulate.simulate` returns obeys the same ceiling; the
+assumptions a run records are appended to the policy's ``assumptions`` list (the only mutable
+part, with the deadline).  Ball arithmetic always runs inside :func:`workprec` (flint's ``ctx.prec``
+is global state: a product of two 4096-bit balls at the ambient 53 bits loses everything).
+"""
+from __future__ import annotations
+
+import contextlib
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Iterator
+
+from flint import arb, ctx, fmpq
+
+from .errors import LimitExceeded, UnresolvedSign
+
+__all__ = ["Policy", "Deadline", "DEFAULT_POLICY", "workprec", "digits_to_bits", "decide_sign",
+           "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb"]
+
+#: largest ``digits`` accepted (10^4 digits = 33,220 bits: e^{Mt} at that precision takes seconds)
+MAX_DIGITS = 10_000
+#: guard bits added to the bits of the promised digits
+GUARD_BITS = 16
+
+
+def digits_to_bits(digits: int) -> int:
+    """Bits needed for ``digits`` decimal digits (ceil(digits log2 10))."""
+    return int(math.ceil(digits * 3.3219280948873626)) + 1
+
+
+@contextlib.contextmanager
+def workprec(prec: int) -> Iterator[None]:
+    """Scoped flint precision (``ctx.prec`` is process-global): restored in ``finally``.
+
+    >>> from flint import arb, ctx, fmpq
+    >>> with workprec(200):
+    ...     third = arb(1) / 3
+    >>> third.rel_accuracy_bits() >= 198, ctx.prec
+    (True, 53)
+    """
+    old = ctx.prec
+    ctx.prec = prec
+    try:
+        yield
+    finally:
+        ctx.prec = old
+
+
+def accuracy_bits(b: arb) -> int:
+    """Relative accuracy of a ball in bits (large for exact balls; 0 for balls containing 0)."""
+    if b.is_exact():
+        return 1 << 30
+    return max(0, b.rel_accuracy_bits())
+
+
+class Deadline:
+    """A wall-clock limit (``time_limit`` seconds from :meth:`start`); mutable: a run disarms it
+    when it returns, so later refinements of its results are not interrupted."""
+
+    __slots__ = ("limit", "_end")
+
+    def __init__(self, limit: float | None = None):
+        self.limit = limit
+        self._end = None if limit is None else time.monotonic() + limit
+
+    def check(self, where: str = "") -> None:
+        """Raise :class:`LimitExceeded` when the limit has passed."""
+        if self._end is not None and time.monotonic() > self._end:
+            raise LimitExceeded(f"time_limit = {self.limit} s reached{where}")
+
+    def disarm(self) -> None:
+        self._end = None
+
+
+@dataclass(frozen=True, eq=False)
+class Policy:
+    """The precision policy of a run (see the module docstring).
+
+    >>> p = Policy(digits=30)
+    >>> p.target_bits, p.max_prec
+    (117, 4096)
+    """
+
+    digits: int = 30
+    max_prec: int = 0
+    allow_unresolved: bool = False
+    closed_forms: str = "lazy"
+    deadline: Deadline = field(default_factory=Deadline)
+    assumptions: list = field(default_factory=list)
+
+    def __post_init__(self):
+        if self.max_prec <= 0:
+            object.__setattr__(self, "max_prec", max(4096, 8 * digits_to_bits(self.digits)))
+
+    @property
+    def target_bits(self) -> int:
+        """Bits that every reported number is refined to (the promised digits + guard bits)."""
+        return digits_to_bits(self.digits) + GUARD_BITS
+
+    def working_prec(self, lost_bits: int = 0) -> int:
+        """Working precision of anchors: the target, 32 bits of headroom, and the accuracy the run
+        has measured as lost so far (``lost_bits``)."""
+        return min(self.target_bits + 32 + max(0, lost_bits), max(self.max_prec, self.target_bits + 64))
+
+    def check_deadline(self, where: str = "") -> None:
+        self.deadline.check(where)
+
+    def unresolved(self, what: str | Callable[[], str]) -> int:
+        """An unresolved zero: raise :class:`UnresolvedSign`, or record it as an assumption and
+        decide it as zero (``allow_unresolved``)."""
+        text = what() if callable(what) else what
+        if self.allow_unresolved:
+            if text not in self.assumptions:
+                self.assumptions.append(text)
+            return 0
+        raise UnresolvedSign(f"cannot decide the sign of {text}: the ball contains 0 at "
+                             f"{self.max_prec} bits and no proof of zero is known")
+
+
+DEFAULT_POLICY = Policy()
+
+
+def ball_sign(b: arb) -> int:
+    """Sign of a ball when certain: +1, -1; 0 when the ball contains 0 (undecided, not zero)."""
+    if b > 0:
+        return 1
+    if b < 0:
+        return -1
+    return 0
+
+
+def decide_sign(compute: Callable[[int], arb], *, policy: Policy, what: str | Callable[[], str],
+                start: int = 64, prove_zero: Callable[[], bool | None] | None = None) -> int:
+    """Certified sign of a quantity whose ball at ``prec`` bits is ``compute(prec)``.
+
+    Order (DESIGN.md section 2): a ball that excludes 0 at ``start`` bits; then, if given,
+    ``prove_zero()`` (structure, homogeneity, closed forms: True = proven 0, False = proven
+    nonzero, None = unknown) is tried once, because an exact zero never shows in a ball;
+    then refinement by doubling up to ``policy.max_prec`` (beyond it only for a quantity proven
+    nonzero); then :meth:`Policy.unresolved`.
+    """
+    prec = max(start, 32)
+    proof: bool | None = None
+    tried = prove_zero is None
+    while True:
+        policy.check_deadline()
+        with workprec(prec):
+            s = ball_sign(compute(prec))
+        if s:
+            return s
+        if not tried:
+            tried = True
+            proof = prove_zero()
+            if proof is True:
+                return 0
+        if prec >= policy.max_prec and not (proof is False and prec < 16 * policy.max_prec):
+            return policy.unresolved(what)
+        prec *= 2
+
+
+_ARB_FUNCS = {
+    "exp": lambda a: a.exp(), "log": lambda a: a.log(), "sin": lambda a: a.sin(),
+    "cos": lambda a: a.cos(), "tan": lambda a: a.tan(), "atan": lambda a: a.atan(),
+    "asin": lambda a: a.asin(), "acos": lambda a: a.acos(), "sinh": lambda a: a.sinh(),
+    "cosh": lambda a: a.cosh(), "tanh": lambda a: a.tanh(), "atanh": lambda a: a.atanh(),
+    "asinh": lambda a: a.asinh(),
+}
+
+
+def closed_form_arb(e) -> arb:
+    """Rigorous arb value of a SymPy closed form at the current precision (no SymPy numerics;
+    the expression tree is walked and every operation is a ball operation)."""
+    if e.is_Rational:
+        return arb(fmpq(int(e.p), int(e.q)))
+    name = type(e).__name__
+    if name == "Pi":
+        return arb.pi()
+    if name == "Exp1":
+        return arb(1).exp()
+    if e.is_Add:
+        out = arb(0)
+        for a in e.args:
+            out += closed_form_arb(a)
+        return out
+    if e.is_Mul:
+        out = arb(1)
+        for a in e.args:
+            out *= closed_form_arb(a)
+        return out
+    if e.is_Pow:
+        base, ex = e.args
+        b = closed_form_arb(base)
+        if ex.is_Integer:
+            return b ** int(ex)
+        if ex.is_Rational:
+            return b ** arb(fmpq(int(ex.p), int(ex.q)))
+        return (b.log() * closed_form_arb(ex)).exp()
+    f = _ARB_FUNCS.get(type(e).__name__)
+    if f is not None and len(e.args) == 1:
+        return f(closed_form_arb(e.args[0]))
+    raise ValueError(f"closed form {e} is outside the supported set (rationals, pi, E, +, *, powers, "
+                     f"exp, log, trigonometric functions)")

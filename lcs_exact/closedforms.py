@@ -1,0 +1,293 @@
+"""Closed forms of event times: candidates and their proofs (DESIGN.md section 2, layer 3).
+
+A root theta of f(t) = g e^{A_I t} v (a phase function) may have a closed form: a small-height
+rational, a rational multiple of pi/omega (omega a frequency of A_I) plus nothing else, a
+logarithm of a rational over a rational eigenvalue, a logarithm of an algebraic root of f written
+as a polynomial in e^{gamma t}, or an exact solution of a one-frequency f.  A candidate is
+accepted only when proven:
+
+1. it lies inside the certified bracket of the root (a ball comparison well above the bracket's
+   width), and
+2. f vanishes there exactly: with Calcium (:mod:`lcs_exact.calcium`: f(t*) = g sum_lambda
+   e^{lambda t*} K_lambda ... v evaluated exactly, then its zero test, which never answers wrongly),
+   or, when Calcium is unavailable or undecided, SymPy's simplification of the symbolic f(t*) to
+   a literal 0 under the run's deadline (last resort, off the hot path).
+
+Nothing here runs unless a closed form is asked for (``closed_form`` on first access, fixtures,
+``closed_forms=True``) or an exact zero is needed by a sign decision, an order of roots or a
+grazing test.  SymPy is imported lazily.
+"""
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Any
+
+from flint import arb, arb_mat, fmpq, fmpq_mat
+
+from . import calcium
+from .balls import closed_form_arb, workprec
+from .errors import LCSError, UnresolvedSign
+from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
+from .rational import matrix_to_sympy
+from .reals import RationalVector, orbit_start
+
+__all__ = ["candidates", "prove_root", "prove_zero_at", "function_closed_form", "prove_touch",
+           "exp_candidates", "solve_candidates"]
+
+_MAX_SIMPLIFY_OPS = 400
+
+
+def _frequencies(M: fmpq_mat) -> tuple[list, list]:
+    """(omega of the complex-pair quadratic factors, real rational eigenvalues) of chi(M)."""
+    import sympy
+    omegas, lambdas = [], []
+    for p, _ in M.charpoly().factor()[1]:
+        c = [sympy.Rational(int(x.p), int(x.q)) for x in p.coeffs()]
+        if p.degree() == 1:
+            lambdas.append(-c[0] / c[1])
+        elif p.degree() == 2:
+            q, pp, a2 = c
+            disc = q / a2 - (pp / a2) ** 2 / 4
+            if disc > 0:
+                omegas.append(sympy.sqrt(disc))
+            elif pp == 0 and disc < 0:
+                pass
+    return omegas, lambdas
+
+
+def candidates(theta: arb, M: fmpq_mat) -> list:
+    """Small-height candidates near the ball ``theta``: rationals, (p/q) pi/omega, log(p/q)/lambda
+    (SymPy expressions, positive, without repetition)."""
+    import sympy
+    from mpmath import mp, mpf
+    out = []
+    with mp.workdps(40):
+        x = mpf(theta.mid().str(40, radius=False))
+
+        def approx(v):
+            f = Fraction(str(v))
+            return {f.limit_denominator(d) for d in (1, 2, 3, 4, 6, 8, 12, 16, 24, 100, 1000)}
+
+        for f in approx(x):
+            out.append(sympy.Rational(f.numerator, f.denominator))
+        omegas, lambdas = _frequencies(M)
+        for w in [sympy.Integer(1)] + omegas:
+            wv = mpf(str(sympy.N(w, 40)))
+            for f in approx(x * wv / mp.pi):
+                if f:
+                    out.append(sympy.Rational(f.numerator, f.denominator) * sympy.pi / w)
+        for lam in lambdas:
+            if lam != 0:
+                v = mp.exp(mpf(int(lam.p)) / int(lam.q) * x)
+                for f in approx(v):
+                    if f > 0 and f != 1:
+                        out.append(sympy.log(sympy.Rational(f.numerator, f.denominator)) / lam)
+    seen, uniq = set(), []
+    for c in out:
+        if c not in seen and c.is_nonnegative:
+            seen.add(c)
+            uniq.append(c)
+    return uniq
+
+
+def _inside(cand, lo: fmpq, hi: fmpq) -> bool:
+    """The candidate lies in [lo, hi] (certified at a precision well above the bracket's width)."""
+    bits = 64
+    w = hi - lo
+    if w > 0:
+        bits = max(64, int(w.q.bit_length() - w.p.bit_length()) + 64)
+    with workprec(bits):
+        cb = closed_form_arb(cand)
+        return bool(cb >= arb(lo) and cb <= arb(hi))
+
+
+def prove_zero_at(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, *, derivative: int = 0,
+                  deadline=None) -> bool | None:
+    """g M^d e^{M t*} v == 0 at the closed form t* (``derivative`` d): True (proven), False
+    (proven nonzero), None (unknown).  Calcium first; SymPy simplification as a last resort."""
+    gd = g
+    for _ in range(derivative):
+        gd = gd * spectrum.M
+    inner, shift = orbit_start(v, spectrum.M)
+    if shift is not None:  # v = e^{M s} w: f(t*) = g e^{M (t* + s)} w
+        sc = shift.closed_form
+        if sc is not None:
+            v, cand = inner, cand + sc
+    q = v.exact_rational()
+    if q is not None:
+        if cand == 0:
+            return (gd * q)[0, 0] == 0
+        v = RationalVector(q)
+    if calcium.available():
+        try:
+            tc = calcium.from_sympy(cand)
+            vc = v.to_ca()
+            if tc is not None and vc is not None:
+                x = spectrum.ca_apply(tc, vc, calcium)
+                if x is not None:
+                    acc = calcium.Ca(0)
+                    for j in range(spectrum.n):
+                        if gd[0, j] != 0:
+                            acc = acc + x[j] * calcium.Ca(gd[0, j])
+                    z = acc.is_zero()
+                    if z is not None:
+                        return z
+        except (ValueError, ZeroDivisionError, UnresolvedSign):
+            pass  # Calcium could not build f(t*) (an undecided divisor): try SymPy
+    return _sympy_vanishes(spectrum, gd, v, cand, deadline)
+
+
+def _sympy_vanishes(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadline) -> bool | None:
+    import sympy
+    sym = function_closed_form(spectrum, g, v)
+    if sym is None:
+        return None
+    expr = sympy.expand_trig(sym.subs(t_symbol(), cand))
+    if sympy.count_ops(expr) > _MAX_SIMPLIFY_OPS:
+        return None  # SymPy's simplify can take minutes on large expressions
+    if deadline is not None:
+        deadline.check(" while proving a closed form")
+    return True if sympy.simplify(expr) == 0 else None
+
+
+def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
+    """f(t) = g e^{Mt} v as a SymPy expression in t, or None; cross-checked against the certified
+    ball of f at two rational times (a defect in the symbolic inversion must never become a
+    false proof)."""
+    import sympy
+    q = v.exact_rational()
+    if q is not None:
+        sym = laplace_closed_form(spectrum.M, g, q)
+    else:
+        vc = v.closed_form()
+        E = symbolic_expm(spectrum) if vc is not None else None
+        sym = None if E is None else sympy.expand((matrix_to_sympy(g) * E * vc)[0, 0])
+    if sym is not None:
+        t = t_symbol()
+        for tq in (fmpq(1, 7), fmpq(5, 3)):
+            with workprec(128):
+                want = (arb_mat(g) * spectrum.apply(arb(tq), v.arb(128), 128))[0, 0]
+                got = closed_form_arb(sym.subs(t, sympy.Rational(int(tq.p), int(tq.q))))
+            if not want.overlaps(got):
+                raise LCSError(f"internal error: the symbolic form {sym} of g e^(Mt) v disagrees "
+                               f"with its certified value at t = {tq}")
+    return sym
+
+
+def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None):
+    """(expr, Calcium number or None) for the root's proven closed form, or None.
+
+    ``root`` is a :class:`~lcs_exact.roots.RootReal` of f = g e^{Mt} v."""
+    b = root.arb(200)
+    lo, hi = root.interval()
+    for cand in candidates(b, spectrum.M):
+        if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
+            return cand, (calcium.from_sympy(cand) if calcium.available() else None)
+    sym = function_closed_form(spectrum, g, v)
+    if sym is None:
+        return None
+    for more in (exp_candidates, solve_candidates):  # cheap ones first: solve can take 0.2 s
+        for cand in more(sym, b):
+            if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
+                return cand, (calcium.from_sympy(cand) if calcium.available() else None)
+    return None
+
+
+def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, deadline=None) -> bool | None:
+    """A tangential touch at the critical point t* in [lo, hi] (f' = 0 there, f'' > 0 on it):
+    True when a closed form t* is proven with f'(t*) = f(t*) = 0; None otherwise."""
+    with workprec(128):
+        mid = arb(lo).union(arb(hi))
+
+    def stream():
+        yield from candidates(mid, spectrum.M)
+        sym = function_closed_form(spectrum, g * spectrum.M, v)  # f': t* is one of its roots
+        if sym is not None:
+            yield from exp_candidates(sym, mid)
+            yield from solve_candidates(sym, mid)
+
+    for cand in stream():
+        if not _inside(cand, lo, hi):
+            continue
+        if prove_zero_at(spectrum, g, v, cand, derivative=1, deadline=deadline) is True and \
+                prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
+            return True
+    return None
+
+
+def exp_candidates(sym, b: arb | None = None) -> list:
+    """Roots of an exponential sum f = sum c_k e^{mu_k t} whose exponents are integer multiples of
+    one gamma (rational ratios): f is a polynomial in u = e^{gamma t}; each positive real root r of
+    a factor of degree <= 2 gives t = log(r) / gamma. (Candidates only: they are proven by the
+    caller.)"""
+    import sympy
+    t = t_symbol()
+    if sym.has(sympy.sin, sympy.cos):
+        return []
+    f = sympy.powsimp(sympy.expand(sym.rewrite(sympy.exp)))
+    terms: dict = {}
+    for term in sympy.Add.make_args(f):
+        coeff, mu = term, sympy.Integer(0)
+        for e in term.atoms(sympy.exp):
+            mu += sympy.diff(e.args[0], t)
+            coeff = coeff.subs(e, 1)
+        if coeff.has(t) or mu.has(t):
+            return []  # t^m e^{mu t} terms or non-linear exponents: no polynomial in e^{gamma t}
+        terms[mu] = terms.get(mu, 0) + coeff
+    mus = [m for m in terms if m != 0]
+    if not mus:
+        return []
+    ratios = [sympy.nsimplify(sympy.simplify(m / mus[0])) for m in mus]
+    if not all(r.is_Rational for r in ratios):
+        return []
+    num = sympy.gcd([r.p for r in ratios])
+    den = sympy.lcm([r.q for r in ratios])
+    gam = sympy.simplify(mus[0] * num / den)
+    u = sympy.Symbol("u", positive=True)
+    powers = {m: int(sympy.nsimplify(sympy.simplify(m / gam))) for m in terms}
+    low = min(powers.values())
+    poly = sympy.Poly(sum(terms[m] * u ** (powers[m] - low) for m in terms), u)
+    if poly.degree() < 1 or poly.degree() > 12:
+        return []
+    out = []
+    for factor, _ in poly.factor_list()[1]:
+        if factor.degree() > 2:
+            continue  # cubic/quartic radicals: unreadable and slow to prove
+        for r in sympy.roots(factor, filter=None):
+            if r.is_real and r.is_positive and r != 1:
+                out.append(sympy.log(r) / gam)
+    return out
+
+
+def solve_candidates(sym, b: arb) -> list:
+    """Exact solutions of a one-frequency f = a cos(wt) + b sin(wt) + c (SymPy solve), shifted
+    by multiples of 2 pi / w towards the root ball b."""
+    import sympy
+    from mpmath import mp, mpf
+    t = t_symbol()
+    trig = sym.atoms(sympy.sin, sympy.cos)
+    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig or len(sympy.Add.make_args(sym)) > 3:
+        return []
+    if sym.xreplace({f: sympy.Dummy() for f in trig}).has(t):
+        return []  # t also outside the trigonometric terms: not one-frequency
+    freqs = {sympy.simplify(sympy.diff(f.args[0], t)) for f in trig}
+    if len(freqs) != 1:
+        return []
+    (w,) = freqs
+    if w.has(t) or not all(sympy.diff(f.args[0], t, 2) == 0 for f in trig):
+        return []
+    try:
+        sols = sympy.solve(sym, t)
+    except Exception:  # SymPy could not solve: no candidates (a heuristic source, never a proof)
+        return []
+    out = []
+    with mp.workdps(30):
+        target = mpf(b.mid().str(30, radius=False))
+        period = 2 * mp.pi / mpf(str(sympy.N(w, 30)))
+        for sol in sols:
+            val = sympy.N(sol, 30) if not isinstance(sol, dict) else None
+            if val is None or not val.is_Number or not val.is_real:
+                continue
+            k = int(mp.nint((target - mpf(str(val))) / period))
+            out.append(sympy.simplify(sol + k * 2 * sympy.pi / w))
+    return out

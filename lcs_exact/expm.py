@@ -1,0 +1,364 @@
+"""e^{Mt} for a rational matrix M: spectral balls, modal coefficients, exact values at closed forms.
+
+Representation (:class:`Spectrum`, one per matrix, cached by its owner - the mode of section 4.1
+holds the spectrum of its closed-loop matrix A_I): the exact Jordan-Chevalley split M = S + N
+(S semisimple, N nilpotent, SN = NS, both polynomials in M with rational coefficients), the
+squarefree part r of the characteristic polynomial (the minimal polynomial of S), and
+
+    e^{Mt} = sum_lambda e^{lambda t} K_lambda sum_{j < m} t^j N^j / j!,
+    K_lambda = q_lambda(S) / r'(lambda),  q_lambda(s) = r(s) / (s - lambda),
+
+the spectral projectors of S (``adj(lambda I - M) / chi'(lambda)`` when chi is squarefree).  The
+eigenvalues are certified complex balls of the roots of r; real ones are exact-real balls; of a
+conjugate pair only the one with positive imaginary part is kept, with weight 2 (the sum is real:
+K of the conjugate is the conjugate of K).  Unlike ``arb_mat.exp`` (whose error bounds grow like
+e^{||M|| t}) the sum has no norm blow-up for stiff or oscillatory M: each term carries its own
+e^{Re(lambda) t}.
+
+:meth:`Spectrum.modal` gives the per-eigenvalue vectors w_{lambda,j} = K_lambda N^j z / j! of a
+state z (computed once per phase), from which every constraint function g e^{Mt} z of the phase
+is an exponential sum (:mod:`lcs_exact.roots`).
+"""
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from flint import acb, acb_mat, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly
+
+from .balls import closed_form_arb, workprec
+from .rational import adjugate_coefficients, identity, is_zero, poly_at_matrix, zeros
+
+__all__ = ["Spectrum", "jordan_chevalley", "spectrum_of", "symbolic_expm", "laplace_closed_form", "t_symbol"]
+
+
+def jordan_chevalley(M: fmpq_mat, r: fmpq_poly | None = None) -> tuple[fmpq_mat, fmpq_mat, int]:
+    """(S, N, m): M = S + N with S semisimple, N nilpotent (N^m = 0), SN = NS, both exact.
+
+    S is a polynomial in M found by Newton's iteration S <- S - r(S) r'(S)^{-1} on the squarefree
+    part r of chi (exact in Q[M]; quadratic convergence, so about log2(max multiplicity) steps).
+
+    >>> S, N, m = jordan_chevalley(fmpq_mat([[0, 1], [0, 0]]))
+    >>> S.entries(), N.entries(), m
+    ([0, 0, 0, 0], [0, 1, 0, 0], 2)
+    """
+    chi = M.charpoly()
+    if r is None:
+        r = fmpq_poly(chi / chi.gcd(chi.derivative()))
+    r = r / r.coeffs()[-1]
+    dr = r.derivative()
+    S = M
+    for _ in range(M.nrows() + 1):
+        rS = poly_at_matrix(r, S)
+        if is_zero(rS):
+            break
+        S = S - rS * poly_at_matrix(dr, S).inv()
+    N = M - S
+    m, P = 1, N
+    while not is_zero(P):
+        P, m = P * N, m + 1
+    return S, N, m
+
+
+class Spectrum:
+    """Spectral data of e^{Mt} for a rational M (see the module docstring); balls on demand.
+
+    >>> sp = Spectrum(fmpq_mat([[0, 1], [-1, 0]]))       # rotation: e^{Mt} = [[cos, sin], [-sin, cos]]
+    >>> x = sp.apply(arb.pi() / 2, arb_mat([[1], [0]]), 64)
+    >>> abs(x[0, 0]) < 1e-15, abs(x[1, 0] + 1) < 1e-15
+    (True, True)
+    """
+
+    def __init__(self, M: fmpq_mat):
+        self.M = M
+        self.n = n = M.nrows()
+        chi = M.charpoly()
+        g = chi.gcd(chi.derivative())
+        if g.degree() <= 0:
+            r = chi
+            S, N, m = M, zeros(n, n), 1
+        else:
+            r = fmpq_poly(chi / g)
+            r = r / r.coeffs()[-1]
+            S, N, m = jordan_chevalley(M, r)
+        self.chi, self.r = chi, r
+        self.S, self.N = S, N
+        self._B = adjugate_coefficients(S, r)  # q_lambda(S) = sum_j lambda^{d-1-j} B_j
+        nil, P, fact = [], identity(n), 1
+        for j in range(m):
+            if j:
+                P, fact = P * N, fact * j
+            nil.append(P * fmpq(1, fact))
+        self.nilpotent = nil  # N^j / j!, j < m (exact)
+        self._eig: list = []
+        self._eig_prec = 0
+
+    @property
+    def semisimple(self) -> bool:
+        """True when M is diagonalizable over C (N = 0)."""
+        return len(self.nilpotent) == 1
+
+    def eigen(self, prec: int) -> list[tuple[acb, int, acb_mat]]:
+        """[(lambda, weight, K_lambda)] at ``prec`` bits (cached at the highest precision asked)."""
+        if self._eig_prec < prec:
+            with workprec(prec + 24):
+                out = []
+                dr = self.r.derivative()
+                for lam, _ in self.r.complex_roots():
+                    if lam.imag.is_zero():
+                        weight = 1
+                        lam = acb(lam.real)
+                    elif lam.imag > 0:
+                        weight = 2
+                    else:
+                        continue
+                    q = acb_mat(self.n, self.n)
+                    for B in self._B:  # Horner in lambda
+                        q = q * lam + acb_mat(B)
+                    d = acb(0)
+                    for c in reversed(dr.coeffs()):
+                        d = d * lam + acb(c)
+                    out.append((lam, weight, q * (1 / d)))
+            self._eig, self._eig_prec = out, prec
+        return self._eig
+
+    def modal(self, z: arb_mat, prec: int) -> list[tuple[acb, int, list[acb_mat]]]:
+        """[(lambda, weight, [w_0, w_1, ...])] with w_j = K_lambda N^j z / j! (z: n x c balls), so
+        that e^{Mt} z = sum weight * Re(e^{lambda t} sum_j t^j w_j)."""
+        with workprec(prec):
+            nz = [arb_mat(P) * z for P in self.nilpotent] if not self.semisimple else [z]
+            out = []
+            for lam, weight, K in self.eigen(prec):
+                out.append((lam, weight, [K * acb_mat(v) for v in nz]))
+            return out
+
+    def apply(self, t: arb, z: arb_mat, prec: int, modal: list | None = None) -> arb_mat:
+        """A ball of e^{Mt} z (t a ball, possibly wide: then an enclosure over an interval)."""
+        if self.n == 0:
+            return z
+        with workprec(prec):
+            terms = modal if modal is not None else self.modal(z, prec)
+            tc = acb(t)
+            acc = acb_mat(z.nrows(), z.ncols())
+            for lam, weight, ws in terms:
+                e = (lam * tc).exp()
+                s = ws[0]
+                tp = acb(1)
+                for w in ws[1:]:
+                    tp = tp * tc
+                    s = s + w * tp
+                acc += s * (e * weight)
+            return arb_mat([[acc[i, j].real for j in range(z.ncols())] for i in range(z.nrows())])
+
+    def ca_apply(self, t_ca: Any, v_ca: list, calcium: Any) -> list | None:
+        """e^{M t*} v exactly, as Calcium numbers (``t_ca`` the Calcium number of a closed-form
+        time t*, ``v_ca`` the components of v, ``calcium`` the :mod:`lcs_exact.calcium` module):
+        sum over all eigenvalues lambda (algebraic numbers) of e^{lambda t*} K_lambda sum_j
+        t*^j N^j v / j!, with K_lambda = q_lambda(S) / r'(lambda).  None when Calcium is
+        unavailable.  e^{A pi} for the eigenvalues +-i, +-2i comes out rational."""
+        if not calcium.available():
+            return None
+        n = self.n
+        coeffs = self.r.coeffs()
+        den = 1
+        for c in coeffs:
+            den = den * int(c.q) // math.gcd(den, int(c.q))
+        ints = [int(c * den) for c in coeffs]
+        # w = sum_j t^j N^j v / j!  (exact rational matrices, Calcium vector)
+        w = [calcium.Ca(0)] * n
+        tp = calcium.Ca(1)
+        for j, P in enumerate(self.nilpotent):
+            if j:
+                tp = tp * t_ca
+            Pv = [_ca_dot(P, i, v_ca, calcium) for i in range(n)]
+            w = [a + b * tp for a, b in zip(w, Pv)]
+        # B_j w (rational matrices times a Calcium vector), reused for every eigenvalue
+        Bw = [[_ca_dot(B, i, w, calcium) for i in range(n)] for B in self._B]
+        dr = self.r.derivative().coeffs()
+        acc = [calcium.Ca(0)] * n
+        for lam_ball, weight, _ in self.eigen(128):
+            for lb in ([lam_ball] if weight == 1 else [lam_ball, lam_ball.conjugate()]):
+                lam = calcium.Ca.algebraic(ints, lb)
+                d = calcium.Ca(0)
+                for c in reversed(dr):
+                    d = d * lam + calcium.Ca(c)
+                q = None
+                for vec in Bw:  # Horner in lambda: q_lambda(S) w
+                    q = list(vec) if q is None else [x * lam + y for x, y in zip(q, vec)]
+                e = (lam * t_ca).exp() / d
+                acc = [a + x * e for a, x in zip(acc, q)]
+        return acc
+
+    def exact_at(self, t_ca: Any, calcium: Any) -> fmpq_mat | None:
+        """e^{M t*} as a rational matrix when it is one (proven with Calcium), else None."""
+        cols = []
+        for j in range(self.n):
+            e = [calcium.Ca(int(i == j)) for i in range(self.n)]
+            col = self.ca_apply(t_ca, e, calcium)
+            if col is None:
+                return None
+            qs = [x.to_fmpq() for x in col]
+            if any(q is None for q in qs):
+                return None
+            cols.append(qs)
+        return fmpq_mat(self.n, self.n, [cols[j][i] for i in range(self.n) for j in range(self.n)])
+
+
+def _ca_dot(P: fmpq_mat, i: int, v: list, calcium: Any):
+    """Row i of a rational matrix times a Calcium vector."""
+    acc = calcium.Ca(0)
+    for j in range(P.ncols()):
+        if P[i, j] != 0:
+            acc = acc + v[j] * calcium.Ca(P[i, j])
+    return acc
+
+
+_CACHE: dict = {}
+
+
+def spectrum_of(M: fmpq_mat) -> Spectrum:
+    """The :class:`Spectrum` of M, shared between callers with equal matrices (a bounded cache:
+    modes hold their own; this serves user calls such as ``expm_action``)."""
+    key = (M.nrows(), tuple(M.entries()))
+    sp = _CACHE.get(key)
+    if sp is None:
+        if len(_CACHE) > 256:
+            _CACHE.clear()
+        sp = _CACHE[key] = Spectrum(M)
+    return sp
+
+
+# ---------------------------------------------------------------------------------------------
+# symbolic e^{Mt} (SymPy, on request only: display and fixtures)
+# ---------------------------------------------------------------------------------------------
+
+_SYMBOLS: dict = {}
+
+
+def t_symbol():
+    """The SymPy symbol t (real) of symbolic phase functions."""
+    if "t" not in _SYMBOLS:
+        import sympy
+        _SYMBOLS["t"] = sympy.Symbol("t", real=True)
+        _SYMBOLS["s"] = sympy.Symbol("s")
+    return _SYMBOLS["t"]
+
+
+def laplace_closed_form(M: fmpq_mat, row: fmpq_mat, z: fmpq_mat):
+    """A SymPy closed form of row . e^{Mt} z (z rational), or None.
+
+    The Laplace transform row (sI - M)^{-1} z = N(s)/d(s) is reduced; when every irreducible
+    factor of d over Q has degree <= 2 (or is a biquadratic quartic over one Q(sqrt d)) the
+    partial fractions are inverted term by term (t^l e^{rt}, e^{at} cos/sin, cosh/sinh);
+    otherwise None.
+    """
+    import sympy
+    from .rational import resolvent
+    t = t_symbol()
+    s = _SYMBOLS["s"]
+    f = resolvent(M, row, z)[0, 0]
+    if f.is_zero():
+        return sympy.Integer(0)
+    ext = _quadratic_extension(f.den)
+    if ext is False:
+        return None
+    expr = f.to_sympy().subs(sympy.Symbol("s"), s)
+    total = sympy.Integer(0)
+    parts = sympy.apart(expr, s) if ext is None else sympy.apart(expr, s, extension=ext)
+    for term in sympy.Add.make_args(parts):
+        inv = _inverse_laplace_term(term, s, t)
+        if inv is None:
+            return None
+        total += inv
+    return total
+
+
+def _quadratic_extension(den):
+    """None when every irreducible factor of den over Q has degree <= 2; sqrt(d) when the others
+    are biquadratic a s^4 + b s^2 + c splitting over one Q(sqrt(d)), d = b^2 - 4ac (the two carts'
+    free mode: s^4 + 3s^2 + 1 over Q(sqrt 5)); False otherwise."""
+    import sympy
+    ext = None
+    for p, _ in den.factor()[1]:
+        if p.degree() <= 2:
+            continue
+        c = p.coeffs()
+        if p.degree() != 4 or c[1] != 0 or c[3] != 0:
+            return False
+        d = c[2] * c[2] - 4 * c[4] * c[0]
+        root = sympy.sqrt(sympy.Rational(int(d.p), int(d.q)))
+        if ext is not None and sympy.simplify(sympy.sqrt(root ** 2 / ext ** 2)).is_Rational is not True:
+            return False  # two different quadratic fields
+        ext = ext if ext is not None else root
+    return ext
+
+
+def _inverse_laplace_term(term, s, t):
+    import sympy
+    num, den = sympy.fraction(sympy.factor(term))
+    dp = sympy.Poly(den, s)
+    np_ = sympy.Poly(num, s)
+    if dp.degree() == 0:
+        return None  # a polynomial part: impossible for a strictly proper transform
+    lc = dp.LC()
+    fl = sympy.factor_list(dp.as_expr() / lc, s)
+    if len(fl[1]) != 1:
+        return sympy.inverse_laplace_transform(term, s, t)
+    base, mult = fl[1][0]
+    bp = sympy.Poly(base, s)
+    c0 = fl[0] * lc
+    if bp.degree() == 1:
+        a1, a0 = bp.all_coeffs()
+        r = -a0 / a1
+        if np_.degree() > 0:
+            return sympy.inverse_laplace_transform(term, s, t)
+        # term = k / (s - r)^mult with k = num / (c0 a1^mult): the base may be non-monic (2s + 1)
+        k = np_.as_expr() / (c0 * a1 ** mult)
+        return k * t ** (mult - 1) * sympy.exp(r * t) / sympy.factorial(mult - 1)
+    if bp.degree() == 2 and mult == 1:
+        a2, p, q = bp.all_coeffs()
+        p, q = p / a2, q / a2
+        c0 = c0 * a2
+        coeffs = np_.all_coeffs()
+        alpha, beta = (coeffs if len(coeffs) == 2 else [0] + coeffs)
+        alpha, beta = alpha / c0, beta / c0
+        disc = q - p ** 2 / 4
+        a = -p / 2
+        if disc > 0:
+            w = sympy.sqrtdenest(sympy.sqrt(disc))
+            return sympy.exp(a * t) * (alpha * sympy.cos(w * t) + (beta + alpha * a) / w * sympy.sin(w * t))
+        w = sympy.sqrtdenest(sympy.sqrt(-disc))
+        return sympy.exp(a * t) * (alpha * sympy.cosh(w * t) + (beta + alpha * a) / w * sympy.sinh(w * t))
+    return sympy.inverse_laplace_transform(term, s, t)
+
+
+def symbolic_expm(spectrum: Spectrum):
+    """e^{Mt} as a SymPy matrix in t (column j by :func:`laplace_closed_form` of e_j), or None
+    when some denominator has an irreducible factor of degree > 2; cached on the spectrum and
+    cross-checked against the certified ball of e^{M/7} (a defect of the symbolic inversion must
+    never become a false closed form)."""
+    if "symbolic" in spectrum.__dict__:
+        return spectrum.symbolic
+    import sympy
+    from .errors import LCSError
+    M, n = spectrum.M, spectrum.n
+    t = t_symbol()
+    unit = [fmpq_mat(n, 1, [int(i == j) for i in range(n)]) for j in range(n)]
+    cols = []
+    for j in range(n):
+        col = [laplace_closed_form(M, unit[i].transpose(), unit[j]) for i in range(n)]
+        if any(c is None for c in col):
+            cols = None
+            break
+        cols.append(col)
+    E = None if cols is None else sympy.Matrix(n, n, lambda i, j: cols[j][i])
+    if E is not None:
+        with workprec(128):
+            ball = spectrum.apply(arb(fmpq(1, 7)), arb_mat(identity(n)), 128)
+            for i in range(n):
+                for j in range(n):
+                    if not ball[i, j].overlaps(closed_form_arb(E[i, j].subs(t, sympy.Rational(1, 7)))):
+                        raise LCSError(f"internal error: symbolic e^(Mt) disagrees with its certified "
+                                       f"value at t = 1/7 (entry {i}, {j})")
+    spectrum.symbolic = E
+    return E

@@ -1,0 +1,179 @@
+"""The continuous phase in mode I (section 4.1): x(t) = e^{A_I t} z and its constraint functions.
+
+From a consistent state z in V_I the phase is x(t) = e^{A_I t} z with A_I = A + B_.I F_I; the
+monitored functions (4.5) are u_i = (F_I)_i x (i in I) and y_i = (C_i + D_{i,I} F_I) x (i not
+in I), each f(t) = g e^{A_I t} z with a rational row g (:class:`Constraint`).
+
+Representation.  The spectral data of A_I live on the mode (computed once per mode); the phase
+computes the modal vectors K_lambda N^j z / j! of its start once per precision, and every
+constraint is then an exponential sum (:class:`PhaseFunction`, :class:`~lcs_exact.roots.ExpSum`).
+Homogeneity: when z = c v with c > 0 proven (:class:`~lcs_exact.reals.ScaledVector`), the
+functions are those of v - the same roots, exactly, with no dependence on c.
+
+Forms vanishing on the whole phase (``zero_forms``): for a rational start q, the left kernel of
+the Krylov matrix [q, A_I q, ..., A_I^{n-1} q]; otherwise the annihilator of V_I and the
+A_I-invariant part of the relations known on z.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from flint import acb_mat, fmpq_mat
+
+from .balls import Policy, workprec
+from .reals import ExactVector, ExpVector, ScaledVector, as_real, orbit_start
+from .rational import submatrix, vstack, zeros
+from .roots import ExpSum
+from .subspaces import in_row_span, invariant_forms, orbit_zero_forms, rank, row_basis
+
+__all__ = ["Constraint", "Phase", "PhaseFunction"]
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """One monitored function of a phase: ``kind`` 'u' or 'y', constraint ``index``, row ``g``."""
+
+    kind: str
+    index: int
+    g: fmpq_mat
+
+    @property
+    def name(self) -> str:
+        return f"{self.kind}_{self.index}"
+
+
+class PhaseFunction:
+    """f(t) = g e^{A_I t} v on a phase (v its start, or the base of a scaled start) as a
+    :class:`~lcs_exact.roots.RootFunction`: exponential sums at any precision."""
+
+    def __init__(self, phase: "Phase", g: fmpq_mat, name: str):
+        self.phase, self.g, self.name = phase, g, name
+        self.policy = phase.policy
+        self._sum: ExpSum | None = None
+
+    def at(self, prec: int) -> ExpSum:
+        if self._sum is None or self._sum.prec < prec:
+            modal = self.phase.modal(prec)
+            with workprec(prec):
+                gc = acb_mat(self.g)
+                terms = [(lam, w, [(gc * v)[0, 0] for v in ws]) for lam, w, ws in modal]
+            self._sum = ExpSum(terms, prec)
+        return self._sum
+
+    def deps(self) -> tuple:
+        return (self.phase.base,)
+
+    def describe(self) -> str:
+        return self.name
+
+    def derivative(self) -> "PhaseFunction":
+        """f' = g A_I e^{A_I t} v."""
+        return PhaseFunction(self.phase, self.g * self.phase.M, f"{self.name}'")
+
+
+class Phase:
+    """The continuous phase in mode I from the consistent state z (x(t) = e^{A_I t} z)."""
+
+    def __init__(self, mode, z: ExactVector, policy: Policy):
+        self.mode = mode
+        self.lcs = mode.lcs
+        self.policy = policy
+        self.spectrum = mode.spectrum()
+        self.M = self.spectrum.M
+        self.z = z
+        if isinstance(z, ScaledVector):
+            self.base, self.scale = z.v, z.c
+        else:
+            self.base, self.scale = z, None
+        inner, _ = orbit_start(self.base, self.M)
+        q = inner.known_rational()
+        if q is not None:
+            self.zero_forms = orbit_zero_forms(self.M, q)
+        else:
+            W = mode.annihilator()
+            inv = invariant_forms(self.base.zero_forms, self.M) if self.base.zero_forms.nrows() else W
+            self.zero_forms = row_basis(W, inv) if W.nrows() or inv.nrows() else zeros(0, self.M.nrows())
+        self.constraints = self._constraints()
+        self._powers: dict = {}
+        self._modal = None
+        self._modal_prec = 0
+        self._functions: dict = {}
+
+    def _constraints(self) -> list[Constraint]:
+        mode, C, D = self.mode, self.lcs.C, self.lcs.D
+        F = mode.feedback()
+        cons = [Constraint("u", i, submatrix(F, [r], None)) for r, i in enumerate(mode.I)]
+        for i in mode.Ic:
+            g = submatrix(C, [i], None)
+            if mode.I:
+                g = g + submatrix(D, [i], mode.I) * F
+            cons.append(Constraint("y", i, g))
+        return cons
+
+    # --- data per precision -------------------------------------------------------------------
+    def modal(self, prec: int) -> list:
+        """Modal vectors of the phase's base start at ``prec`` bits (cached at the highest)."""
+        if self._modal_prec < prec:
+            self._modal = self.spectrum.modal(self.base.arb(prec), prec)
+            self._modal_prec = prec
+        return self._modal
+
+    def function(self, c: Constraint) -> PhaseFunction:
+        key = (c.kind, c.index)
+        if key not in self._functions:
+            self._functions[key] = PhaseFunction(self, c.g, c.name)
+        return self._functions[key]
+
+    def gM(self, c: Constraint, j: int) -> fmpq_mat:
+        """g A_I^j (cached)."""
+        key = (c.kind, c.index, j)
+        if key not in self._powers:
+            self._powers[key] = c.g if j == 0 else self.gM(c, j - 1) * self.M
+        return self._powers[key]
+
+    # --- the start of the phase (Lemma 5.1) ----------------------------------------------------
+    def start_order(self, c: Constraint) -> tuple[int, int]:
+        """(sign, order) of f at t = 0+: the first nonzero f^{(j)}(0) = g A_I^j z; (0, -1) if f = 0
+        identically (Cayley-Hamilton: n zeros suffice)."""
+        for j in range(self.lcs.n):
+            form = self.gM(c, j)
+            if self.zero_forms.nrows() and in_row_span(form, self.zero_forms):
+                continue
+            s = self.base.sign_of_form(form)
+            if s:
+                return s, j
+        return 0, -1
+
+    def vanishing(self, c: Constraint) -> bool:
+        """f = 0 on the whole phase (proven)."""
+        return self.start_order(c)[0] == 0
+
+    # --- states -------------------------------------------------------------------------------
+    def state(self, t: Any, extra_zero_forms: fmpq_mat | None = None) -> ExactVector:
+        """x(t) = e^{A_I t} z (t relative to the phase start), with the phase's vanishing forms and
+        ``extra_zero_forms`` (the constraints proven zero at t) as its known relations."""
+        t = as_real(t, self.policy)
+        zf = self.zero_forms
+        if extra_zero_forms is not None and extra_zero_forms.nrows():
+            zf = row_basis(zf, extra_zero_forms) if zf.nrows() else row_basis(extra_zero_forms)
+        if t.known_rational() == 0:
+            return self.z
+        x = ExpVector(self.spectrum, t, self.base, zf, self.policy, modal=self.modal)
+        return ScaledVector(self.scale, x, self.policy) if self.scale is not None else x
+
+    def proportional(self, ga: fmpq_mat, gb: fmpq_mat) -> bool:
+        """g_a x(t) = c g_b x(t) on the whole phase with c != 0, proven exactly: g_a lies in
+        span(g_b, forms vanishing on the phase) but not in the span of the vanishing forms alone
+        (e.g. u_0 = 2 q_1 - q_2 and y_1 = q_1 - q_2 while q_1 = 0)."""
+        Z = [self.zero_forms] if self.zero_forms.nrows() else []
+        base = rank(Z[0]) if Z else 0
+        with_b = rank(vstack(*Z, gb))
+        return rank(vstack(*Z, gb, ga)) == with_b > base and rank(vstack(*Z, ga)) > base
+
+    def describe_state(self) -> str:
+        return repr(self.z)
+
+    def __repr__(self):
+        from .modes import format_mode
+        return f"<Phase in mode {format_mode(self.mode.I)} from {self.z!r}>"

@@ -1,0 +1,385 @@
+"""Certified real roots of exponential sums (the events of Def. 4.3).
+
+A constraint of a continuous phase is f(t) = g e^{A_I t} z, an exponential sum
+
+    f(t) = sum_k w_k Re( e^{lambda_k t} P_k(t) ),   P_k(t) = sum_j c_{k,j} t^j       (:class:`ExpSum`)
+
+with certified complex-ball coefficients (from the modal vectors of z, :mod:`lcs_exact.expm`).
+Enclosures are built from the terms: f^{(d)} on X = [m - r, m + r] is enclosed by its Taylor form
+sum_{j<K} f^{(d+j)}(m) [-r, r]^j / j! + f^{(d+K)}(X) [-r, r]^K / K!, where each derivative is a
+sum over the eigenvalues (lambda^d e^{lambda X}: a stiff term with Re(lambda) = -10^6 contributes
+nothing once it has decayed, however large lambda^d is).
+
+:func:`first_crossing` finds the first point where f turns negative, theta = inf{t > a : f(t) < 0}
+(Def. 4.3), by a depth-first search over intervals with the invariant "no crossing before the
+interval" (an explicit stack, never recursion).  An interval is discarded when f > 0 on it, when f
+is increasing on it, when it is decreasing and f(hi) > 0, or by the convexity argument (the
+minimum is at the critical point t*, a root of f'; f(t*) > 0, or f(t*) = 0 proven - a tangential
+touch, not an event).  The search returns a :class:`Bracket` (lo, hi] that contains theta: f has
+no crossing before lo and f(hi) < 0 is certified.  A bracket on which f' < 0 holds one simple root
+(refined by interval Newton); otherwise (a multiple root, a cluster) theta is refined by bisection
+with the same invariant, so a triple root is handled like a simple one.  Split points are chosen
+where the sign of f is certified; a search that cannot decide at the policy's ceiling reports an
+unresolved sign.  The work is bounded: interval widths are limited by the precision, precision by
+the ceiling, and the wall clock by the policy's deadline.
+
+:class:`RootReal` is the root as an exact real: its ball at any precision comes from the bracket
+and the phase start's ball at that precision (it is anchored like every node of
+:mod:`lcs_exact.reals`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Protocol
+
+from flint import acb, arb, fmpq
+
+from .balls import Policy, ball_sign, workprec
+from .reals import Real
+
+__all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic"]
+
+TAYLOR_ORDER = 4
+_SPLITS = (fmpq(1, 2), fmpq(7, 16), fmpq(9, 16), fmpq(3, 8), fmpq(5, 8), fmpq(13, 32), fmpq(19, 32))
+
+
+class ExpSum:
+    """f(t) = sum_k w_k Re(e^{lambda_k t} P_k(t)) at a fixed precision (see the module docstring).
+
+    ``terms``: [(lambda, weight, [c_0, c_1, ...])] with complex balls; weight 2 stands for a
+    conjugate pair.
+
+    >>> f = ExpSum([(acb(0, 1), 2, [acb(0.5)])], 64)      # cos t
+    >>> f.value(0), f.value(0, 1)
+    (1.00000000000000, 0)
+    """
+
+    def __init__(self, terms: list, prec: int):
+        self.terms = terms
+        self.prec = prec
+        self._d: dict[int, list] = {0: terms}
+
+    def _deriv_terms(self, d: int) -> list:
+        """Terms of f^{(d)}: (e^{lambda t} P)' = e^{lambda t} (lambda P + P')."""
+        if d not in self._d:
+            prev = self._deriv_terms(d - 1)
+            with workprec(self.prec):
+                out = []
+                for lam, w, cs in prev:
+                    new = [lam * c for c in cs]
+                    for j in range(1, len(cs)):
+                        new[j - 1] += cs[j] * j
+                    out.append((lam, w, new))
+            self._d[d] = out
+        return self._d[d]
+
+    def values(self, t: arb | fmpq, orders: range) -> list[arb]:
+        """[f^{(d)}(t) for d in orders] (t a rational point, or a ball: an interval), sharing
+        e^{lambda t}; rationals are converted at the sum's precision, never at flint's ambient
+        53 bits."""
+        with workprec(self.prec):
+            tc = acb(arb(t) if isinstance(t, fmpq) else t)
+            exps = [(lam * tc).exp() for lam, _, _ in self.terms]
+            out = []
+            for d in orders:
+                acc = arb(0)
+                for (lam, w, cs), e in zip(self._deriv_terms(d), exps):
+                    p = cs[-1]
+                    for c in reversed(cs[:-1]):
+                        p = p * tc + c
+                    v = (e * p).real
+                    acc += v * w if w != 1 else v
+                out.append(acc)
+            return out
+
+    def value(self, t: arb | fmpq, d: int = 0) -> arb:
+        """f^{(d)}(t)."""
+        return self.values(t, range(d, d + 1))[0]
+
+    def enclose(self, lo: fmpq, hi: fmpq, d: int = 0) -> arb:
+        """An enclosure of f^{(d)} on [lo, hi] (Taylor form of order TAYLOR_ORDER at the midpoint)."""
+        with workprec(self.prec):
+            X = arb(lo).union(arb(hi))  # contains [lo, hi] whatever the rounding
+            m, r = X.mid(), X.rad()  # exact: X = [m - r, m + r]
+            at_m = self.values(m, range(d, d + TAYLOR_ORDER))
+            rem = self.value(X, d + TAYLOR_ORDER)
+            out = at_m[0]
+            rp, fact = arb(1), 1
+            for j in range(1, TAYLOR_ORDER + 1):
+                rp, fact = rp * r, fact * j
+                coef = at_m[j] if j < TAYLOR_ORDER else rem
+                # [-r, r]^j / j!: [0, r^j] for even j, [-r^j, r^j] for odd j
+                box = arb(rp / 2, rp / 2) if j % 2 == 0 else arb(0, rp)
+                out += coef * box / fact
+            return out
+
+
+class RootFunction(Protocol):
+    """What a root needs of its function: balls of the exponential sum at any precision, the nodes
+    those balls depend on, and a name for messages."""
+
+    policy: Policy
+
+    def at(self, prec: int) -> ExpSum: ...
+
+    def deps(self) -> tuple: ...
+
+    def describe(self) -> str: ...
+
+
+@dataclass(frozen=True)
+class Bracket:
+    """theta in (lo, hi]: no crossing before lo (f > 0 on (start, lo]), f(hi) < 0 certified.
+    ``simple``: f' < 0 on [lo, hi] is certified (one simple root)."""
+
+    lo: fmpq
+    hi: fmpq
+    simple: bool
+
+
+def dyadic(x: arb) -> fmpq:
+    """The exact midpoint of a ball as fmpq."""
+    m, e = x.mid().man_exp()
+    m, e = int(m), int(e)
+    return fmpq(m * 2 ** e) if e >= 0 else fmpq(m, 2 ** (-e))
+
+
+def _split_point(f: ExpSum, lo: fmpq, hi: fmpq) -> tuple[fmpq, int] | None:
+    """A point of (lo, hi) near the middle where the sign of f is certified, with that sign."""
+    w = hi - lo
+    for s in _SPLITS:
+        m = lo + w * s
+        sg = ball_sign(f.value(m))
+        if sg:
+            return m, sg
+    return None
+
+
+TouchProver = Callable[[fmpq, fmpq], "bool | None"]
+
+
+def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: TouchProver | None = None
+                   ) -> Bracket | None:
+    """The first crossing theta = inf{t in (a, b] : f(t) < 0} as a :class:`Bracket`, or None when
+    f >= 0 on (a, b].  Precondition: no crossing in (start, a] (f > 0 just after a).
+
+    ``touch(lo, hi)``, called when the minimum of f at the critical point t* in [lo, hi] cannot be
+    separated from 0, proves a tangential touch (True), refutes it (False) or cannot tell (None).
+    """
+    policy = fn.policy
+    stack: list = [(a, b, False)]
+    while stack:
+        lo, hi, neg = stack.pop()
+        policy.check_deadline(f" while isolating the roots of {fn.describe()} near t = {float(lo):.6g} "
+                              "(phase time)")
+        while True:
+            f = fn.at(prec)
+            verdict = _decide_interval(fn, f, lo, hi, neg, prec, touch)
+            if verdict != "split":
+                break
+            sp = None
+            if (hi - lo) > fmpq(1, 2 ** max(8, prec // 2)) * max(1, abs(hi)):
+                sp = _split_point(f, lo, hi)
+            if sp is not None:
+                break
+            if prec >= policy.max_prec:  # undecidable: raise, or assume f >= 0 here (recorded)
+                policy.unresolved(lambda: f"the sign of {fn.describe()} on [{float(lo):.17g}, "
+                                  f"{float(hi):.17g}] (phase time; tangential touch?)")
+                verdict = "none"
+                break
+            prec = min(2 * prec, policy.max_prec)
+        if verdict == "none":
+            continue
+        if isinstance(verdict, Bracket):
+            return verdict
+        if isinstance(verdict, tuple):  # a crossing bracketed on a smaller interval
+            if verdict[:2] == (lo, hi):
+                return Bracket(lo, hi, False)
+            stack.append(verdict)
+            continue
+        m, sg = sp
+        if sg < 0:
+            stack.append((lo, m, True))
+        else:
+            stack.append((m, hi, neg))
+            stack.append((lo, m, False))
+    return None
+
+
+def _decide_interval(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, touch):
+    """One interval of the search: "none" (no crossing in it), a Bracket, a smaller interval
+    (lo, p, True) known to hold the crossing, or "split"."""
+    F = f.enclose(lo, hi, 0)
+    if not neg and F > 0:
+        return "none"
+    D = f.enclose(lo, hi, 1)
+    if D > 0 and not neg:
+        return "none"  # increasing from f(lo) > 0
+    if D < 0:
+        if neg:
+            return Bracket(lo, hi, True)
+        s = ball_sign(f.value(hi))
+        if s > 0:
+            return "none"
+        if s < 0:
+            return Bracket(lo, hi, True)
+        return "split"
+    D2 = f.enclose(lo, hi, 2)
+    if D2 < 0:  # concave with f(lo) > 0: at most one root in [lo, hi], a crossing
+        s = -1 if neg else ball_sign(f.value(hi))
+        if s > 0:
+            return "none"
+        if s < 0:
+            return Bracket(lo, hi, False)
+        return "split"
+    if D2 > 0:  # convex: f' increasing
+        da, db = f.value(lo, 1), f.value(hi, 1)
+        if da >= 0 and not neg:
+            return "none"
+        if not (da < 0 and db > 0):
+            return "split"
+        return _convex_minimum(fn, f, lo, hi, neg, prec, touch)
+    return "split"
+
+
+def _convex_minimum(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, touch):
+    """f convex on [lo, hi] with f'(lo) < 0 < f'(hi): decide by the value at the critical point."""
+    clo, chi = lo, hi
+    for _ in range(3 * prec):  # bisection of f' (increasing) down to the precision's resolution
+        m = (clo + chi) / 2
+        s = ball_sign(f.value(m, 1))
+        if s == 0:
+            break
+        if s < 0:
+            clo = m
+        else:
+            chi = m
+        v = f.enclose(clo, chi, 0)
+        if v > 0:
+            return "none" if not neg else "split"
+        if f.value(clo) < 0:
+            return (lo, clo, True)
+        if f.value(chi) < 0:
+            return (lo, chi, True)
+        if chi - clo < fmpq(1, 2 ** (prec // 2)) * max(1, abs(chi)):
+            break
+    if touch is not None and not neg:
+        proven = touch(clo, chi)
+        if proven is True:
+            return "none"  # f >= 0: convex with f(t*) = f'(t*) = 0
+    return "split"
+
+
+class RootReal(Real):
+    """theta = inf{t in (lo, hi] : f(t) < 0} for a :class:`Bracket` of ``function``: an exact real.
+
+    Refined by interval Newton when the bracket is simple (f' < 0 on it), else by bisection with
+    the crossing invariant; the best rational bracket found is kept (a cache, not a change of
+    value).  ``closed_form_finder(root)``, when given, proves a closed form on first access
+    (:mod:`lcs_exact.closedforms`, set by the phase that owns the function).
+    """
+
+    def __init__(self, function: RootFunction, bracket: Bracket,
+                 closed_form_finder: Callable | None = None):
+        super().__init__(function.policy)
+        self.function = function
+        self.lo, self.hi, self.simple = bracket.lo, bracket.hi, bracket.simple
+        self._finder = closed_form_finder
+        self._proven = None  # (sympy expr, Calcium number) once proven
+
+    def _deps(self):
+        return self.function.deps()
+
+    def interval(self) -> tuple[fmpq, fmpq]:
+        """The current rational bracket (lo, hi] of the root."""
+        return self.lo, self.hi
+
+    def _compute(self, prec: int) -> arb:
+        target = fmpq(1, 2 ** (prec + 2)) * max(1, abs(self.hi))
+        f = self.function.at(prec)
+        if self.simple:
+            self._newton(f, prec, target)
+        else:
+            self._bisect(f, prec, target)
+        return arb(self.lo).union(arb(self.hi))
+
+    def _newton(self, f: ExpSum, prec: int, target: fmpq) -> None:
+        """Interval Newton N(X) = m - f(m)/f'(X) on the bracket, kept as rational ends; a
+        bisection step where Newton does not contract (a wide bracket), a stop where the
+        precision is exhausted."""
+        for _ in range(64 + 4 * prec.bit_length()):
+            if self.hi - self.lo <= target:
+                return
+            X = arb(self.lo).union(arb(self.hi))
+            m = dyadic(X)
+            fm, dX = f.value(m), f.value(X, 1)
+            if not dX < 0:
+                self.simple = False
+                return self._bisect(f, prec, target)
+            N = arb(m) - fm / dX
+            lo2, hi2 = max(self.lo, dyadic_lower(N)), min(self.hi, dyadic_upper(N))
+            if lo2 > hi2:
+                return  # impossible for a valid bracket: keep it
+            if hi2 - lo2 <= (self.hi - self.lo) * 3 / 4:
+                self.lo, self.hi = lo2, hi2
+                continue
+            sp = _split_point(f, lo2, hi2)
+            if sp is None:
+                self.lo, self.hi = lo2, hi2
+                return  # the precision is exhausted: the caller raises it
+            if sp[1] < 0:
+                self.lo, self.hi = lo2, sp[0]
+            else:
+                self.lo, self.hi = sp[0], hi2
+
+    def _bisect(self, f: ExpSum, prec: int, target: fmpq) -> None:
+        """Bisection keeping "no crossing before lo" (a search on the left part at each step)."""
+        while self.hi - self.lo > target:
+            self.policy.check_deadline(f" while refining the root of {self.function.describe()}")
+            sp = _split_point(f, self.lo, self.hi)
+            if sp is None:
+                return  # undecidable at this precision: the caller raises the precision
+            m, s = sp
+            if s < 0:
+                self.hi = m
+                continue
+            br = first_crossing(self.function, self.lo, m, prec)
+            if br is None:
+                self.lo = m
+            else:
+                self.lo, self.hi = br.lo, br.hi
+                if br.simple:
+                    self.simple = True
+                    return self._newton(f, prec, target)
+
+    # --- closed forms -------------------------------------------------------------------------
+    def _closed_form(self):
+        if self._proven is None and self._finder is not None:
+            self._proven = self._finder(self) or False
+        return self._proven[0] if self._proven else None
+
+    def to_ca(self):
+        self.closed_form
+        return self._proven[1] if self._proven else None
+
+    def known_rational(self):
+        if self._proven:
+            e = self._proven[0]
+            if e.is_Rational:
+                return fmpq(int(e.p), int(e.q))
+        return None
+
+    def set_proven(self, expr, ca) -> None:
+        """Record a closed form proven by the caller (an exact zero of f in the bracket)."""
+        self._proven = (expr, ca)
+        self._cf, self._cf_done = expr, True
+
+
+def dyadic_lower(x: arb) -> fmpq:
+    """A dyadic rational <= every point of the ball."""
+    return dyadic(x.lower())
+
+
+def dyadic_upper(x: arb) -> fmpq:
+    """A dyadic rational >= every point of the ball."""
+    return dyadic(x.upper())
