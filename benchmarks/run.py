@@ -78,8 +78,9 @@ def settle_t_end(case, quick, log):
         why = (f"t = {case.t_end}: {type(e).__name__} after {time.perf_counter() - t0:.0f} s "
                f"with {len(tr.events)} events")
     except RecursionError:
+        crashed_after = time.perf_counter() - t0
         n = recursion_count(case, quick, log)
-        why = (f"t = {case.t_end}: RecursionError after {time.perf_counter() - t0:.1f} s"
+        why = (f"t = {case.t_end}: RecursionError after {crashed_after:.1f} s"
                + (f" (the run reaches {n[0]} events, crashes by {n[1]})" if n else ""))
     log(f"  {case.name}: {why}; benchmarked to t = {case.fallback_t_end}")
     T = case.fallback_t_end
@@ -374,7 +375,7 @@ def plot(results, path):
     styles = {"Siconos Moreau-Jean θ=0.5": ("C0", "o-"), "Siconos Moreau-Jean θ=1": ("C1", "s-"),
               "Siconos Euler-Moreau θ=0.5": ("C0", "o-"), "Siconos Euler-Moreau θ=1": ("C1", "s-"),
               "Siconos event-driven (Lsodar)": ("C2", "^-")}
-    FLOOR = 1e-34
+    FLOOR = 1e-40
     ncol = 4
     nrow = math.ceil(len(results) / ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.2 * ncol, 3.6 * nrow), squeeze=False)
@@ -393,8 +394,14 @@ def plot(results, path):
             mk = "*" if y > FLOOR else "v"
             ax.loglog([e["time"]], [y], mk, color="C3", ms=11 if mk == "*" else 8, zorder=5,
                       label="lcs_exact (certified bound)" if e["digits"] == r["exact"][0]["digits"] else None)
-            ax.annotate(f"{e['digits']}d", (e["time"], y), textcoords="offset points",
-                        xytext=(5, 3 if mk == "*" else 6), fontsize=7, color="C3")
+            txt = f"{e['digits']}d" if mk == "*" else f"{e['digits']}d\n(1e{e['bound_log10']:.0f})"
+            k = [x["digits"] for x in r["exact"]].index(e["digits"])
+            ax.annotate(txt, (e["time"], y), textcoords="offset points", ha="center",
+                        xytext=(0, 8 if mk == "*" else 6 + 16 * (k % 2)), fontsize=6.5, color="C3")
+        failed = sorted({m["method"].replace("Siconos ", "") for m in r["methods"] if "error" in m})
+        if failed:
+            ax.text(0.02, 0.03, "failed: " + ", ".join(failed), transform=ax.transAxes, fontsize=6.5,
+                    va="bottom", color="0.35")
         ax.set_ylim(FLOOR / 3, 10)
         ax.set_title(f"{r['label']}  (T = {r['T']})", fontsize=9)
         ax.set_xlabel("wall time [s]", fontsize=8)
@@ -409,8 +416,8 @@ def plot(results, path):
             handles.setdefault(l, h)
     fig.legend(list(handles.values()), list(handles.keys()), loc="lower center", ncol=3, fontsize=8,
                frameon=False)
-    fig.suptitle("Error against wall time (log-log). lcs_exact: red stars at the certified bound "
-                 "(triangles: bound below 1e-34, i.e. 100 or 1000 digits)", fontsize=10)
+    fig.suptitle("Error against wall time (log-log), lower left is better. lcs_exact: red stars at the "
+                 "certified bound (triangles: bound below 1e-40, drawn at the floor)", fontsize=10)
     fig.tight_layout(rect=(0, 0.07, 1, 0.97))
     fig.savefig(path, dpi=110)
 

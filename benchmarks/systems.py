@@ -133,5 +133,5 @@ def long_run() -> Case:
 
 
 def all_cases(quick: bool = False) -> list[Case]:
-    chains = [chain(N) for N in ((2, 4, 8) if quick else (2, 4, 8, 16))]
+    chains = [chain(N) for N in (2, 4, 8, 16)]
     return [two_carts(), rlc_diode(), d_positive(), stiff_rc_diode(), *chains, long_run()]
