@@ -455,12 +455,8 @@ def main():
     if not args.no_write:
         (ROOT / "docs").mkdir(exist_ok=True)
         perf = ROOT / "docs" / "performance.md"
-        keep = ""
-        if perf.exists():  # sections written by the other scripts (scaling, sweeps) are kept
-            text = perf.read_text()
-            i = text.find("\n<!-- scaling -->")
-            keep = text[i:] if i >= 0 else ""
-        perf.write_text(md + keep)
+        from docsections import write_section
+        write_section(perf, "<!-- head -->", md)
         plot(results, ROOT / "docs" / "performance.png")
         print(f"\nwrote {perf} and docs/performance.png")
 

@@ -135,3 +135,16 @@ def long_run() -> Case:
 def all_cases(quick: bool = False) -> list[Case]:
     chains = [chain(N) for N in (2, 4, 8, 16)]
     return [two_carts(), rlc_diode(), d_positive(), stiff_rc_diode(), *chains, long_run()]
+
+
+def chain_k(N: int, k: int) -> Case:
+    """The N-cart chain with stops on the first k even carts (all start at q = +1/2)."""
+    c = chain(N)
+    E = [[1 if j == i else 0 for j in range(N)] for i in range(0, 2 * k, 2)]
+    A, B, C, D = mechanical_data(c.mech["M"], c.mech["K"], E)
+    return Case(f"chain{N}_k{k}", f"chain N = {N}, k = {k}", A, B, C, D, c.x0, c.t_end, 2,
+                mech={"M": c.mech["M"], "K": c.mech["K"], "E": E}, note=c.note)
+
+
+def scaling_cases() -> list[Case]:
+    return [chain_k(8, k) for k in (1, 2, 3, 4)]
