@@ -290,7 +290,8 @@ def markdown(results, args, siconos_note, elapsed):
       f"{time.strftime('%Y-%m-%d')} ({os.cpu_count()} shared cores, total {elapsed / 60:.1f} min). "
       "Times are wall-clock medians in one process (lcs_exact, scipy) or inside the Siconos "
       "process around its time loop (model construction and interpreter start excluded); "
-      "machines are noisy, ratios are what to read.\n")
+      "machines are noisy, ratios are what to read. Load average at the end of the run "
+      f"(other jobs share the machine): {os.getloadavg()[0]:.1f}.\n")
     w("**What is timed for lcs_exact:** `simulate` plus every event time and x(T) evaluated as "
       "balls of `digits` digits; the *certified bound* is the largest radius of those balls (every "
       "digit shown is right). *Cold* is the first run in a fresh interpreter (the `import lcs_exact` "

@@ -110,7 +110,7 @@ def main():
            "run in a fresh interpreter after a warm-up run; time includes every event time and the "
            "final state evaluated to `digits` digits; *RSS* is the process's peak resident set, "
            "*growth* its increase over the warm-up. Exponents are least-squares slopes on log-log "
-           "axes."]
+           f"axes. Load average when the scaling run started: {os.getloadavg()[0]:.1f} (shared machine)."]
     fits = []
 
     # n: the chain of N carts

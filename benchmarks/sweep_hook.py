@@ -11,6 +11,7 @@ sweep records that event's time (certified, 30 digits) and checks it against the
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -113,7 +114,7 @@ def main():
         f"(Sequential `simulate` of the first 8 runs in this process: {t_seq8:.2f} s, "
         f"{t_seq8 / 8 * 1e3:.0f} ms per run; results identical to 30 digits.) The speed-up target "
         "is near-linear from 1 to 2 workers on this 2-core machine; the machine is shared, so the "
-        "2-worker row competes with whatever else runs.",
+        f"2-worker row competes with whatever else runs (load average {os.getloadavg()[0]:.1f} at the end).",
     ])
     print(text)
     if not args.no_write:
