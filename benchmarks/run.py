@@ -119,7 +119,11 @@ def time_exact(case, T, digits, repeat):
 
 
 COLD = r"""
-import json, resource, sys, time
+import json, sys, time
+def hwm():  # peak RSS of this process image in kB (ru_maxrss would include the forking parent's)
+    for line in open("/proc/self/status"):
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1])
 from fractions import Fraction
 t0 = time.perf_counter()
 import lcs_exact
@@ -127,11 +131,11 @@ imp = time.perf_counter() - t0
 sys.path.insert(0, BENCH)
 import run, systems
 case = next(c for c in systems.all_cases() if c.name == NAME)
-rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+rss0 = hwm()
 t0 = time.perf_counter()
 tr, bound = run.exact_run(case.lcs(), case.exact_x0(), Fraction(T), DIGITS, case.max_events)
 first = time.perf_counter() - t0
-rss1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+rss1 = hwm()
 print(json.dumps({"import": imp, "first": first, "rss_mb": rss1 / 1024,
                   "rss_run_mb": (rss1 - rss0) / 1024, "events": len(tr.events)}))
 """

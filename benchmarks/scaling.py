@@ -24,14 +24,18 @@ BENCH = Path(__file__).resolve().parent
 sys.path.insert(0, str(BENCH))
 
 CHILD = r"""
-import json, resource, sys, time
+import json, sys, time
+def hwm():  # peak RSS of this process image in kB (ru_maxrss would include the forking parent's)
+    for line in open("/proc/self/status"):
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1])
 from fractions import Fraction
 sys.path.insert(0, BENCH)
 import lcs_exact as L
 import systems as S
 from lcs_exact.models import two_carts
 L.simulate(two_carts(), [1, 0, 0, 0], 2)            # warm-up: imports, SymPy, caches
-rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+rss0 = hwm()
 spec = json.loads(SPEC)
 case = {c.name: c for c in S.all_cases() + S.scaling_cases()}[spec["case"]]
 lcs, x0, d = case.lcs(), case.exact_x0(), spec["digits"]
@@ -54,7 +58,7 @@ if tr is not None and spec["evaluate"]:
         [c.ball(d) for c in tr.state(end)]
 out["time"] = time.perf_counter() - t0
 out["events"] = len(tr.events) if tr is not None else None
-rss1 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+rss1 = hwm()
 out["rss_mb"] = rss1 / 1024
 out["rss_growth_mb"] = (rss1 - rss0) / 1024
 print(json.dumps(out))
