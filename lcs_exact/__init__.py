@@ -8,11 +8,12 @@ from .modes import Mode
 from .rational import RationalFunction, RationalMatrix
 from .reals import ExactVector, Real, expm_action
 from .simulate import simulate
+from .sweep import SweepResult, param_sweep, sweep
 from .system import LCS, WellPosedness
 from .trajectory import Event, Trajectory
 
 __all__ = [
-    "LCS", "Mode", "simulate", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
+    "LCS", "Mode", "simulate", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded",

@@ -1,0 +1,141 @@
+"""sweep / param_sweep: the same answers as sequential simulate runs, in input order, failures
+kept, on a process pool and on a Dask LocalCluster."""
+from __future__ import annotations
+
+import os
+from concurrent.futures import ProcessPoolExecutor
+from fractions import Fraction
+from pathlib import Path
+
+import mpmath
+import pytest
+
+import lcs_exact as L
+from lcs_exact import LCS, LimitExceeded, SweepResult, param_sweep, simulate, sweep
+from lcs_exact.models import two_carts, two_carts_with_hook
+
+ROOT = str(Path(__file__).resolve().parents[1])
+EPS = [Fraction(1, 10), Fraction(1, 2), Fraction(1, 100), Fraction(3, 10), Fraction(2)]
+
+
+def hook_x0(e):
+    return [e, e, -2, 1]
+
+
+def release_time(e) -> mpmath.mpf:
+    """Example 8.3 from (e, e, -2, 1), derived by hand: the hook engages at t = 0 (equal masses:
+    both velocities become -1/2), the coupled pair 2 q'' = -q moves as
+    q = e cos(t/sqrt2) - (sqrt2/2) sin(t/sqrt2) and reaches the stop when tan(t/sqrt2) = sqrt2 e."""
+    with mpmath.workdps(50):
+        return mpmath.sqrt(2) * mpmath.atan(mpmath.sqrt(2) * mpmath.mpf(e.numerator) / e.denominator)
+
+
+def same_run(a, b):
+    """Two trajectories agree: modes, multiplicities, event times to 30 digits, exact states."""
+    assert len(a.events) == len(b.events)
+    for ea, eb in zip(a.events, b.events):
+        assert (ea.mode_before, ea.modes, ea.mode_after, ea.multiplicity) == \
+            (eb.mode_before, eb.modes, eb.mode_after, eb.multiplicity)
+        assert ea.time.decimal(30) == eb.time.decimal(30)
+        for va, vb in ((ea.state_before, eb.state_before), (ea.state_after, eb.state_after)):
+            qa, qb = va.rational(), vb.rational()
+            assert (qa is None) == (qb is None)
+            if qa is not None:
+                assert qa == qb
+            else:
+                assert [c.decimal(30) for c in va] == [c.decimal(30) for c in vb]
+    assert a.certified == b.certified
+
+
+@pytest.fixture(scope="module")
+def pool():
+    with ProcessPoolExecutor(max_workers=2) as ex:
+        yield ex
+
+
+def test_sweep_equals_sequential_runs_in_input_order(pool):
+    lcs = two_carts_with_hook()
+    rs = sweep(lcs, [hook_x0(e) for e in EPS], 3, pool, progress=False)
+    assert [r.x0 for r in rs] == [hook_x0(e) for e in EPS]
+    for e, r in zip(EPS, rs):
+        assert isinstance(r, SweepResult) and r.ok and r.error is None
+        same_run(r.trajectory, simulate(lcs, hook_x0(e), 3))
+        # the stop engages at the hand-derived time, to 30 digits
+        t = r.trajectory.events[1].time
+        with mpmath.workdps(50):
+            assert abs(mpmath.mpf(t.decimal(40).split(" ")[0]) - release_time(e)) < mpmath.mpf(10) ** -30
+        # the hook's impact at t = 0: both velocities -1/2, exactly
+        assert str(r.trajectory.events[0].state_after) == f"({e}, {e}, -1/2, -1/2)"
+
+
+def test_rational_event_times_stay_exact(pool):
+    # two carts from (0, 1, -1, 0): the impact is at t = 0 with an exact rational state
+    rs = sweep(two_carts(), [[0, 1, -1, 0], [0, 1, -3, 0]], 1, pool, progress=False)
+    for r, v in zip(rs, (-1, -3)):
+        ev = r.trajectory.events[0]
+        assert ev.time.decimal(30) == "0"
+        assert str(ev.state_after) == "(0, 1, 0, 0)"
+        assert str(ev.state_before) == f"(0, 1, {v}, 0)"
+
+
+def test_failed_run_keeps_error_and_partial_trajectory(pool):
+    lcs = two_carts_with_hook()
+    x0s = [hook_x0(Fraction(1, 10)), [1, 1, 1, 1], hook_x0(Fraction(1, 2))]
+    rs = sweep(lcs, x0s, 3, pool, progress=False, max_events=1)
+    # (1, 1, 1, 1) is free on [0, 3]? its sequential run decides; the hook runs need 2 events
+    for x0, r in zip(x0s, rs):
+        try:
+            want = simulate(lcs, x0, 3, max_events=1)
+        except LimitExceeded as e:
+            assert not r.ok and isinstance(r.error, LimitExceeded)
+            assert str(r.error) == str(e)
+            assert r.error.trajectory is r.trajectory
+            assert r.trajectory.partial and len(r.trajectory.events) == 1
+            same_run(r.trajectory, e.trajectory)
+        else:
+            assert r.ok
+            same_run(r.trajectory, want)
+    assert [r.ok for r in rs] == [False, rs[1].ok, False]
+
+
+def test_unexpected_exception_is_kept(pool):
+    rs = sweep(two_carts(), [[0, 1, -1, 0], [0, 1]], 1, pool, progress=False)
+    assert rs[0].ok
+    assert not rs[1].ok and isinstance(rs[1].error, ValueError) and rs[1].trajectory is None
+
+
+def test_param_sweep_family(pool):
+    def spring(k):  # a cart on a spring of stiffness k, a stop at 0: impact at pi / (2 sqrt k)
+        return LCS([[0, 1], [-k, 0]], [[0], [1]], [[1, 0]], [[0]])
+    ks = [1, 4, 9, 16]
+    rs = param_sweep(spring, ks, [1, 0], 2, pool, progress=False)
+    assert [r.param for r in rs] == ks
+    for k, r in zip(ks, rs):
+        t = r.trajectory.events[0].time
+        with mpmath.workdps(40):
+            assert abs(mpmath.mpf(t.decimal(35).split(" ")[0]) - mpmath.pi / (2 * mpmath.sqrt(k))) < 1e-30
+
+
+def test_default_executor_and_progress_bar(capsys):
+    rs = sweep(two_carts(), [[0, 1, -1, 0]], 1)
+    assert rs[0].ok and str(rs[0].trajectory.events[0].state_after) == "(0, 1, 0, 0)"
+    assert "1/1" in capsys.readouterr().err   # tqdm wrote its bar
+
+
+def test_irrational_x0_is_refused_with_a_reason():
+    x0 = L.expm_action([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]], -1, [0, -1, -1, 0])
+    with pytest.raises(TypeError, match="x0s\\[0\\]"):
+        sweep(two_carts(), [x0], 3, progress=False)
+
+
+def test_dask_local_cluster(monkeypatch):
+    distributed = pytest.importorskip("distributed")  # in the test extra; a skip means a broken env
+    monkeypatch.setenv("PYTHONPATH", ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    lcs = two_carts_with_hook()
+    with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        rs = sweep(lcs, [hook_x0(e) for e in EPS[:3]], 3, client.get_executor(), progress=False)
+        bad = sweep(lcs, [hook_x0(EPS[0])], 3, client.get_executor(), progress=False, max_events=1)
+    for e, r in zip(EPS, rs):
+        same_run(r.trajectory, simulate(lcs, hook_x0(e), 3))
+    assert isinstance(bad[0].error, LimitExceeded) and len(bad[0].trajectory.events) == 1
