@@ -121,52 +121,14 @@ class Trajectory:
         return ProjectedVector(lcs.C + lcs.D * _full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
 
     def sample(self, ts, digits: int = 17) -> list[list]:
-        """[[x_1(t), ..., x_n(t)] for t in ts] as mpmath numbers correct to ``digits`` digits."""
-        import mpmath
-        out = []
-        with mpmath.mp.workdps(digits + 5):
-            for t in ts:
-                x = self.state(t)
-                out.append([mpmath.mpf(c.ball(digits).mid().str(digits + 3, radius=False)) for c in x])
-        return out
+        """[[x_1(t), ..., x_n(t)] for t in ts] as flint arb balls certified to ``digits`` digits."""
+        return [[c.ball(digits) for c in self.state(t)] for t in ts]
 
     # --- export -------------------------------------------------------------------------------
-    def to_fixture(self, digits: int | None = None) -> dict:
-        """A dict in the fixture schema ``lcs-exact/trajectory/1`` (DESIGN.md section 5)."""
-        d = digits or self.digits
-        lcs = self.lcs
-
-        def num(r: Real, cf=None) -> dict:
-            text = r.decimal(d)
-            value, _, err = text.partition(" +/- ")
-            cf = r.closed_form if cf is None else cf
-            return {"value": value, "error": err or "0", "exact": None if cf is None else str(cf)}
-
-        def vec(v: ExactVector) -> list:
-            cf = v.closed_form()  # derived with SymPy where possible (fixtures are written once)
-            return [num(c, None if cf is None else cf[i]) for i, c in enumerate(v)]
-
-        def mat(m: fmpq_mat) -> list:
-            return [[str(m[i, j]) for j in range(m.ncols())] for i in range(m.nrows())]
-
-        final = self.state(self.phases[-1].t1) if self.phases else self.x0
-        return {
-            "schema": SCHEMA,
-            "system": {"A": mat(lcs.A), "B": mat(lcs.B), "C": mat(lcs.C), "D": mat(lcs.D),
-                       "name": lcs.name},
-            "x0": vec(self.x0),
-            "t_end": num(self.t_end),
-            "digits": d,
-            "events": [{"time": num(e.time),
-                        "mode_before": None if e.mode_before is None else sorted(e.mode_before),
-                        "modes": [sorted(m) for m in e.modes], "mode_after": sorted(e.mode_after),
-                        "state_before": vec(e.state_before), "state_after": vec(e.state_after),
-                        "multiplicity": e.multiplicity} for e in self.events],
-            "final_state": vec(final),
-            "certified": self.certified,
-            "assumptions": list(self.assumptions),
-            "partial": self.partial,
-        }
+    def to_fixture(self, digits: int | None = None, sample=None) -> dict:
+        """A dict in the fixture schema ``lcs-exact/trajectory/1`` (see lcs_exact.fixture)."""
+        from .fixture import fixture_dict
+        return fixture_dict(self, digits, sample)
 
     def plot(self, ax=None, points: int = 400, components=None):
         """Plot the state components with matplotlib (events marked); returns the axes."""
