@@ -351,9 +351,11 @@ class EventComparison:
     kind: str
     solver_time: float | None
     time_error: float | None  # solver_time - certified time
+    time_exact: str | None = None
 
     def to_dict(self) -> dict:
-        return {"index": self.index, "time": ball_number(self.time, 17), "order": self.order,
+        return {"index": self.index, "time": {**ball_number(self.time, 17), "exact": self.time_exact},
+                "order": self.order,
                 "kind": self.kind, "solver_time": self.solver_time, "time_error": self.time_error}
 
 
@@ -418,7 +420,8 @@ class ComparisonReport:
             for e in self.events:
                 st = "-" if e.solver_time is None else f"{e.solver_time:.10g}"
                 te = "-" if e.time_error is None else f"{e.time_error:+.3e}"
-                lines.append(f"  {e.index:>5}  {_short(e.time)[:22]:<22}  {e.kind:<16}  {st:>14}  {te:>11}")
+                tt = _short(e.time) + (f" = {e.time_exact}" if e.time_exact and e.time_exact != _short(e.time) else "")
+                lines.append(f"  {e.index:>5}  {tt:<22}  {e.kind:<16}  {st:>14}  {te:>11}")
         return "\n".join(lines)
 
 
@@ -497,7 +500,7 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
             raise FormatError(f"event_tol must be >= 0, got {event_tol}")
 
     events = [_event_data(e, live) for e in ref.events]
-    taus = [float(tau.mid()) for tau, *_ in events]
+    taus = [float(ev[0].mid()) for ev in events]
     inside = [any(abs(ti - tau) <= window for tau in taus) for ti in tf]
 
     # references at the compared times
@@ -530,11 +533,13 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
 
 
 def _event_data(e: Any, live: bool) -> tuple:
-    """(time, mode_before, mode_after, x-, x+) with balls, from a live Event or a FixtureEvent."""
+    """(time, mode_before, mode_after, x-, x+, closed form of the time) with balls, from a live
+    Event or a FixtureEvent."""
     if live:
-        return (e.time.ball(20), e.mode_before, e.mode_after,
-                tuple(c.ball(20) for c in e.state_before), tuple(c.ball(20) for c in e.state_after))
-    return e.time, e.mode_before, e.mode_after, e.state_before, e.state_after
+        cf = e.time.closed_form
+        return (e.time.ball(20), e.mode_before, e.mode_after, tuple(c.ball(20) for c in e.state_before),
+                tuple(c.ball(20) for c in e.state_after), None if cf is None else str(cf))
+    return e.time, e.mode_before, e.mode_after, e.state_before, e.state_after, e.time_exact
 
 
 def _references(ref: Any, live: bool, times: list) -> tuple:
@@ -593,20 +598,20 @@ def _derivative_jump(lcs: LCS, mb, ma, xb: tuple, xa: tuple) -> tuple:
 
 
 def _compare_event(j: int, ev: tuple, lcs: LCS, tf: list, Xf: list, window: float) -> EventComparison:
-    tau_b, mb, ma, xb, xa = ev
+    tau_b, mb, ma, xb, xa, cf = ev
     tau = float(tau_b.mid())
     if mb is None:
-        return EventComparison(j, tau_b, 0, "initial jump", None, None)
+        return EventComparison(j, tau_b, 0, "initial jump", None, None, cf)
     order, d = _derivative_jump(lcs, mb, ma, xb, xa)
     if order is None:
-        return EventComparison(j, tau_b, None, "no visible jump", None, None)
+        return EventComparison(j, tau_b, None, "no visible jump", None, None, cf)
     kind = {0: "jump", 1: "kink (x' jumps)"}.get(order, f"x^({order}) jumps")
     if not tf[0] <= tau <= tf[-1]:
-        return EventComparison(j, tau_b, order, kind, None, None)
+        return EventComparison(j, tau_b, order, kind, None, None, cf)
     scale = max(abs(float(c.mid())) for c in d)
     dirv = [float(c.mid()) / scale for c in d]
     found = _switch_time(tf, Xf, dirv, order, tau, window)
-    return EventComparison(j, tau_b, order, kind, found, None if found is None else found - tau)
+    return EventComparison(j, tau_b, order, kind, found, None if found is None else found - tau, cf)
 
 
 def _switch_time(tf: list, Xf: list, dirv: list, order: int, tau: float, w: float) -> float | None:

@@ -80,8 +80,8 @@ def _bound_text(err: Fraction) -> str:
 
 def rational_number(q: Any, digits: int) -> dict:
     """A fixture number for an exact rational: the decimal when it terminates within ``digits``
-    significant digits (error 0), else rounded to ``digits`` digits with a bound; ``exact`` is
-    ``"p/q"``.
+    significant digits (error 0), else rounded (half to even) to ``digits`` digits with a bound
+    on the rounding; ``exact`` is ``"p/q"``.
 
     >>> rational_number("1/4", 5)
     {'value': '0.25', 'error': '0', 'exact': '1/4'}
@@ -131,10 +131,14 @@ def ball_number(b: arb, digits: int) -> dict:
 
 
 def _real_number(r: Any, digits: int, cf: Any = None) -> dict:
-    """A fixture number for an exact real (``.decimal(digits)`` gives 'v' or 'v +/- e')."""
-    value, _, err = r.decimal(digits).partition(" +/- ")
+    """A fixture number for an exact real: exact rationals as such, others from a certified
+    ball (``r.ball``) rounded to ``digits`` digits with the bound; ``exact`` is the closed form."""
     cf = r.closed_form if cf is None else cf
-    return {"value": value, "error": err or "0", "exact": None if cf is None else str(cf)}
+    if cf is not None and getattr(cf, "is_Rational", False):
+        return rational_number(fmpq(int(cf.p), int(cf.q)), digits)
+    out = ball_number(r.ball(digits + 3), digits)
+    out["exact"] = None if cf is None else str(cf)
+    return out
 
 
 def _vector(v: Any, digits: int) -> list:
@@ -157,12 +161,11 @@ def _mode(m: Any) -> list | None:
 # ---------------------------------------------------------------------------------------------
 
 def _as_fraction(r: Any) -> Fraction | None:
-    """An exact real as a Fraction when it is proven rational (closed form or exact decimal)."""
+    """An exact real as a Fraction when its closed form is rational, else None."""
     cf = r.closed_form
     if cf is not None and getattr(cf, "is_Rational", False):
         return Fraction(int(cf.p), int(cf.q))
-    text = r.decimal(30)
-    return Fraction(text) if "+/-" not in text else None
+    return None
 
 
 def sample_grid(t_end: Any, h: Any) -> list[Fraction]:
