@@ -416,12 +416,13 @@ class ComparisonReport:
             lines.append("  per component: " + ", ".join(f"{self._name(i)} {_sci(b)}"
                                                          for i, b in enumerate(self.component_errors)))
         if self.events:
-            lines.append(f"  {'event':>5}  {'certified time':<22}  {'kind':<16}  {'solver switch':>14}  {'time error':>11}")
+            lines.append(f"  {'event':>5}  {'certified time':<18}  {'kind':<16}  {'solver switch':>14}  "
+                         f"{'time error':>11}  closed form")
             for e in self.events:
                 st = "-" if e.solver_time is None else f"{e.solver_time:.10g}"
                 te = "-" if e.time_error is None else f"{e.time_error:+.3e}"
-                tt = _short(e.time) + (f" = {e.time_exact}" if e.time_exact and e.time_exact != _short(e.time) else "")
-                lines.append(f"  {e.index:>5}  {tt:<22}  {e.kind:<16}  {st:>14}  {te:>11}")
+                lines.append(f"  {e.index:>5}  {_short(e.time):<18}  {e.kind:<16}  {st:>14}  {te:>11}  "
+                             f"{e.time_exact or '-'}")
         return "\n".join(lines)
 
 
