@@ -52,8 +52,8 @@ def _format_decimal(m: int, e: int) -> str:
     if m == 0:
         return "0"
     sign, digits = ("-" if m < 0 else ""), _text(abs(m))
-    while e < 0 and digits.endswith("0") and len(digits) > 1:  # 1.50 -> 1.5 (same value)
-        digits, e = digits[:-1], e + 1
+    stripped = digits.rstrip("0")  # 1.50 -> 1.5, 10e20 -> 1e21 (same value; zeros come back below)
+    digits, e = stripped, e + len(digits) - len(stripped)
     point = len(digits) + e  # position of the decimal point from the left of ``digits``
     if -5 < point <= 0:
         return f"{sign}0.{'0' * -point}{digits}"
