@@ -415,6 +415,8 @@ class ComparisonReport:
                          f"in {self._name(self.max_error_component)}")
             lines.append("  per component: " + ", ".join(f"{self._name(i)} {_sci(b)}"
                                                          for i, b in enumerate(self.component_errors)))
+        else:
+            lines.append("  no point outside the event windows: no state error measured")
         if self.events:
             lines.append(f"  {'event':>5}  {'certified time':<18}  {'kind':<16}  {'solver switch':>14}  "
                          f"{'time error':>11}  closed form")
