@@ -315,7 +315,8 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument("--t-end", help="final time (default: the file's t_end)")
     sim.add_argument("--digits", type=_digits, default=30, help=f"correct digits, 1..{MAX_DIGITS}")
     sim.add_argument("--x0", help="comma-separated initial state (default: the file's x0)")
-    sim.add_argument("--sample", help="add certified samples on the grid 0, H, 2H, ... to the fixture")
+    sim.add_argument("--sample", help="certified samples on the grid 0, H, 2H, ... (in the fixture "
+                     "with -o, else printed)")
     sim.add_argument("-o", "--output", help="write the fixture JSON here")
     sim.add_argument("--max-events", type=_max_events, default=1000)
     sim.add_argument("--time-limit", type=_seconds, help="wall-clock limit in seconds")
@@ -348,6 +349,8 @@ def _simulate(args) -> int:
     _check_strings(str(t_end), "t_end")
     if args.sample is not None:
         _check_strings(args.sample, "--sample")
+        from .fixture import sample_grid
+        sample_grid(0, args.sample)  # a bad step is an input error before the run, not after it
     opts = {"digits": args.digits, "max_events": args.max_events, "time_limit": args.time_limit}
     try:
         traj = simulate(lcs, x0, t_end, **opts)
@@ -367,7 +370,18 @@ def _simulate(args) -> int:
     print(f"x({_fmt_t(traj.t_end)}) = {_fmt_exact(x_end, args.digits)}   [{', '.join(names)}]")
     if args.output:
         _write_fixture(traj, args)
+    elif args.sample is not None:
+        _print_samples(traj, args, names)
     return 0
+
+
+def _print_samples(traj, args, names) -> None:
+    """The certified grid as a table (each value correct to --digits digits)."""
+    from .fixture import ball_number, sample_grid
+    grid = sample_grid(traj.t_end, args.sample)
+    print("samples: t  " + "  ".join(names))
+    for t, row in zip(grid, traj.sample(grid, args.digits)):
+        print(f"{t}  " + "  ".join(ball_number(b, args.digits)["value"] for b in row))
 
 
 def _fmt_t(t) -> str:
