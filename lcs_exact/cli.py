@@ -228,7 +228,19 @@ def two_carts_demo(out=print, digits: int = 30) -> None:
 
 
 def check_report(lcs: LCS, out=print, max_k: int = 8) -> None:
-    """Theorem 6.3's report, leading indices and matrices, H_0..H_n, the autonomy of each mode."""
+    """Theorem 6.3's report, leading indices and matrices, H_0..H_n (5.8), the autonomy of each
+    mode (Lemma 3.3) for k <= ``max_k``, else a summary.
+
+    >>> from lcs_exact.models import two_carts
+    >>> check_report(two_carts())   # doctest: +ELLIPSIS
+    two carts (section 2): n = 4 states, k = 1 complementarity pairs
+    Theorem 6.3 well-posedness: WELL-POSED
+    ...
+    H_2 = [1]
+    H_3 = [0]
+    H_4 = [-2]
+    modes: 2 of 2 autonomous (Lemma 3.3)
+    """
     out(f"{lcs}")
     out(str(lcs.well_posedness()))
     for i in range(lcs.n + 1):
@@ -423,7 +435,14 @@ def _one_line(e: BaseException) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command; returns the exit status (0 success, 2 bad input, 3 run stopped early)."""
+    """Run the command; returns the exit status (0 success, 2 bad input, 3 run stopped early).
+
+    >>> main(["--version"])                      # doctest: +ELLIPSIS
+    lcs-exact ...
+    0
+    >>> main(["simulate", "no-such-model.json"])   # one line on stderr, no traceback
+    2
+    """
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
         args = _parser().parse_args(_join_values(argv))
