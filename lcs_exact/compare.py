@@ -34,7 +34,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any, Sequence
 
-from flint import arb, arb_mat, ctx, fmpq
+from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
 from .errors import FixtureMismatch, FormatError, LCSError, ShapeError
 from .fixture import SCHEMA, ball_number, number_ball, number_exact, number_rational, validate_fixture
@@ -585,9 +585,8 @@ def _derivative_jump(lcs: LCS, mb, ma, xb: tuple, xa: tuple) -> tuple:
     """(j, d_j): the first order whose derivative jumps at the event, certified, and its jump
     d_j = A_{I+}^j x+ - A_{I-}^j x-; (None, None) when no jump up to order n is certified."""
     try:
-        Ab = arb_mat(lcs.mode(mb).closed_loop())
-        Aa = arb_mat(lcs.mode(ma).closed_loop())
-    except LCSError:
+        Ab, Aa = arb_mat(_closed_loop(lcs, mb)), arb_mat(_closed_loop(lcs, ma))
+    except LCSError:  # a mode that is not autonomous has no flow to compare with
         return None, None
     with ctx.workprec(_PREC):
         vb = arb_mat([[c] for c in xb])
@@ -598,6 +597,21 @@ def _derivative_jump(lcs: LCS, mb, ma, xb: tuple, xa: tuple) -> tuple:
                 return j, d
             vb, va = Ab * vb, Aa * va
     return None, None
+
+
+def _closed_loop(lcs: LCS, I: frozenset) -> fmpq_mat:
+    """A_I = A + B_{.I} F_I: x' = A_I x on a phase of mode I (section 4.1); F_I's rows follow
+    the indices of I in increasing order."""
+    A = fmpq_mat(lcs.A)
+    if not I:
+        return A
+    F = lcs.mode(I).feedback()
+    for r, i in enumerate(sorted(I)):
+        for a in range(lcs.n):
+            if lcs.B[a, i] != 0:
+                for b in range(lcs.n):
+                    A[a, b] += lcs.B[a, i] * F[r, b]
+    return A
 
 
 def _compare_event(j: int, ev: tuple, lcs: LCS, tf: list, Xf: list, window: float) -> EventComparison:
