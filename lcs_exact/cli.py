@@ -13,6 +13,9 @@ rational strings ("1/3"), and optionally ``x0``, ``t_end``, ``name``, ``states``
 (names); any other key is an error (DESIGN.md section 5).  Numbers are read exactly: a JSON or
 TOML decimal such as 1e-400 is the rational 10^-400 (never a float).
 
+``--digits`` is 1..10000 (MAX_DIGITS), ``--max-events`` >= 0, ``--time-limit`` > 0 seconds;
+``--x0 -1,2`` needs no ``=``.
+
 Exit status: 0 on success; 2 with a one-line reason on bad input; 3 when a run stops early (a
 limit, an accumulation of events, a deadlock, an unresolved sign) - the partial fixture is still
 written with ``-o``.

@@ -88,6 +88,18 @@ def test_read_fixture_without_rational_x0():
     assert "balls only" in repr(fx)
 
 
+def test_partial_fixture_recomputes_its_computed_part():
+    """From (0, -1, -1, 0) the carts hit the stop at t = 0 and lift off at π/2; a run stopped after
+    the first event is read back, recomputed with the same limit and checked."""
+    with pytest.raises(L.LimitExceeded) as err:
+        L.simulate(carts(), [0, -1, -1, 0], 3, max_events=1)
+    fx = L.read_fixture(err.value.trajectory.to_fixture(20))
+    assert fx.partial and fx.can_recompute and len(fx.events) == 1
+    assert fx.exact.partial and len(fx.exact.events) == 1
+    x = fx.state("1/2")  # on the constrained phase after the impact: (0, -cos t, 0, sin t)
+    assert contains(x[1].ball(25), -mp.cos(mp.mpf(1) / 2)) and contains(x[3].ball(25), mp.sin(mp.mpf(1) / 2))
+
+
 @pytest.mark.parametrize("edit, fragment", [
     (lambda d: d["events"][0]["time"].update(value="1.6", error="0.001"), "event 0: recomputed time"),
     (lambda d: d["events"][0].update(mode_after=[0]), "mode_after"),
