@@ -1,8 +1,10 @@
 """lcs_exact: an exact engine for linear complementarity systems (Heemels, Schumacher, Weiland 2000)."""
 from __future__ import annotations
 
-from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, NotAutonomous, NotRational,
-                     ShapeError, UnresolvedSign, ZenoDetected)
+from .compare import ComparisonReport, FixtureTrajectory, compare, convergence_order, read_fixture
+from .errors import (Deadlock, FixtureMismatch, FormatError, IllPosed, LCSError, LimitExceeded,
+                     NotAutonomous, NotRational, ShapeError, UnresolvedSign, ZenoDetected)
+from .fixture import validate_fixture
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
 from .rational import RationalFunction, RationalMatrix
@@ -16,7 +18,9 @@ __all__ = [
     "LCS", "Mode", "simulate", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
-    "ZenoDetected", "UnresolvedSign", "LimitExceeded",
+    "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
+    "read_fixture", "validate_fixture", "compare", "convergence_order", "ComparisonReport",
+    "FixtureTrajectory",
 ]
 
 __version__ = "0.1.0"

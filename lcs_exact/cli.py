@@ -1,44 +1,169 @@
 """The ``lcs-exact`` command (also ``python -m lcs_exact``).
 
     lcs-exact two-carts                   the paper's two-carts run of section 7, its events
-    lcs-exact simulate MODEL --t-end T --digits D [--x0 "a,b,c"] [-o OUT.json]
-    lcs-exact select MODEL --x0 "a,b,c"   S(x0) and the initial solution for a model file
+    lcs-exact simulate MODEL [--x0 a,b,c] [--t-end T] [--digits D] [--sample H]
+                             [--max-events N] [--time-limit S] [-o OUT.json]
+    lcs-exact select MODEL [--x0 a,b,c]   S(x0) and the initial solution for a model file
+    lcs-exact check MODEL                 Theorem 6.3, leading indices, Markov parameters, modes
+    lcs-exact compare FIXTURE SOL.csv [MORE.csv ...] [--json] [--event-tol W]
+    lcs-exact --version
 
 A model file (TOML or JSON) has ``A``, ``B``, ``C``, ``D`` as lists of rows of numbers or
-rational strings, and optionally ``x0`` and ``name`` (DESIGN.md section 5).  Exit status 0 on
-success, 2 with a one-line reason on bad input.
+rational strings ("1/3"), and optionally ``x0``, ``t_end``, ``name``, ``states`` and ``inputs``
+(names); any other key is an error (DESIGN.md section 5).  Numbers are read exactly: a JSON or
+TOML decimal such as 1e-400 is the rational 10^-400 (never a float).
+
+``--digits`` is 1..10000 (MAX_DIGITS), ``--max-events`` >= 0, ``--time-limit`` > 0 seconds;
+``--x0 -1,2`` needs no ``=``.
+
+Exit status: 0 on success; 2 with a one-line reason on bad input; 3 when a run stops early (a
+limit, an accumulation of events, a deadlock, an unresolved sign) - the partial fixture is still
+written with ``-o``.
 """
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import re
 import sys
+from fractions import Fraction
 from pathlib import Path
+from typing import Any
 
-from .errors import LCSError
+from .errors import FormatError, LCSError
 from .modes import format_mode
 from .system import LCS
 
-__all__ = ["main", "load_model"]
+__all__ = ["main", "load_model", "read_model", "MAX_DIGITS", "MODEL_KEYS"]
+
+MAX_DIGITS = 10_000
+MODEL_KEYS = ("A", "B", "C", "D", "x0", "t_end", "name", "states", "inputs")
+_MAX_EXPONENT = 10_000  # 1e999999999 would be a gigabyte-sized rational: refused, not computed
+_EXPONENT = re.compile(r"[eE]\s*([+-]?\d+)")
+
+
+class _UsageError(Exception):
+    """Bad command-line syntax (argparse's own errors), reported in one line with exit 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, no usage dump; main() turns it into exit status 2
+        raise _UsageError(message)
+
+
+# ---------------------------------------------------------------------------------------------
+# model files
+# ---------------------------------------------------------------------------------------------
+
+def _exact_number(text: str) -> Fraction:
+    """A JSON/TOML float literal read exactly (exponent bounded)."""
+    m = _EXPONENT.search(text)
+    if m and abs(int(m.group(1))) > _MAX_EXPONENT:
+        raise FormatError(f"the number {text[:30]} has an exponent beyond +/-{_MAX_EXPONENT}")
+    try:
+        return Fraction(text.replace("_", ""))
+    except (ValueError, ZeroDivisionError):
+        raise FormatError(f"{text[:30]!r} is not a finite number") from None
+
+
+def _reject_constant(name: str):
+    raise FormatError(f"{name} is not a finite number")
+
+
+def _check_strings(v: Any, where: str) -> None:
+    """Refuse numeric strings with huge exponents before anything turns them into rationals."""
+    if isinstance(v, str):
+        m = _EXPONENT.search(v)
+        if m and abs(int(m.group(1))) > _MAX_EXPONENT:
+            raise FormatError(f"{where} = {v[:30]!r} has an exponent beyond +/-{_MAX_EXPONENT}")
+    elif isinstance(v, list):
+        for i, e in enumerate(v):
+            _check_strings(e, f"{where}[{i}]")
+
+
+def _kind(v: Any) -> str:
+    return {type(None): "null", bool: "a boolean", dict: "an object", list: "a list", str: "a string"}.get(
+        type(v), "a number")
+
+
+def read_model(path: str) -> dict:
+    """The model file's data, checked: an object with A, B, C, D and only the known keys."""
+    p = Path(path)
+    text = p.read_text(encoding="utf-8")
+    try:
+        if p.suffix.lower() == ".toml":
+            import tomllib
+            data = tomllib.loads(text, parse_float=_exact_number)
+        else:
+            data = json.loads(text, parse_float=_exact_number, parse_constant=_reject_constant)
+    except RecursionError:
+        raise FormatError(f"model file {path}: nested too deeply") from None
+    except FormatError as e:
+        raise FormatError(f"model file {path}: {e}") from None
+    except ValueError as e:  # JSONDecodeError, TOMLDecodeError, integers beyond Python's digit limit
+        raise FormatError(f"model file {path}: {e}") from None
+    if not isinstance(data, dict):
+        raise FormatError(f"model file {path} must hold an object with keys A, B, C, D, got {_kind(data)}")
+    unknown = [k for k in data if k not in MODEL_KEYS]
+    if unknown:
+        raise FormatError(f"model file {path}: unknown key {unknown[0][:40]!r} (allowed: {', '.join(MODEL_KEYS)})")
+    missing = [key for key in "ABCD" if key not in data]
+    if missing:
+        raise FormatError(f"model file {path} lacks {', '.join(missing)}")
+    for key in "ABCD":
+        v = data[key]
+        if not isinstance(v, list) or not all(isinstance(r, list) for r in v):
+            raise FormatError(f"model file {path}: {key} must be a list of rows (lists of numbers), got {_kind(v)}")
+    if "x0" in data and not isinstance(data["x0"], list):
+        raise FormatError(f"model file {path}: x0 must be a list of numbers, got {_kind(data['x0'])}")
+    if "t_end" in data and (isinstance(data["t_end"], (bool, list, dict)) or data["t_end"] is None):
+        raise FormatError(f"model file {path}: t_end must be a number, got {_kind(data['t_end'])}")
+    if "name" in data and not isinstance(data["name"], str):
+        raise FormatError(f"model file {path}: name must be a string, got {_kind(data['name'])}")
+    for key in ("states", "inputs"):
+        if key in data and (not isinstance(data[key], list) or not all(isinstance(s, str) for s in data[key])):
+            raise FormatError(f"model file {path}: {key} must be a list of names (strings)")
+    for key in ("A", "B", "C", "D", "x0", "t_end"):
+        if key in data:
+            _check_strings(data[key], f"model file {path}: {key}")
+    return data
 
 
 def load_model(path: str) -> tuple[LCS, dict]:
-    """Read a model file (TOML or JSON) into an LCS and the raw dict."""
-    p = Path(path)
-    text = p.read_text()
-    if p.suffix.lower() == ".toml":
-        import tomllib
-        data = tomllib.loads(text)
-    else:
-        data = json.loads(text)
-    missing = [key for key in "ABCD" if key not in data]
-    if missing:
-        raise LCSError(f"model file {path} lacks {', '.join(missing)}")
-    return LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name")), data
+    """Read a model file (TOML or JSON) into an LCS and its checked data (see :func:`read_model`)."""
+    data = read_model(path)
+    lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"))
+    for key, size, what in (("states", lcs.n, "n"), ("inputs", lcs.k, "k")):
+        if key in data and len(data[key]) != size:
+            raise FormatError(f"model file {path}: {key} has {len(data[key])} names, expected {what} = {size}")
+    if "x0" in data and len(data["x0"]) != lcs.n:
+        raise FormatError(f"model file {path}: x0 has length {len(data['x0'])}, expected {lcs.n} (n)")
+    return lcs, data
 
+
+def _x0_of(args, data: dict, n: int) -> list:
+    if args.x0 is not None:
+        x0 = [v.strip() for v in args.x0.split(",")]
+        _check_strings(x0, "--x0")
+        if len(x0) != n:
+            raise FormatError(f"--x0 has length {len(x0)}, expected {n} (n)")
+        return x0
+    if "x0" not in data:
+        raise FormatError("no initial state: give --x0 or put x0 in the model file")
+    return data["x0"]
+
+
+# ---------------------------------------------------------------------------------------------
+# printing
+# ---------------------------------------------------------------------------------------------
 
 def _fmt_vec(x) -> str:
     return "(" + ", ".join(str(x[i, 0]) for i in range(x.nrows())) + ")"
+
+
+def _fmt_mat(m) -> str:
+    return "[" + "; ".join(" ".join(str(m[i, j]) for j in range(m.ncols())) for i in range(m.nrows())) + "]"
 
 
 def report_selection(lcs: LCS, x0, out=print) -> None:
@@ -59,8 +184,9 @@ def report_selection(lcs: LCS, x0, out=print) -> None:
 def print_events(traj, digits: int, out=print) -> None:
     """One line per event: time (closed form when proven), modes, states."""
     for e in traj.events:
+        closed = e.time.closed_form  # first: a proven rational time then prints exactly
         t = e.time.decimal(digits)
-        cf = f"  = {e.time.closed_form}" if e.time.closed_form is not None else ""
+        cf = f"  = {closed}" if closed is not None else ""
         mb = "start" if e.mode_before is None else format_mode(e.mode_before)
         jumps = " -> ".join(format_mode(m) for m in e.modes) or "none"
         out(f"event t = {t}{cf}")
@@ -105,45 +231,250 @@ def two_carts_demo(out=print, digits: int = 30) -> None:
     out(f"    S^4_LDCP = {{{', '.join(sorted(format_mode(m) for m in sol.modes))}}}")
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="lcs-exact", description="Exact linear complementarity systems")
-    sub = parser.add_subparsers(dest="cmd", required=True)
+def check_report(lcs: LCS, out=print, max_k: int = 8) -> None:
+    """Theorem 6.3's report, leading indices and matrices, H_0..H_n (5.8), the autonomy of each
+    mode (Lemma 3.3) for k <= ``max_k``, else a summary.
+
+    >>> from lcs_exact.models import two_carts
+    >>> check_report(two_carts())   # doctest: +ELLIPSIS
+    two carts (section 2): n = 4 states, k = 1 complementarity pairs
+    Theorem 6.3 well-posedness: WELL-POSED
+    ...
+    H_2 = [1]
+    H_3 = [0]
+    H_4 = [-2]
+    modes: 2 of 2 autonomous (Lemma 3.3)
+    """
+    out(f"{lcs}")
+    out(str(lcs.well_posedness()))
+    for i in range(lcs.n + 1):
+        out(f"H_{i} = {_fmt_mat(lcs.markov(i))}")
+    k = lcs.k
+    if k > max_k:
+        out(f"modes: 2^{k} = {2 ** k} index sets; autonomy not enumerated for k > {max_k} "
+            f"(ask lcs.mode(I).is_autonomous for the ones you need)")
+        return
+    bad = []
+    for bits in range(2 ** k):
+        I = frozenset(i for i in range(k) if bits >> i & 1)
+        m = lcs.mode(I)
+        if not m.is_autonomous:
+            bad.append(f"{format_mode(I)}: {m.autonomy_reason}")
+    out(f"modes: {2 ** k - len(bad)} of {2 ** k} autonomous (Lemma 3.3)")
+    for line in bad:
+        out(f"    not autonomous {line}")
+
+
+# ---------------------------------------------------------------------------------------------
+# argument types (validated at the boundary, one-line errors)
+# ---------------------------------------------------------------------------------------------
+
+def _digits(text: str) -> int:
+    v = _int(text)
+    if not 1 <= v <= MAX_DIGITS:
+        raise argparse.ArgumentTypeError(f"must be in 1..{MAX_DIGITS}, got {v}")
+    return v
+
+
+def _max_events(text: str) -> int:
+    v = _int(text)
+    if v < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {v}")
+    return v
+
+
+def _int(text: str) -> int:
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer, got {text[:30]!r}") from None
+
+
+def _seconds(text: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds, got {text[:30]!r}") from None
+    if not math.isfinite(v) or v <= 0:
+        raise argparse.ArgumentTypeError(f"must be a positive number of seconds, got {text[:30]}")
+    return v
+
+
+# options whose values may begin with '-' (argparse would read "-1,2" as an option)
+_VALUE_OPTIONS = ("--x0", "--t-end", "--digits", "--max-events", "--time-limit", "--sample", "--event-tol")
+
+
+def _join_values(argv: list[str]) -> list[str]:
+    """``--x0 -1,2`` -> ``--x0=-1,2`` so that a negative first entry is a value, not an option."""
+    out, i = [], 0
+    while i < len(argv):
+        a = argv[i]
+        if a in _VALUE_OPTIONS and i + 1 < len(argv):
+            out.append(f"{a}={argv[i + 1]}")
+            i += 2
+        else:
+            out.append(a)
+            i += 1
+    return out
+
+
+def _parser() -> argparse.ArgumentParser:
+    from . import __version__
+    parser = _Parser(prog="lcs-exact", description="Exact linear complementarity systems "
+                     "(Heemels, Schumacher, Weiland 2000)")
+    parser.add_argument("--version", action="version", version=f"lcs-exact {__version__}")
+    sub = parser.add_subparsers(dest="cmd", required=True, metavar="COMMAND")
     tc = sub.add_parser("two-carts", help="the paper's two-carts run of section 7 and its events")
-    tc.add_argument("--digits", type=int, default=30)
-    sim = sub.add_parser("simulate", help="Algorithm 7.1 on a model file")
+    tc.add_argument("--digits", type=_digits, default=30)
+    sim = sub.add_parser("simulate", help="Algorithm 7.1 on a model file; prints events and x(t_end)")
     sim.add_argument("model")
-    sim.add_argument("--t-end", required=False, help="final time (default: the file's t_end)")
-    sim.add_argument("--digits", type=int, default=30)
+    sim.add_argument("--t-end", help="final time (default: the file's t_end)")
+    sim.add_argument("--digits", type=_digits, default=30, help=f"correct digits, 1..{MAX_DIGITS}")
     sim.add_argument("--x0", help="comma-separated initial state (default: the file's x0)")
+    sim.add_argument("--sample", help="certified samples on the grid 0, H, 2H, ... (in the fixture "
+                     "with -o, else printed)")
     sim.add_argument("-o", "--output", help="write the fixture JSON here")
-    sim.add_argument("--max-events", type=int, default=1000)
+    sim.add_argument("--max-events", type=_max_events, default=1000)
+    sim.add_argument("--time-limit", type=_seconds, help="wall-clock limit in seconds")
     sel = sub.add_parser("select", help="S(x0) and the initial solution for a model file")
     sel.add_argument("model")
     sel.add_argument("--x0", help="comma-separated initial state (default: the file's x0)")
-    args = parser.parse_args(argv)
+    chk = sub.add_parser("check", help="well-posedness (Theorem 6.3), Markov parameters, modes")
+    chk.add_argument("model")
+    cmp_ = sub.add_parser("compare", help="error of other solvers' solutions (CSV: t, x1..xn) "
+                          "against a fixture; several CSVs give the order of convergence")
+    cmp_.add_argument("fixture")
+    cmp_.add_argument("solutions", nargs="+")
+    cmp_.add_argument("--json", action="store_true", help="print JSON instead of tables")
+    cmp_.add_argument("--event-tol", help="half-width of the window left out around each event "
+                      "(default: twice the solution's largest step)")
+    return parser
+
+
+# ---------------------------------------------------------------------------------------------
+# commands
+# ---------------------------------------------------------------------------------------------
+
+def _simulate(args) -> int:
+    from .simulate import simulate
+    lcs, data = load_model(args.model)
+    x0 = _x0_of(args, data, lcs.n)
+    t_end = args.t_end if args.t_end is not None else data.get("t_end")
+    if t_end is None:
+        raise FormatError("no final time: give --t-end or put t_end in the model file")
+    _check_strings(str(t_end), "t_end")
+    if args.sample is not None:
+        _check_strings(args.sample, "--sample")
+        from .fixture import sample_grid
+        sample_grid(0, args.sample)  # a bad step is an input error before the run, not after it
+    opts = {"digits": args.digits, "max_events": args.max_events, "time_limit": args.time_limit}
+    try:
+        traj = simulate(lcs, x0, t_end, **opts)
+    except LCSError as e:
+        partial = getattr(e, "trajectory", None)
+        if partial is None:
+            raise
+        print_events(partial, args.digits)
+        if args.output:
+            _write_fixture(partial, args)
+        print(f"lcs-exact: run stopped early: {_one_line(e)}"
+              + (f" (partial fixture written to {args.output})" if args.output else ""), file=sys.stderr)
+        return 3
+    print_events(traj, args.digits)
+    names = data.get("states") or [f"x{i + 1}" for i in range(lcs.n)]
+    x_end = traj.state(traj.t_end)
+    print(f"x({_fmt_t(traj.t_end)}) = {_fmt_exact(x_end, args.digits)}   [{', '.join(names)}]")
+    if args.output:
+        _write_fixture(traj, args)
+    elif args.sample is not None:
+        _print_samples(traj, args, names)
+    return 0
+
+
+def _print_samples(traj, args, names) -> None:
+    """The certified grid as a table (each value correct to --digits digits)."""
+    from .fixture import ball_number, sample_grid
+    grid = sample_grid(traj.t_end, args.sample)
+    print("samples: t  " + "  ".join(names))
+    for t, row in zip(grid, traj.sample(grid, args.digits)):
+        print(f"{t}  " + "  ".join(ball_number(b, args.digits)["value"] for b in row))
+
+
+def _fmt_t(t) -> str:
+    cf = t.closed_form
+    return str(cf) if cf is not None else t.decimal(15).split(" +/-")[0]
+
+
+def _write_fixture(traj, args) -> None:
+    fx = traj.to_fixture(args.digits, sample=args.sample)
+    Path(args.output).write_text(json.dumps(fx, indent=1) + "\n", encoding="utf-8")
+
+
+def _compare(args) -> int:
+    from .compare import compare, convergence_order, read_fixture, read_solution_csv
+    if args.event_tol is not None:
+        _check_strings(args.event_tol, "--event-tol")
+    fx = read_fixture(args.fixture)
+    reports = []
+    for path in args.solutions:
+        t, X = read_solution_csv(path)
+        reports.append(compare(fx, t, X, event_tol=args.event_tol, label=path))
+    order = convergence_order(reports) if len(reports) > 1 else None
+    if args.json:
+        print(json.dumps({"fixture": args.fixture, "reports": [r.to_dict() for r in reports],
+                          "order": order}, indent=1))
+        return 0
+    for r in reports:
+        print(r)
+    if order is not None:
+        print("order of convergence (least-squares slope of log max error against log step): "
+              f"{order:.3f}")
+        for r in reports:
+            print(f"    step {r.step:<12.6g} max error {float(r.max_error.mid()):.4e}   {r.label}")
+    return 0
+
+
+def _one_line(e: BaseException) -> str:
+    return " ".join(str(e).split())
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command; returns the exit status (0 success, 2 bad input, 3 run stopped early).
+
+    >>> main(["--version"])                      # doctest: +ELLIPSIS
+    lcs-exact ...
+    0
+    >>> main(["simulate", "no-such-model.json"])   # one line on stderr, no traceback
+    2
+    """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    try:
+        args = _parser().parse_args(_join_values(argv))
+    except _UsageError as e:
+        print(f"lcs-exact: error: {_one_line(e)}", file=sys.stderr)
+        return 2
+    except SystemExit as e:  # --help, --version
+        return int(e.code or 0)
     try:
         if args.cmd == "two-carts":
             two_carts_demo(digits=args.digits)
         elif args.cmd == "simulate":
-            from .simulate import simulate
-            lcs, data = load_model(args.model)
-            x0 = args.x0.split(",") if args.x0 else data.get("x0")
-            t_end = args.t_end if args.t_end is not None else data.get("t_end")
-            if x0 is None or t_end is None:
-                raise LCSError("give --x0 and --t-end, or put x0 and t_end in the model file")
-            traj = simulate(lcs, [v.strip() if isinstance(v, str) else v for v in x0],
-                            str(t_end), digits=args.digits, max_events=args.max_events)
-            print_events(traj, args.digits)
-            if args.output:
-                Path(args.output).write_text(json.dumps(traj.to_fixture(args.digits), indent=1))
+            return _simulate(args)
         elif args.cmd == "select":
             lcs, data = load_model(args.model)
-            x0 = args.x0.split(",") if args.x0 else data.get("x0")
-            if x0 is None:
-                raise LCSError("no initial state: give --x0 or put x0 in the model file")
-            report_selection(lcs, [v.strip() if isinstance(v, str) else v for v in x0])
-    except (LCSError, OSError, ValueError) as e:
-        print(f"lcs-exact: error: {e}", file=sys.stderr)
+            report_selection(lcs, _x0_of(args, data, lcs.n))
+        elif args.cmd == "check":
+            lcs, _ = load_model(args.model)
+            check_report(lcs)
+        elif args.cmd == "compare":
+            return _compare(args)
+    except BrokenPipeError:  # the reader went away (`lcs-exact ... | head`): stop quietly
+        import os
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    except (LCSError, OSError, ValueError) as e:  # LCSError: named input errors; OSError: files;
+        # ValueError: the builtins of parsing (JSON/TOML decoding, text encodings)
+        print(f"lcs-exact: error: {_one_line(e)}", file=sys.stderr)
         return 2
     return 0
 

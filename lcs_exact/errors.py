@@ -8,7 +8,7 @@ from __future__ import annotations
 
 __all__ = [
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
-    "ZenoDetected", "UnresolvedSign", "LimitExceeded",
+    "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
 ]
 
 
@@ -50,3 +50,11 @@ class UnresolvedSign(LCSError, ArithmeticError):
 
 class LimitExceeded(LCSError):
     """A user limit (events, wall-clock time) was reached before t_end."""
+
+
+class FormatError(LCSError, ValueError):
+    """A model file, a fixture or a solution file is malformed (names the file, key or line)."""
+
+
+class FixtureMismatch(FormatError):
+    """A fixture disagrees with the trajectory recomputed exactly from its own system and x0."""

@@ -130,14 +130,16 @@ class Trajectory:
         return self.phases[-1].t1 if self.phases else (self.events[-1].time if self.events else as_real(0))
 
     # --- evaluation ---------------------------------------------------------------------------
-    def _locate(self, t: Real) -> tuple[int, bool]:
+    def _locate(self, t: Real, start: int = 0) -> tuple[int, bool]:
         """(index of the phase holding t, True when t is exactly that phase's end), decided by
-        certified signs (an event time equal to t is proven through closed forms)."""
+        certified signs (an event time equal to t is proven through closed forms); the search
+        starts at phase ``start`` (t is known to be at or after its start)."""
         if not self.phases:
             raise LCSError("the trajectory has no continuous phase")
-        if (t - self.phases[0].t0).sign() < 0:
+        if start == 0 and (t - self.phases[0].t0).sign() < 0:
             raise ValueError(f"t = {t._label()} is before the start of the trajectory")
-        for i, rec in enumerate(self.phases):
+        for i in range(start, len(self.phases)):
+            rec = self.phases[i]
             s = 0 if t is rec.t1 else (t - rec.t1).sign()
             if s <= 0:
                 return i, s == 0
@@ -178,11 +180,17 @@ class Trajectory:
         need = digits_to_bits(digits) + 4
         out: list = []
         prec = need + 32
+        cursor, last = 0, None
         for t in ts:
             tq = to_fmpq(t, "t")
-            rec = self._phase_at(as_real(tq, self.policy))
+            if last is None or tq < last:
+                cursor = 0
+            i, at_end = self._locate(as_real(tq, self.policy), cursor)
+            cursor, last = i, tq
+            after = at_end and i + 1 < len(self.phases)  # x(t+) at an event time
+            rec = self.phases[i + 1] if after else self.phases[i]
             while True:
-                x = self._point(rec, tq, prec)
+                x = self._point(rec, tq, prec, after)
                 if all(_accurate(b, need) for b in x):
                     break
                 prec *= 2
@@ -192,9 +200,12 @@ class Trajectory:
         return out
 
     @staticmethod
-    def _point(rec: PhaseRecord, tq: fmpq, prec: int) -> list[arb]:
+    def _point(rec: PhaseRecord, tq: fmpq, prec: int, at_start: bool = False) -> list[arb]:
         phase = rec.phase
         with workprec(prec):
+            if at_start:  # the phase's start itself (t is its first time, exactly)
+                x = phase.z.arb(prec)
+                return [x[i, 0] for i in range(x.nrows())]
             dt = arb(tq) - rec.t0.arb(prec)
             x = phase.spectrum.apply(dt, phase.base.arb(prec), prec, phase.modal(prec))
             if phase.scale is not None:
@@ -202,43 +213,10 @@ class Trajectory:
             return [x[i, 0] for i in range(x.nrows())]
 
     # --- export -------------------------------------------------------------------------------
-    def to_fixture(self, digits: int | None = None, sample: Any = None) -> dict:
-        """A dict in the fixture schema ``lcs-exact/trajectory/1`` (DESIGN.md section 5)."""
-        d = digits or self.digits
-        lcs = self.lcs
-
-        def num(r: Real) -> dict:
-            text = r.decimal(d)
-            value, _, err = text.partition(" +/- ")
-            cf = r.closed_form
-            return {"value": value, "error": err or "0", "exact": None if cf is None else str(cf)}
-
-        def vec(v: ExactVector) -> list:
-            return [num(c) for c in v]
-
-        def mat(m: fmpq_mat) -> list:
-            return [[str(m[i, j]) for j in range(m.ncols())] for i in range(m.nrows())]
-
-        final = self.state(self.phases[-1].t1) if self.phases else self.x0
-        return {
-            "schema": SCHEMA,
-            "system": {"A": mat(lcs.A), "B": mat(lcs.B), "C": mat(lcs.C), "D": mat(lcs.D),
-                       "name": lcs.name},
-            "x0": vec(self.x0),
-            "t_end": num(self.t_end),
-            "digits": d,
-            "events": [{"time": num(e.time),
-                        "mode_before": None if e.mode_before is None else sorted(e.mode_before),
-                        "modes": [sorted(m) for m in e.modes], "mode_after": sorted(e.mode_after),
-                        "state_before": vec(e.state_before), "state_after": vec(e.state_after),
-                        "multiplicity": e.multiplicity} for e in self.events],
-            "accumulations": [],
-            "final_state": vec(final),
-            "certified": self.certified,
-            "assumptions": list(self.assumptions),
-            "partial": self.partial,
-            "status": self.status.value,
-        }
+    def to_fixture(self, digits: int | None = None, sample=None) -> dict:
+        """A dict in the fixture schema ``lcs-exact/trajectory/1`` (see lcs_exact.fixture)."""
+        from .fixture import fixture_dict
+        return fixture_dict(self, digits, sample)
 
     def plot(self, ax=None, points: int = 400, components=None):
         """Plot the state components with matplotlib (events marked); returns the axes."""

@@ -1,0 +1,684 @@
+"""Fixtures read back, and other solvers' solutions compared against them.
+
+* :func:`read_fixture` turns a fixture (``lcs-exact/trajectory/1``, :mod:`lcs_exact.fixture`)
+  back into a trajectory-like :class:`FixtureTrajectory`: events, states and samples as certified
+  ``flint.arb`` balls.  When the fixture's x0 and t_end are exact rationals, the trajectory is
+  recomputed exactly on first use (Algorithm 7.1 through :func:`lcs_exact.simulate`) and checked
+  against the fixture's events (:class:`~lcs_exact.errors.FixtureMismatch` if they disagree);
+  evaluation between samples is then exact again.
+* :func:`compare` measures a numerical solution (times t, rows of states X) against the certified
+  trajectory: the largest state error away from the events, and for each event the time at which
+  the solver's data switches against the certified event time.  :func:`convergence_order` is the
+  least-squares slope of log error against log step over several solutions.
+
+Events in a solver's data.  At an event τ the exact solution has a first discontinuous derivative
+of some order j: j = 0 at a jump (an impact), j = 1 when x' jumps (u jumps), higher at a smooth
+lift-off.  It is computed exactly from the fixture: d_j = A_{I+}^j x(τ+) - A_{I-}^j x(τ-) with
+A_I the closed-loop matrix of mode I (x' = A_I x on a phase of mode I, section 4.1), the first j
+with d_j != 0 certified.  In the solver's data the switch is where the j-th divided difference of
+the signal d_j . x changes most, within the event's window; its time is the middle of that
+stencil.  The window around each event is |t - τ| <= w with w = ``event_tol``, or by default
+twice the largest step of the solution (a time-stepper resolves an event within one step; the
+state error there is O(1) and says nothing about the method's order).
+
+This module is high in the import order: it may import the engine (simulate, system) and the
+fixture format below it; nothing imports it but the package front and the CLI.
+"""
+from __future__ import annotations
+
+import json
+import math
+import re
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from typing import Any, Sequence
+
+from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
+
+from .errors import FixtureMismatch, FormatError, LCSError, ShapeError
+from .fixture import SCHEMA, ball_number, number_ball, number_exact, number_rational, validate_fixture
+from .rational import to_fmpq
+from .system import LCS
+
+__all__ = ["FixtureTrajectory", "FixtureEvent", "Sample", "read_fixture", "read_solution_csv",
+           "compare", "ComparisonReport", "EventComparison", "convergence_order"]
+
+_PREC = 128  # bits for the arithmetic on solver data (doubles) against references
+
+
+def _frozen_mode(m: Any, where: str) -> frozenset | None:
+    if m is None:
+        return None
+    if not isinstance(m, list) or not all(isinstance(i, int) and not isinstance(i, bool) for i in m):
+        raise FormatError(f"fixture: {where} must be a list of indices")
+    return frozenset(m)
+
+
+def _key(d: dict, key: str, where: str = "fixture") -> Any:
+    if not isinstance(d, dict) or key not in d:
+        raise FormatError(f"{where} lacks '{key}'")
+    return d[key]
+
+
+def _balls(v: Any, where: str) -> tuple:
+    if not isinstance(v, list):
+        raise FormatError(f"fixture: {where} must be a list of numbers")
+    return tuple(number_ball(c, where=f"{where}[{i}]") for i, c in enumerate(v))
+
+
+# ---------------------------------------------------------------------------------------------
+# fixtures read back
+# ---------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class FixtureEvent:
+    """An event read from a fixture: the certified time ball (and closed form when given), the
+    modes (Def. 4.3, (4.9)) and the states before and after as certified balls."""
+
+    time: arb
+    time_exact: str | None
+    mode_before: frozenset | None
+    modes: tuple
+    mode_after: frozenset
+    state_before: tuple
+    state_after: tuple
+    multiplicity: int
+    triggers: tuple = ()
+
+
+@dataclass(frozen=True)
+class Sample:
+    """One grid point of a fixture: the exact time ``t`` (rational) and the certified state."""
+
+    t: Fraction
+    x: tuple
+
+
+class FixtureTrajectory:
+    """A trajectory read back from a fixture (see :func:`read_fixture`).
+
+    Attributes: ``lcs`` (the exact system), ``x0``, ``t_end``, ``digits``, ``events``
+    (:class:`FixtureEvent`), ``samples`` (:class:`Sample`), ``sample_step``, ``final_time``,
+    ``final_state``, ``certified``, ``assumptions``, ``partial``, ``stop_reason``,
+    ``accumulations``, ``data`` (the dict).  Numbers are certified ``flint.arb`` balls.
+    ``x0_rational`` holds x0 as Fractions when the fixture says it is rational; then ``exact``
+    is the trajectory recomputed exactly (on first use, checked against the fixture).
+    """
+
+    def __init__(self, data: dict, source: str = "fixture"):
+        if not isinstance(data, dict):
+            raise FormatError(f"{source}: a fixture is a JSON object, got {type(data).__name__}")
+        if data.get("schema") != SCHEMA:
+            raise FormatError(f"{source}: schema is {data.get('schema')!r}, expected {SCHEMA!r}")
+        try:
+            validate_fixture(data)
+        except ModuleNotFoundError:  # without jsonschema the reader's own checks below still run
+            pass
+        self.data, self.source = data, source
+        sysd = _key(data, "system")
+        self.lcs = LCS(_key(sysd, "A", "system"), _key(sysd, "B", "system"), _key(sysd, "C", "system"),
+                       _key(sysd, "D", "system"), name=sysd.get("name"))
+        self.name = self.lcs.name
+        self.digits = _key(data, "digits")
+        self.x0 = _balls(_key(data, "x0"), "x0")
+        rat = [number_rational(c) for c in data["x0"]]
+        self.x0_rational = tuple(rat) if all(q is not None for q in rat) else None
+        self.t_end = number_ball(_key(data, "t_end"), where="t_end")
+        self.t_end_rational = number_rational(data["t_end"])
+        self.events = tuple(self._event(e, j) for j, e in enumerate(_key(data, "events")))
+        self.final_time = number_ball(_key(data, "final_time"), where="final_time")
+        self.final_state = _balls(_key(data, "final_state"), "final_state")
+        self.certified = bool(_key(data, "certified"))
+        self.assumptions = tuple(_key(data, "assumptions"))
+        self.partial = bool(data.get("partial", False))
+        self.stop_reason = data.get("stop_reason")
+        self.accumulations = tuple(
+            (number_ball(a["time"], where=f"accumulations[{i}].time"), _balls(a["state"], f"accumulations[{i}].state"))
+            for i, a in enumerate(data.get("accumulations", ())))
+        step = data.get("sample_step")
+        self.sample_step = None if step is None else Fraction(str(to_fmpq(step, "sample_step")))
+        samples = []
+        for j, s in enumerate(data.get("samples", ())):
+            t = number_rational(_key(s, "t", f"samples[{j}]"))
+            if t is None:
+                raise FormatError(f"{source}: samples[{j}].t is not an exact rational")
+            samples.append(Sample(t, _balls(_key(s, "x", f"samples[{j}]"), f"samples[{j}].x")))
+        self.samples = tuple(samples)
+        self._by_time = {s.t: s for s in self.samples}
+        self._exact = None
+        if any(len(v) != self.lcs.n for v in [self.x0, self.final_state] + [s.x for s in self.samples]):
+            raise FormatError(f"{source}: a state does not have n = {self.lcs.n} components")
+
+    def _event(self, e: dict, j: int) -> FixtureEvent:
+        w = f"events[{j}]"
+        return FixtureEvent(
+            time=number_ball(_key(e, "time", w), where=f"{w}.time"), time_exact=number_exact(e["time"]),
+            mode_before=_frozen_mode(_key(e, "mode_before", w), f"{w}.mode_before"),
+            modes=tuple(_frozen_mode(m, f"{w}.modes") for m in _key(e, "modes", w)),
+            mode_after=_frozen_mode(_key(e, "mode_after", w), f"{w}.mode_after"),
+            state_before=_balls(_key(e, "state_before", w), f"{w}.state_before"),
+            state_after=_balls(_key(e, "state_after", w), f"{w}.state_after"),
+            multiplicity=int(_key(e, "multiplicity", w)), triggers=tuple(e.get("triggers", ())))
+
+    # --- exact evaluation -----------------------------------------------------------------------
+    @property
+    def can_recompute(self) -> bool:
+        """True when x0 and t_end are exact rationals: the run can be repeated exactly."""
+        return self.x0_rational is not None and self.t_end_rational is not None
+
+    @property
+    def exact(self):
+        """The trajectory recomputed exactly from the fixture's system and x0 (None when x0 or
+        t_end is not rational).  Computed on first access and checked against the fixture."""
+        if self._exact is None and self.can_recompute:
+            self._exact = self._recompute()
+        return self._exact
+
+    def _recompute(self):
+        from .simulate import simulate
+        x0 = [fmpq(q.numerator, q.denominator) for q in self.x0_rational]
+        T = fmpq(self.t_end_rational.numerator, self.t_end_rational.denominator)
+        opts = {"allow_unresolved": not self.certified, "max_events": max(1000, len(self.events))}
+        if self.partial:
+            opts["max_events"] = len(self.events)
+        try:
+            traj = simulate(self.lcs, x0, T, digits=self.digits, **opts)
+        except LCSError as e:
+            if not self.partial or getattr(e, "trajectory", None) is None:
+                raise FixtureMismatch(f"{self.source}: recomputing the run failed where the fixture "
+                                      f"has none: {type(e).__name__}: {e}") from e
+            traj = e.trajectory
+        self._verify(traj)
+        return traj
+
+    def _verify(self, traj) -> None:
+        """Every event of the recomputed run agrees with the fixture (modes exactly, times and
+        states as overlapping certified balls: disjoint balls prove a disagreement)."""
+        src, d = self.source, self.digits
+        if len(traj.events) != len(self.events):
+            raise FixtureMismatch(f"{src}: the recomputed run has {len(traj.events)} events, the fixture "
+                                  f"{len(self.events)}")
+        for j, (e, f) in enumerate(zip(traj.events, self.events)):
+            for key in ("mode_before", "mode_after", "modes"):
+                if getattr(e, key) != getattr(f, key):
+                    raise FixtureMismatch(f"{src}: event {j}: recomputed {key} {_fmt_modes(getattr(e, key))} "
+                                          f"differs from the fixture's {_fmt_modes(getattr(f, key))}")
+            if not e.time.ball(d).overlaps(f.time):
+                raise FixtureMismatch(f"{src}: event {j}: recomputed time {e.time.decimal(20)} is outside the "
+                                      f"fixture's {f.time}")
+            for key in ("state_before", "state_after"):
+                for i, (c, b) in enumerate(zip(getattr(e, key), getattr(f, key))):
+                    if not c.ball(d).overlaps(b):
+                        raise FixtureMismatch(f"{src}: event {j}: {key}[{i}] recomputed as "
+                                              f"{c.decimal(20)} is outside the fixture's {b}")
+
+    def state(self, t: Any):
+        """x(t) as an exact vector (from the recomputed run); see :meth:`sample` for balls."""
+        if self.exact is None:
+            raise FormatError(f"{self.source}: x0 is not rational, so the run cannot be recomputed "
+                              f"exactly; the fixture's samples are certified at their grid times "
+                              f"(use .sample(ts) at grid times)")
+        return self.exact.state(t)
+
+    def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list]:
+        """Certified balls of x(t) for t in ts: from the fixture's samples at grid times, else from
+        the exact recomputation (FormatError when neither is available)."""
+        times = [_fraction(t, "t") for t in ts]
+        if all(t in self._by_time for t in times):
+            return [list(self._by_time[t].x) for t in times]
+        if self.exact is None:
+            missing = next(t for t in times if t not in self._by_time)
+            raise FormatError(f"{self.source}: t = {missing} is not a sample time and x0 is not rational "
+                              f"(no exact recomputation)")
+        return self.exact.sample(times, digits)
+
+    def __repr__(self):
+        status = "certified" if self.certified else f"NOT certified ({len(self.assumptions)} assumptions)"
+        exact = "exact evaluation available (x0 rational)" if self.can_recompute else "balls only (x0 not rational)"
+        part = ", PARTIAL" if self.partial else ""
+        name = f" {self.name!r}" if self.name else ""
+        return (f"<FixtureTrajectory{name} on [0, {_short(self.t_end)}]: {len(self.events)} events, "
+                f"{len(self.samples)} samples, {status}{part}; {exact}>")
+
+
+def _fmt_modes(m) -> str:
+    if m is None:
+        return "none"
+    if isinstance(m, tuple):
+        return "(" + ", ".join(_fmt_modes(x) for x in m) + ")"
+    return "{" + ", ".join(str(i) for i in sorted(m)) + "}" if m else "∅"
+
+
+def _short(b: arb) -> str:
+    return b.str(15, radius=False) if not b.is_exact() or not b.mid().is_integer() else str(int(b.unique_fmpz()))
+
+
+def _fraction(v: Any, what: str) -> Fraction:
+    q = to_fmpq(v, what)
+    return Fraction(int(q.p), int(q.q))
+
+
+def read_fixture(path_or_dict: Any) -> FixtureTrajectory:
+    """Read a fixture (a path to its JSON file, or the dict) back as a :class:`FixtureTrajectory`.
+
+    Validates it (the shipped JSON Schema when ``jsonschema`` is installed, and the reader's own
+    shape checks); raises :class:`~lcs_exact.errors.FormatError` naming what is wrong.
+
+    Examples
+    --------
+    >>> import lcs_exact as L
+    >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
+    >>> fx = read_fixture(L.simulate(osc, [1, 0], 2).to_fixture(20, sample="1/2"))
+    >>> fx.events[0].time_exact, fx.can_recompute, fx.samples[1].t
+    ('pi/2', True, Fraction(1, 2))
+    >>> x = fx.state("3/4")                 # between samples: recomputed exactly (x2 = -sin t)
+    >>> x[1].ball(25).overlaps(-arb(fmpq(3, 4)).sin()), x[1].decimal(12).split()[0]
+    (True, '-0.681638760023')
+    """
+    if isinstance(path_or_dict, FixtureTrajectory):
+        return path_or_dict
+    if isinstance(path_or_dict, dict):
+        return FixtureTrajectory(path_or_dict)
+    if isinstance(path_or_dict, (str, Path)):
+        p = Path(path_or_dict)
+        try:
+            data = json.loads(p.read_text(encoding="utf-8"))
+        except json.JSONDecodeError as e:
+            raise FormatError(f"{p}: not JSON ({e})") from None
+        except RecursionError:
+            raise FormatError(f"{p}: JSON nested too deeply") from None
+        return FixtureTrajectory(data, str(p))
+    raise FormatError(f"read_fixture takes a path or a dict, got {type(path_or_dict).__name__}")
+
+
+# ---------------------------------------------------------------------------------------------
+# solutions of other solvers
+# ---------------------------------------------------------------------------------------------
+
+def read_solution_csv(path: Any) -> tuple[list[str], list[list[str]]]:
+    """Read a solver's solution: one row per time, columns t, x1..xn (comma- or whitespace-
+    separated), an optional header line, ``#`` comments.  Returns (t, X) as decimal strings
+    (read exactly later).
+
+    >>> import tempfile, os
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
+    ...     _ = f.write("t,x1,x2\\n0,1,0\\n0.5,0.87,-0.47\\n")
+    >>> read_solution_csv(f.name); os.unlink(f.name)
+    (['0', '0.5'], [['1', '0'], ['0.87', '-0.47']])
+    """
+    p = Path(path)
+    t, X, width = [], [], None
+    with p.open(encoding="utf-8") as fh:
+        for lineno, line in enumerate(fh, 1):
+            line = line.strip()
+            if not line or line.startswith("#"):
+                continue
+            fields = [f.strip() for f in (line.split(",") if "," in line else line.split())]
+            if not t and width is None and not all(_is_number(f) for f in fields):
+                width = len(fields)  # a header line
+                continue
+            if width is not None and len(fields) != width:
+                raise ShapeError(f"{p}: line {lineno} has {len(fields)} columns, expected {width}")
+            width = len(fields)
+            if width < 2:
+                raise ShapeError(f"{p}: line {lineno} has {width} column; expected t, x1, ..., xn")
+            bad = next((f for f in fields if not _is_number(f)), None)
+            if bad is not None:
+                raise FormatError(f"{p}: line {lineno}: {bad[:30]!r} is not a number")
+            t.append(fields[0])
+            X.append(fields[1:])
+    if len(t) < 2:
+        raise FormatError(f"{p}: a solution needs at least 2 rows (t, x1, ..., xn), found {len(t)}")
+    return t, X
+
+
+_NUMBER = re.compile(r"[+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]{1,4})?")
+
+
+def _is_number(text: str) -> bool:
+    return _NUMBER.fullmatch(text) is not None
+
+
+@dataclass(frozen=True)
+class EventComparison:
+    """One event against the solver's data: the certified time, the order j of the first
+    discontinuous derivative (0: x jumps), the solver's switch time and the difference."""
+
+    index: int
+    time: arb
+    order: int | None
+    kind: str
+    solver_time: float | None
+    time_error: float | None  # solver_time - certified time
+    time_exact: str | None = None
+
+    def to_dict(self) -> dict:
+        return {"index": self.index, "time": {**ball_number(self.time, 17), "exact": self.time_exact},
+                "order": self.order,
+                "kind": self.kind, "solver_time": self.solver_time, "time_error": self.time_error}
+
+
+@dataclass(frozen=True)
+class ComparisonReport:
+    """The error of a solution against a fixture (:func:`compare`).
+
+    ``max_error`` is a certified ball of max |x_i(t) - X_i| over components and compared points
+    (those outside the event windows), ``component_errors`` the same per component;
+    ``events`` compares each event time with the solver's switch.
+    """
+
+    label: str
+    reference: str
+    n_points: int
+    n_compared: int
+    n_in_windows: int
+    n_unmatched: int
+    step: float
+    window: float
+    window_rule: str
+    max_error: arb
+    max_error_time: float | None
+    max_error_component: int | None
+    component_errors: tuple
+    events: tuple
+    certified: bool
+    time_mismatch: float = 0.0
+    names: tuple = field(default=())
+
+    def _name(self, i: int) -> str:
+        return self.names[i] if i < len(self.names) else f"x{i + 1}"
+
+    def to_dict(self) -> dict:
+        """A JSON-ready dict (errors and event times as fixture numbers: value and bound)."""
+        return {"label": self.label, "reference": self.reference, "points": self.n_points,
+                "compared": self.n_compared, "in_event_windows": self.n_in_windows,
+                "unmatched": self.n_unmatched, "step": self.step, "window": self.window,
+                "window_rule": self.window_rule, "max_error": ball_number(self.max_error, 6),
+                "max_error_time": self.max_error_time, "max_error_component": self.max_error_component,
+                "component_errors": [ball_number(b, 6) for b in self.component_errors],
+                "events": [e.to_dict() for e in self.events], "certified": self.certified,
+                "time_mismatch": self.time_mismatch}
+
+    def __repr__(self):
+        return (f"<ComparisonReport {self.label!r}: max error {_sci(self.max_error)} over "
+                f"{self.n_compared} points away from {len(self.events)} events, step {self.step:.3g}>")
+
+    def __str__(self):
+        ref = "the fixture's samples" if self.reference == "samples" else "the exact trajectory"
+        lines = [f"{self.label}: against {ref}" + ("" if self.certified else " (fixture NOT certified)"),
+                 f"  {self.n_points} points, largest step {self.step:.6g}; {self.n_compared} compared, "
+                 f"{self.n_in_windows} in event windows |t - τ| <= {self.window:.3g} ({self.window_rule})"
+                 + (f", {self.n_unmatched} not on the sample grid" if self.n_unmatched else "")]
+        if self.max_error_time is not None:
+            lines.append(f"  max state error {_sci(self.max_error)} at t = {self.max_error_time:.6g} "
+                         f"in {self._name(self.max_error_component)}")
+            lines.append("  per component: " + ", ".join(f"{self._name(i)} {_sci(b)}"
+                                                         for i, b in enumerate(self.component_errors)))
+        else:
+            lines.append("  no point outside the event windows: no state error measured")
+        if self.events:
+            lines.append(f"  {'event':>5}  {'certified time':<18}  {'kind':<16}  {'solver switch':>14}  "
+                         f"{'time error':>11}  closed form")
+            for e in self.events:
+                st = "-" if e.solver_time is None else f"{e.solver_time:.10g}"
+                te = "-" if e.time_error is None else f"{e.time_error:+.3e}"
+                lines.append(f"  {e.index:>5}  {_short(e.time):<18}  {e.kind:<16}  {st:>14}  {te:>11}  "
+                             f"{e.time_exact or '-'}")
+        return "\n".join(lines)
+
+
+def _sci(b: arb) -> str:
+    v = float(b.mid())
+    return f"{v:.4g}" if v == 0 else f"{v:.4e}"
+
+
+def _as_rows(X: Any, n: int, what: str) -> list:
+    rows = X.tolist() if hasattr(X, "tolist") else list(X)
+    for i, r in enumerate(rows):
+        if not hasattr(r, "__len__") or isinstance(r, str) or len(r) != n:
+            got = len(r) if hasattr(r, "__len__") and not isinstance(r, str) else "not a row"
+            raise ShapeError(f"{what}: row {i} has {got} values, expected n = {n}")
+    return rows
+
+
+def _reference_of(fixture: Any):
+    """Normalise the reference: a FixtureTrajectory (path/dict/object) or a live Trajectory."""
+    if hasattr(fixture, "to_fixture") and hasattr(fixture, "lcs"):  # a Trajectory from simulate
+        return fixture, True
+    return read_fixture(fixture), False
+
+
+def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str = "solution",
+            names: Sequence[str] = ()) -> ComparisonReport:
+    """Compare a numerical solution (times ``t``, states ``X``) against a certified trajectory.
+
+    Parameters
+    ----------
+    fixture : path, dict, FixtureTrajectory or Trajectory
+    t : 1-D sequence (numbers or decimal strings; floats by their shortest repr), nondecreasing
+        (a repeated time is a jump: the rows before and after it).
+    X : rows of n state values, one row per time.
+    event_tol : the half-width w of the window excluded around each event (default: twice the
+        solution's largest step).
+
+    The reference at each time is the fixture's sample when the time is on the sample grid (to
+    within 1e-9 of the grid step: solvers accumulate t in floating point), else the exact
+    recomputation when x0 is rational (or the Trajectory itself); other times are left out and
+    counted as ``n_unmatched``.  Error balls are certified against the solver's numbers as given.
+
+    Examples
+    --------
+    >>> import lcs_exact as L
+    >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])   # x'' = -x + u, 0 <= x _|_ u >= 0
+    >>> tr = L.simulate(osc, [1, 0], 2)
+    >>> ts = [k / 8 for k in range(17)]
+    >>> X = [[float(c) + 1e-6, float(v)] for c, v in tr.sample(ts)]   # x1 off by 1e-6
+    >>> r = compare(tr, ts, X)
+    >>> round(float(r.max_error.mid()), 12), r.events[0].kind
+    (1e-06, 'jump')
+    """
+    ref, live = _reference_of(fixture)
+    n = ref.lcs.n
+    ts = t.tolist() if hasattr(t, "tolist") else list(t)
+    rows = _as_rows(X, n, label)
+    if len(ts) != len(rows):
+        raise ShapeError(f"{label}: {len(ts)} times but {len(rows)} rows of states")
+    if len(ts) < 2:
+        raise FormatError(f"{label}: a solution needs at least 2 points")
+    tq = [_fraction(v, f"{label} t[{i}]") for i, v in enumerate(ts)]
+    if any(b < a for a, b in zip(tq, tq[1:])):
+        i = next(i for i, (a, b) in enumerate(zip(tq, tq[1:])) if b < a)
+        raise FormatError(f"{label}: times decrease at row {i + 1} ({float(tq[i])} then {float(tq[i + 1])})")
+    with ctx.workprec(_PREC):
+        Xb = [[arb(to_fmpq(v, f"{label} X[{i}][{c}]")) for c, v in enumerate(r)] for i, r in enumerate(rows)]
+    tf = [float(v) for v in tq]
+    Xf = [[float(b.mid()) for b in r] for r in Xb]
+    step = max(b - a for a, b in zip(tf, tf[1:]))
+    if event_tol is None:
+        window, rule = 2 * step, "2 x the largest step"
+    else:
+        window, rule = float(_fraction(event_tol, "event_tol")), "event_tol"
+        if window < 0:
+            raise FormatError(f"event_tol must be >= 0, got {event_tol}")
+
+    events = [_event_data(e, live) for e in ref.events]
+    taus = [float(ev[0].mid()) for ev in events]
+    inside = [any(abs(ti - tau) <= window for tau in taus) for ti in tf]
+
+    # references at the compared times
+    todo = [i for i in range(len(tq)) if not inside[i]]
+    refs, kind, mismatch, unmatched = _references(ref, live, [tq[i] for i in todo])
+    comp_err = [arb(0)] * n
+    best = (None, None, None, arb(0))  # (index, component, mid, ball)
+    compared = 0
+    with ctx.workprec(_PREC):
+        for i, r in zip(todo, refs):
+            if r is None:
+                continue
+            compared += 1
+            for c in range(n):
+                e = abs(Xb[i][c] - r[c])
+                comp_err[c] = comp_err[c].max(e)
+                m = float(e.mid())
+                if best[2] is None or m > best[2]:
+                    best = (i, c, m, e)
+        overall = arb(0)
+        for e in comp_err:
+            overall = overall.max(e)
+    ev_cmp = tuple(_compare_event(j, ev, ref.lcs, tf, Xf, window) for j, ev in enumerate(events))
+    return ComparisonReport(
+        label=label, reference=kind, n_points=len(tq), n_compared=compared,
+        n_in_windows=sum(inside), n_unmatched=unmatched, step=step, window=window, window_rule=rule,
+        max_error=overall, max_error_time=None if best[0] is None else tf[best[0]],
+        max_error_component=best[1], component_errors=tuple(comp_err), events=ev_cmp,
+        certified=bool(ref.certified), time_mismatch=mismatch, names=tuple(names))
+
+
+def _event_data(e: Any, live: bool) -> tuple:
+    """(time, mode_before, mode_after, x-, x+, closed form of the time) with balls, from a live
+    Event or a FixtureEvent."""
+    if live:
+        cf = e.time.closed_form
+        return (e.time.ball(20), e.mode_before, e.mode_after, tuple(c.ball(20) for c in e.state_before),
+                tuple(c.ball(20) for c in e.state_after), None if cf is None else str(cf))
+    return e.time, e.mode_before, e.mode_after, e.state_before, e.state_after, e.time_exact
+
+
+def _references(ref: Any, live: bool, times: list) -> tuple:
+    """Certified reference states at ``times``: (list of ball rows or None, kind, max |Δt| of
+    the grid matching, number of times without a reference)."""
+    if live:
+        return ref.sample(times, 20), "exact", 0.0, 0
+    step = ref.sample_step
+    matched: list = []
+    mismatch = 0.0
+    if step is not None and ref.samples:
+        tol = step * Fraction(1, 10 ** 9)
+        for t in times:
+            k = round(t / step)
+            s = ref._by_time.get(k * step)
+            if s is not None and abs(t - k * step) <= tol:
+                matched.append(s.x)
+                mismatch = max(mismatch, float(abs(t - k * step)))
+            else:
+                matched.append(None)
+    else:
+        matched = [None] * len(times)
+    missing = [i for i, m in enumerate(matched) if m is None]
+    if not missing:
+        return matched, "samples", mismatch, 0
+    if ref.can_recompute:
+        exact = ref.exact.sample([times[i] for i in missing], 20)
+        for i, row in zip(missing, exact):
+            matched[i] = row
+        return matched, "exact", mismatch, 0
+    if len(missing) == len(times) and times:
+        grid = "no samples" if step is None else f"samples every {step}"
+        raise FormatError(f"{ref.source}: none of the solution's times is on the fixture's grid ({grid}) "
+                          f"and x0 is not rational (no exact recomputation): write the fixture with "
+                          f"a sample step that divides the solver's times")
+    return matched, "samples", mismatch, len(missing)
+
+
+def _derivative_jump(lcs: LCS, mb, ma, xb: tuple, xa: tuple) -> tuple:
+    """(j, d_j): the first order whose derivative jumps at the event, certified, and its jump
+    d_j = A_{I+}^j x+ - A_{I-}^j x-; (None, None) when no jump up to order n is certified."""
+    try:
+        Ab, Aa = arb_mat(_closed_loop(lcs, mb)), arb_mat(_closed_loop(lcs, ma))
+    except LCSError:  # a mode that is not autonomous has no flow to compare with
+        return None, None
+    with ctx.workprec(_PREC):
+        vb = arb_mat([[c] for c in xb])
+        va = arb_mat([[c] for c in xa])
+        for j in range(lcs.n + 1):
+            d = [va[i, 0] - vb[i, 0] for i in range(lcs.n)]
+            if any(not c.contains(0) for c in d):
+                return j, d
+            vb, va = Ab * vb, Aa * va
+    return None, None
+
+
+def _closed_loop(lcs: LCS, I: frozenset) -> fmpq_mat:
+    """A_I = A + B_{.I} F_I: x' = A_I x on a phase of mode I (section 4.1); F_I's rows follow
+    the indices of I in increasing order."""
+    A = fmpq_mat(lcs.A)
+    if not I:
+        return A
+    F = lcs.mode(I).feedback()
+    for r, i in enumerate(sorted(I)):
+        for a in range(lcs.n):
+            if lcs.B[a, i] != 0:
+                for b in range(lcs.n):
+                    A[a, b] += lcs.B[a, i] * F[r, b]
+    return A
+
+
+def _compare_event(j: int, ev: tuple, lcs: LCS, tf: list, Xf: list, window: float) -> EventComparison:
+    tau_b, mb, ma, xb, xa, cf = ev
+    tau = float(tau_b.mid())
+    if mb is None:
+        return EventComparison(j, tau_b, 0, "initial jump", None, None, cf)
+    order, d = _derivative_jump(lcs, mb, ma, xb, xa)
+    if order is None:
+        return EventComparison(j, tau_b, None, "no visible jump", None, None, cf)
+    kind = {0: "jump", 1: "kink (x' jumps)"}.get(order, f"x^({order}) jumps")
+    if not tf[0] <= tau <= tf[-1]:
+        return EventComparison(j, tau_b, order, kind, None, None, cf)
+    scale = max(abs(float(c.mid())) for c in d)
+    dirv = [float(c.mid()) / scale for c in d]
+    found = _switch_time(tf, Xf, dirv, order, tau, window)
+    return EventComparison(j, tau_b, order, kind, found, None if found is None else found - tau, cf)
+
+
+def _switch_time(tf: list, Xf: list, dirv: list, order: int, tau: float, w: float) -> float | None:
+    """The middle of the stencil where the order-th divided difference of dirv . x changes most,
+    among stencils centred within [tau - w, tau + w]."""
+    idx = [i for i, ti in enumerate(tf) if abs(ti - tau) <= w]
+    if not idx:
+        return None
+    lo, hi = max(0, idx[0] - order - 1), min(len(tf), idx[-1] + order + 2)
+    ts = tf[lo:hi]
+    ss = [sum(a * b for a, b in zip(dirv, r)) for r in Xf[lo:hi]]
+    if order >= 1:  # divided differences need distinct times: keep the last row of a repeated time
+        keep = [i for i in range(len(ts)) if i + 1 == len(ts) or ts[i + 1] != ts[i]]
+        ts, ss = [ts[i] for i in keep], [ss[i] for i in keep]
+    D = ss
+    for k in range(1, order + 1):
+        D = [(D[i + 1] - D[i]) / (ts[i + k] - ts[i]) for i in range(len(D) - 1)]
+    best = None
+    for i in range(1, len(D)):
+        loc = (ts[i - 1] + ts[i + order]) / 2
+        if abs(loc - tau) > w:
+            continue
+        change = abs(D[i] - D[i - 1])
+        if best is None or change > best[0]:
+            best = (change, loc)
+    return None if best is None else best[1]
+
+
+def convergence_order(reports: Sequence[ComparisonReport], steps: Sequence[Any] | None = None) -> float:
+    """The least-squares slope p of log(max error) against log(step): error ~ C h^p.
+
+    ``steps`` defaults to each report's largest step.
+
+    >>> class R:  # anything with max_error; the errors of a second-order method
+    ...     def __init__(self, e): self.max_error = arb(e)
+    >>> round(convergence_order([R(4e-4), R(1e-4), R(2.5e-5)], [0.02, 0.01, 0.005]), 9)
+    2.0
+    """
+    reports = list(reports)
+    hs = [r.step for r in reports] if steps is None else [float(_fraction(h, "step")) for h in steps]
+    if len(hs) != len(reports):
+        raise ShapeError(f"{len(reports)} reports but {len(hs)} steps")
+    if len(reports) < 2:
+        raise FormatError("the order of convergence needs at least 2 solutions")
+    errs = [float(r.max_error.mid()) for r in reports]
+    if any(e <= 0 or not math.isfinite(e) for e in errs) or any(h <= 0 for h in hs):
+        raise FormatError(f"the order of convergence needs positive errors and steps, got errors {errs}")
+    xs, ys = [math.log(h) for h in hs], [math.log(e) for e in errs]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    sxx = sum((x - mx) ** 2 for x in xs)
+    if sxx == 0:
+        raise FormatError("the order of convergence needs solutions with different steps")
+    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx

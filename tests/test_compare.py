@@ -1,0 +1,342 @@
+"""compare.py: fixtures read back (exact recomputation checked against the file), and other
+solvers' solutions measured against certified trajectories (state error away from events, event
+times from the solver's data, order of convergence).  Expected values are derived in the tests
+(mpmath at 50 digits, the solver's own arithmetic), never copied from a run."""
+from __future__ import annotations
+
+import copy
+import json
+import math
+from fractions import Fraction
+
+import mpmath as mp
+import pytest
+from flint import arb, ctx, fmpq
+from helpers import A_CARTS, carts, mpmath_digits
+
+import lcs_exact as L
+from lcs_exact.compare import read_solution_csv
+
+_mp = mpmath_digits(50)
+OSC = ([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])  # x'' = -x + u, 0 <= x ⊥ u >= 0 (a stop at 0)
+
+
+def osc_state(t):
+    """From (1, 0): (cos t, -sin t) until the stop at π/2, then at rest at 0 (inelastic impact)."""
+    t = mp.mpf(t.numerator) / t.denominator if isinstance(t, Fraction) else mp.mpf(t)
+    return [mp.cos(t), -mp.sin(t)] if t < mp.pi / 2 else [mp.mpf(0), mp.mpf(0)]
+
+
+def mpf_of(text) -> mp.mpf:
+    q = Fraction(text)
+    return mp.mpf(q.numerator) / q.denominator
+
+
+def contains(ball: arb, value) -> bool:
+    with ctx.workprec(300):
+        return ball.contains(arb(mp.nstr(value, 60)))
+
+
+@pytest.fixture(scope="module")
+def osc_run():
+    return L.simulate(L.LCS(*OSC), [1, 0], 4, digits=30)
+
+
+@pytest.fixture(scope="module")
+def osc_fixture(osc_run):
+    return osc_run.to_fixture(30, sample="1/20")
+
+
+# ---------------------------------------------------------------------------------------------
+# read_fixture
+# ---------------------------------------------------------------------------------------------
+
+def test_read_fixture_round_trip(osc_run, tmp_path):
+    path = tmp_path / "osc.json"
+    path.write_text(json.dumps(osc_run.to_fixture(25, sample="1/4")))
+    fx = L.read_fixture(str(path))
+    assert fx.digits == 25 and fx.certified and not fx.partial and fx.can_recompute
+    (e,) = fx.events
+    assert contains(e.time, mp.pi / 2) and e.time_exact == "pi/2" and e.time.rad() < 1e-24
+    assert (e.mode_before, e.modes, e.mode_after, e.multiplicity) == (frozenset(), (frozenset({0}),), frozenset(), 1)
+    assert contains(e.state_before[1], -1) and contains(e.state_after[1], 0)
+    assert [s.t for s in fx.samples] == [Fraction(k, 4) for k in range(17)]
+    for s in fx.samples:
+        assert all(contains(b, v) for b, v in zip(s.x, osc_state(s.t)))
+    assert fx.x0_rational == (1, 0) and fx.t_end_rational == 4
+    # between samples: the run recomputed exactly from the fixture's system and x0
+    x = fx.state("3/5")
+    assert all(contains(c.ball(30), v) for c, v in zip(x, osc_state(Fraction(3, 5))))
+    rows = fx.sample(["1/4", "3/5"], 20)
+    assert all(contains(b, v) for row, t in zip(rows, ("1/4", "3/5")) for b, v in zip(row, osc_state(Fraction(t))))
+    assert "exact evaluation available" in repr(fx) and "1 events" in repr(fx)
+    assert L.read_fixture(fx) is fx and L.read_fixture(json.loads(path.read_text())).events[0].time_exact == "pi/2"
+
+
+def test_read_fixture_without_rational_x0():
+    """Section 7 starts from e^{-A}(0,-1,-1,0): no exact recomputation, the samples are the data."""
+    x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
+    fx = L.read_fixture(L.simulate(carts(), x0, 3, digits=20).to_fixture(20, sample="1/2"))
+    assert not fx.can_recompute and fx.exact is None and fx.x0_rational is None
+    assert [e.time_exact for e in fx.events] == ["1", "1 + pi/2"]
+    (row,) = fx.sample(["3/2"])
+    assert contains(row[1], -mp.cos(mp.mpf(1) / 2)) and contains(row[0], 0)
+    with pytest.raises(L.FormatError, match="not a sample time"):
+        fx.sample(["1/3"])
+    with pytest.raises(L.FormatError, match="cannot be recomputed"):
+        fx.state(2)
+    assert "balls only" in repr(fx)
+
+
+def test_partial_fixture_recomputes_its_computed_part():
+    """From (0, -1, -1, 0) the carts hit the stop at t = 0 and lift off at π/2; a run stopped after
+    the first event is read back, recomputed with the same limit and checked."""
+    with pytest.raises(L.LimitExceeded) as err:
+        L.simulate(carts(), [0, -1, -1, 0], 3, max_events=1)
+    fx = L.read_fixture(err.value.trajectory.to_fixture(20))
+    assert fx.partial and fx.can_recompute and len(fx.events) == 1
+    assert fx.exact.partial and len(fx.exact.events) == 1
+    x = fx.state("1/2")  # on the constrained phase after the impact: (0, -cos t, 0, sin t)
+    assert contains(x[1].ball(25), -mp.cos(mp.mpf(1) / 2)) and contains(x[3].ball(25), mp.sin(mp.mpf(1) / 2))
+
+
+@pytest.mark.parametrize("edit, fragment", [
+    (lambda d: d["events"][0]["time"].update(value="1.6", error="0.001"), "event 0: recomputed time"),
+    (lambda d: d["events"][0].update(mode_after=[0]), "mode_after"),
+    (lambda d: d["x0"][0].update(value="2", exact="2"), "state_before"),
+    (lambda d: d["events"].append(copy.deepcopy(d["events"][0])), "2"),
+])
+def test_recomputation_disagreeing_with_the_fixture(osc_fixture, edit, fragment):
+    d = copy.deepcopy(osc_fixture)
+    edit(d)
+    fx = L.read_fixture(d)  # the file is well-formed: the disagreement shows on recomputation
+    with pytest.raises(L.FixtureMismatch, match="recomputed") as err:
+        fx.exact
+    assert fragment in str(err.value)
+
+
+@pytest.mark.parametrize("bad, fragment", [
+    ({"schema": "something/else"}, "schema"),
+    ([1, 2], "path or a dict, got list"),
+    (42, "path or a dict"),
+])
+def test_read_fixture_rejects(bad, fragment):
+    with pytest.raises(L.FormatError, match=fragment):
+        L.read_fixture(bad)
+
+
+def test_read_fixture_bad_file(tmp_path):
+    p = tmp_path / "f.json"
+    p.write_text("{not json")
+    with pytest.raises(L.FormatError, match="not JSON"):
+        L.read_fixture(p)
+
+
+# ---------------------------------------------------------------------------------------------
+# compare: synthetic solutions with known errors
+# ---------------------------------------------------------------------------------------------
+
+TIMES = [Fraction(k, 20) for k in range(81)]  # step 1/20 on [0, 4]
+
+
+def perturbed_solution():
+    """X = x(t) + p(t) with p = 1e-7 (1 + t/4) on x1, as 30-digit decimal strings; returns the
+    strings and the exact max |X - x| over the points outside the event window (|t - π/2| <= 2h)."""
+    X, worst = [], mp.mpf(0)
+    for t in TIMES:
+        x = osc_state(t)
+        row = [mp.nstr(x[0] + mp.mpf("1e-7") * (1 + mp.mpf(t.numerator) / t.denominator / 4), 30, strip_zeros=False),
+               mp.nstr(x[1], 30, strip_zeros=False)]
+        X.append(row)
+        if abs(mp.mpf(t.numerator) / t.denominator - mp.pi / 2) > mp.mpf(2) / 20:
+            worst = max(worst, max(abs(mpf_of(r) - v) for r, v in zip(row, x)))
+    return X, worst
+
+
+@pytest.mark.parametrize("source", ["trajectory", "fixture with samples", "fixture recomputed"])
+def test_compare_reports_a_known_perturbation(osc_run, osc_fixture, source):
+    ref = {"trajectory": osc_run, "fixture with samples": osc_fixture,
+           "fixture recomputed": {k: v for k, v in osc_fixture.items() if k not in ("samples", "sample_step")}}[source]
+    X, worst = perturbed_solution()
+    r = L.compare(ref, TIMES, X)
+    assert r.reference == ("samples" if source == "fixture with samples" else "exact")
+    assert r.window == pytest.approx(0.1) and r.window_rule == "2 x the largest step"
+    excluded = sum(1 for t in TIMES if abs(float(t) - math.pi / 2) <= 0.1)
+    assert (r.n_points, r.n_in_windows, r.n_compared, r.n_unmatched) == (81, excluded, 81 - excluded, 0)
+    assert contains(r.max_error, worst) and r.max_error.rad() < 1e-18  # certified to ~20 digits
+    assert r.max_error_component == 0 and r.max_error_time == 4.0  # p grows with t
+    assert contains(r.component_errors[1], 0) or r.component_errors[1].upper() < 1e-29
+    (ev,) = r.events
+    assert ev.kind == "jump" and ev.order == 0 and ev.time_exact == "pi/2"
+    # the data jump lies in the step containing π/2: the switch is that step's middle
+    k = math.ceil(math.pi / 2 * 20)
+    assert ev.solver_time == pytest.approx((k - 0.5) / 20, abs=1e-15)
+    assert ev.time_error == pytest.approx((k - 0.5) / 20 - math.pi / 2, abs=1e-15)
+
+
+def test_compare_shifted_event(osc_run):
+    """A solver that switches δ late: X(t) = x(t - δ).  The reported switch is the middle of the
+    step where the data jumps, t_{k-1} < π/2 + δ <= t_k."""
+    delta = mp.mpf(1) / 75
+    X = []
+    for t in TIMES:
+        s = mp.mpf(t.numerator) / t.denominator - delta
+        X.append([float(v) for v in ([mp.cos(s), -mp.sin(s)] if s < mp.pi / 2 else [0, 0])])
+    r = L.compare(osc_run, [float(t) for t in TIMES], X)
+    k = math.ceil((math.pi / 2 + float(delta)) * 20)
+    (ev,) = r.events
+    assert ev.solver_time == pytest.approx((k - 0.5) / 20, abs=1e-12)
+    assert ev.time_error == pytest.approx((k - 0.5) / 20 - math.pi / 2, abs=1e-12)
+    # away from the window, the error is max |x(t) - x(t - δ)| over the compared points
+    errs = {t: max(abs(mpf_of(x) - e) for x, e in zip(row, osc_state(t)))
+            for t, row in zip(TIMES, X) if abs(float(t) - math.pi / 2) > 0.1}
+    t_worst = max(errs, key=errs.get)
+    assert r.max_error_time == float(t_worst) and abs(float(r.max_error.mid()) - float(errs[t_worst])) < 1e-15
+
+
+def test_compare_kink_event():
+    """q' = -g + u, g' = 0, y = q >= 0 from (1, 1): q = 1 - t reaches the stop at t = 1 and stays;
+    x is continuous, x' jumps (order 1).  On the grid of step 3/20 the data's slope changes most at
+    the grid point nearest the event, 1.05."""
+    lcs = L.LCS([[0, -1], [0, 0]], [[1], [0]], [[1, 0]], [[0]])
+    tr = L.simulate(lcs, [1, 1], 2)
+    ts = [Fraction(3 * k, 20) for k in range(14)]
+    X = [[max(1 - t, 0), 1] for t in ts]
+    r = L.compare(tr, ts, X)
+    (ev,) = r.events
+    assert ev.order == 1 and ev.kind.startswith("kink") and ev.time_exact == "1"
+    nearest = min(ts, key=lambda t: abs(t - 1))
+    assert ev.solver_time == pytest.approx(float(nearest)) and ev.time_error == pytest.approx(float(nearest) - 1)
+    assert contains(r.max_error, 0) and r.max_error.upper() < 1e-19  # exact data: zero error (20 digits)
+
+
+def test_compare_initial_jump_and_float_times_on_the_grid(osc_fixture):
+    tr = L.simulate(L.LCS(*OSC), [-1, 2], 1)
+    r = L.compare(tr, [0, 0.5, 1], [[0, 0]] * 3)
+    assert r.events[0].kind == "initial jump" and r.events[0].solver_time is None
+    ts = [k * 0.05 for k in range(81)]  # floats: k * 0.05 is not k/20, but within 1e-9 of the step
+    X = [[float(v) for v in osc_state(Fraction(k, 20))] for k in range(81)]
+    r = L.compare(osc_fixture, ts, X)
+    assert r.reference == "samples" and r.n_unmatched == 0 and 0 < r.time_mismatch < 1e-14
+    assert r.max_error.upper() < 1e-15
+
+
+def test_compare_output_formats(osc_run):
+    X, _ = perturbed_solution()
+    r = L.compare(osc_run, TIMES, X, label="my solver", names=["q", "v"])
+    text = str(r)
+    assert text.startswith("my solver: against the exact trajectory")
+    assert "max state error 2.0000e-07 at t = 4 in q" in text and "pi/2" in text and "jump" in text
+    assert repr(r).startswith("<ComparisonReport 'my solver': max error 2.0000e-07")
+    d = json.loads(json.dumps(r.to_dict()))
+    assert d["events"][0]["time"]["exact"] == "pi/2" and d["compared"] == r.n_compared
+    v, e = Fraction(d["max_error"]["value"]), Fraction(d["max_error"]["error"])
+    assert abs(v - Fraction(2, 10 ** 7)) <= e
+
+
+def test_compare_event_tol(osc_run):
+    X, _ = perturbed_solution()
+    r = L.compare(osc_run, TIMES, X, event_tol="1/100")
+    assert r.window == 0.01 and r.window_rule == "event_tol"
+    assert r.n_in_windows == sum(1 for t in TIMES if abs(float(t) - math.pi / 2) <= 0.01)
+
+
+@pytest.mark.parametrize("t, X, err, fragment", [
+    ([0, 1], [[1, 0]], L.ShapeError, "2 times but 1 rows"),
+    ([0, 1], [[1, 0], [1]], L.ShapeError, "row 1 has 1 values, expected n = 2"),
+    ([0, 1, "1/2"], [[1, 0]] * 3, L.FormatError, "times decrease at row 2"),
+    ([0], [[1, 0]], L.FormatError, "at least 2 points"),
+    ([0, "x"], [[1, 0]] * 2, L.NotRational, "t[1]"),
+    ([0, 1], [[1, 0], [1, float("nan")]], L.NotRational, "X[1][1]"),
+])
+def test_compare_rejects(osc_run, t, X, err, fragment):
+    with pytest.raises(err, match=re_escape(fragment)):
+        L.compare(osc_run, t, X)
+
+
+def re_escape(s: str) -> str:
+    import re
+    return re.escape(s)
+
+
+def test_compare_needs_a_reference_at_the_solver_times():
+    x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
+    fx = L.simulate(carts(), x0, 3, digits=20).to_fixture(20)  # no samples, x0 irrational
+    with pytest.raises(L.FormatError, match="none of the solution's times"):
+        L.compare(fx, [0, 0.1, 0.2], [[0, 0, 0, 0]] * 3)
+
+
+# ---------------------------------------------------------------------------------------------
+# order of convergence
+# ---------------------------------------------------------------------------------------------
+
+def euler(h: Fraction, T: int = 1):
+    """Explicit Euler on x'' = -x from (1, 0) (no contact on [0, 1]: x1 = cos t > 0)."""
+    N = int(T / h)
+    q, v, rows = 1.0, 0.0, [[1.0, 0.0]]
+    for _ in range(N):
+        q, v = q + float(h) * v, v - float(h) * q
+        rows.append([q, v])
+    return [k * h for k in range(N + 1)], rows
+
+
+def test_convergence_order_of_explicit_euler():
+    tr = L.simulate(L.LCS(*OSC), [1, 0], 1)
+    steps = [Fraction(1, 10), Fraction(1, 20), Fraction(1, 40), Fraction(1, 80)]
+    reports, errors = [], []
+    for h in steps:
+        ts, X = euler(h)
+        reports.append(L.compare(tr, ts, X))
+        errors.append(max(abs(mp.mpf(x) - e) for t, row in zip(ts, X) for x, e in zip(row, osc_state(t))))
+    for r, e in zip(reports, errors):  # each report's error is the independently computed one
+        assert abs(float(r.max_error.mid()) - float(e)) <= 1e-15
+    xs, ys = [math.log(h) for h in steps], [math.log(e) for e in errors]
+    mx, my = sum(xs) / 4, sum(ys) / 4
+    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
+    p = L.convergence_order(reports)
+    assert p == pytest.approx(slope, abs=1e-9) and 0.9 < p < 1.1  # Euler is a first-order method
+    assert L.convergence_order(reports, steps) == pytest.approx(slope, abs=1e-9)
+
+
+def test_convergence_order_rejects():
+    class R:
+        def __init__(self, e, h=0.1):
+            self.max_error, self.step = arb(e), h
+    with pytest.raises(L.FormatError, match="at least 2"):
+        L.convergence_order([R(1)])
+    with pytest.raises(L.ShapeError):
+        L.convergence_order([R(1), R(2)], [0.1])
+    with pytest.raises(L.FormatError, match="positive errors"):
+        L.convergence_order([R(0), R(1)], [0.1, 0.2])
+    with pytest.raises(L.FormatError, match="different steps"):
+        L.convergence_order([R(1), R(2)])
+
+
+# ---------------------------------------------------------------------------------------------
+# CSV solutions
+# ---------------------------------------------------------------------------------------------
+
+def test_csv_with_and_without_header(osc_run, tmp_path):
+    X, worst = perturbed_solution()
+    body = "".join(f"{t.numerator / t.denominator!r},{a},{b}\n" for t, (a, b) in zip(TIMES, X))
+    with_header, without = tmp_path / "h.csv", tmp_path / "n.csv"
+    with_header.write_text("# my solver\nt, q, v\n" + body)
+    without.write_text(body.replace(",", " "))  # whitespace-separated also reads
+    for p in (with_header, without):
+        t, rows = read_solution_csv(p)
+        assert len(t) == 81 and rows[3] == X[3]
+        r = L.compare(osc_run, t, rows)
+        assert contains(r.max_error, worst)
+
+
+@pytest.mark.parametrize("text, err, fragment", [
+    ("t,x1,x2\n0,1,0\n1,2\n", L.ShapeError, "line 3 has 2 columns, expected 3"),
+    ("0,1,0\n1,abc,0\n", L.FormatError, "line 2: 'abc' is not a number"),
+    ("t,x1\n0,1\n", L.FormatError, "at least 2 rows"),
+    ("0\n1\n", L.ShapeError, "expected t, x1, ..., xn"),
+])
+def test_bad_csv(tmp_path, text, err, fragment):
+    p = tmp_path / "bad.csv"
+    p.write_text(text)
+    with pytest.raises(err, match=re_escape(fragment)):
+        read_solution_csv(p)
