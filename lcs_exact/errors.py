@@ -8,7 +8,7 @@ from __future__ import annotations
 
 __all__ = [
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
-    "ZenoDetected", "UnresolvedSign", "LimitExceeded",
+    "ZenoDetected", "UnresolvedSign", "LimitExceeded", "Unsupported",
 ]
 
 
@@ -50,3 +50,9 @@ class UnresolvedSign(LCSError, ArithmeticError):
 
 class LimitExceeded(LCSError):
     """A user limit (events, wall-clock time) was reached before t_end."""
+
+
+class Unsupported(LCSError, NotImplementedError):
+    """A valid request that this version cannot serve (the message says what is missing and where
+    it is planned), e.g. a circuit with a loop of capacitors, or an example that needs a builder
+    not written yet."""

@@ -285,6 +285,13 @@ class LCS:
         from .selection import initial_solution
         return initial_solution(self, x0)
 
+    def mode_map(self, slice: Any = None):
+        """The exact partition of the state space (or of ``slice=(base, directions)``) into the
+        polyhedral regions where S(x0) and the re-initialization are constant (DESIGN.md
+        section 6).  See :func:`lcs_exact.modemap.mode_map`."""
+        from .modemap import mode_map
+        return mode_map(self, slice)
+
     def is_regular(self, x0: Any) -> bool:
         """Theorem 6.8: x0 admits a smooth initial solution."""
         from .selection import is_regular

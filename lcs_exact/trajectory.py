@@ -168,24 +168,10 @@ class Trajectory:
             "partial": self.partial,
         }
 
-    def plot(self, ax=None, points: int = 400, components=None):
-        """Plot the state components with matplotlib (events marked); returns the axes."""
-        import matplotlib.pyplot as plt
-        import numpy as np
-        if ax is None:
-            _, ax = plt.subplots()
-        t_last = float(self.phases[-1].t1)
-        ts = np.linspace(0, t_last, points)
-        comps = range(self.lcs.n) if components is None else components
-        from fractions import Fraction
-        xs = [[float(c) for c in self.state(Fraction(t).limit_denominator(10**9))] for t in ts]
-        for i in comps:
-            ax.plot(ts, [x[i] for x in xs], label=f"x{i + 1}")
-        for e in self.events:
-            ax.axvline(float(e.time), color="gray", lw=0.5, ls="--")
-        ax.set_xlabel("t")
-        ax.legend()
-        return ax
+    def plot(self, **kw):
+        """States and u/y against t, events and jumps marked (see lcs_exact.plotting.plot_trajectory)."""
+        from .plotting import plot_trajectory
+        return plot_trajectory(self, **kw)
 
     # --- display ------------------------------------------------------------------------------
     def __repr__(self):
