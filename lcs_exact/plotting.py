@@ -95,8 +95,9 @@ def phase_intervals(traj) -> list[PhaseInterval]:
 
     >>> from lcs_exact import simulate
     >>> from lcs_exact.examples import two_carts
-    >>> [(str(p.start), str(p.end), sorted(p.mode)) for p in phase_intervals(simulate(two_carts(), [0, 1, -1, 0], 2))]
-    [('0', '0', [])]
+    >>> tr = simulate(two_carts(), [0, -1, 0, 0], 2)   # Example 4.4: the stop releases at t = pi/2
+    >>> [(float(p.start), float(p.end), sorted(p.mode)) for p in phase_intervals(tr)]
+    [(0.0, 1.5707963267948966, [0]), (1.5707963267948966, 2.0, [])]
     """
     evs = sorted(traj.events, key=lambda e: float(e.time))
     at_zero = [e for e in evs if not _positive(e.time)]

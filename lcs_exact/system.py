@@ -329,8 +329,8 @@ class LCS:
 
 
 def _latex_name(name: str) -> str:
-    """x_0, q_1' as math; anything else as escaped \\text{...}."""
-    if re.fullmatch(r"[A-Za-z]+(_[A-Za-z0-9]+)?'*", name):
+    """x_0, q_1' (one letter, a subscript, primes) as math; anything else as escaped \\text{...}."""
+    if re.fullmatch(r"[A-Za-z](_[A-Za-z0-9]+)?'*", name):
         base, _, sub = name.rstrip("'").partition("_")
         primes = "'" * (len(name) - len(name.rstrip("'")))
         return base + (f"_{{{sub}}}" if sub else "") + primes
