@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, NotAutonomous, NotRational,
-                     ShapeError, UnresolvedSign, ZenoDetected)
+                     ShapeError, UnresolvedSign, Unsupported, ZenoDetected)
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
 from .rational import RationalFunction, RationalMatrix
@@ -10,12 +10,15 @@ from .reals import ExactVector, Real, expm_action
 from .simulate import simulate
 from .system import LCS, WellPosedness
 from .trajectory import Event, Trajectory
+from .modemap import ModeMap, Region
+from . import examples, models  # lcs_exact.examples, lcs_exact.models as attributes
 
 __all__ = [
     "LCS", "Mode", "simulate", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
-    "ZenoDetected", "UnresolvedSign", "LimitExceeded",
+    "ZenoDetected", "UnresolvedSign", "LimitExceeded", "Unsupported",
+    "ModeMap", "Region", "examples", "models",
 ]
 
 __version__ = "0.1.0"

@@ -1,0 +1,123 @@
+"""lcs_exact.examples: the paper's systems as printed, and the two rectifiers with their event times
+and states derived by hand (closed forms) and checked against simulate to 28 digits."""
+from __future__ import annotations
+
+import mpmath as mp
+import pytest
+import sympy as sp
+from flint import fmpq_mat
+
+import lcs_exact as L
+from helpers import A_CARTS, close, mpmath_digits, num
+from lcs_exact import LCSError, examples, models
+from lcs_exact.errors import Unsupported
+
+_mp = mpmath_digits(60)
+
+
+def test_two_carts_is_2_1():
+    c = examples.two_carts()
+    assert c.A == fmpq_mat(A_CARTS)  # x4' = x1 - x2 (DESIGN.md: the table's typo is not copied)
+    assert c.B == fmpq_mat([[0], [0], [1], [0]]) and c.C == fmpq_mat([[1, 0, 0, 0]]) and c.D == fmpq_mat([[0]])
+    assert c.state_names == ("q_0", "q_1", "q_0'", "q_1'") and c.constraint_names == ("stop",)
+
+
+def test_hook_is_8_12():
+    h = examples.two_carts_with_hook()
+    assert h.A == fmpq_mat(A_CARTS)
+    assert h.B == fmpq_mat([[0, 0], [0, 0], [1, 1], [0, -1]])
+    assert h.C == fmpq_mat([[1, 0, 0, 0], [1, -1, 0, 0]]) and h.D == fmpq_mat(2, 2)
+    assert h.constraint_names == ("stop", "hook")
+
+
+def test_models_keeps_the_old_names():
+    assert models.two_carts is examples.two_carts and models.two_carts_with_hook is examples.two_carts_with_hook
+    assert L.models is models and L.examples is examples
+
+
+def test_filippov_spiral_says_what_it_needs():
+    with pytest.raises(Unsupported, match="relay builder") as err:
+        examples.filippov_spiral()
+    assert isinstance(err.value, NotImplementedError) and isinstance(err.value, LCSError)
+    assert "issue 8" in str(err.value)
+
+
+# --- half-wave rectifier ----------------------------------------------------------------------
+# C v' = -i_L - i_D, L i_L' = v, i_D = v/R while conducting (v > 0), 0 while blocking.
+# Conducting: v'' + v'/(RC) + v/(LC) = 0; from v(0) = 0, v'(0) = -i_L(0)/C:
+#   v = (v'(0)/w) e^{-a t} sin(w t),  a = 1/(2RC),  w^2 = 1/(LC) - a^2,
+# so v returns to 0 at t = pi/w; there i_D = 0 and C v' = -i_L, v'(pi/w) = -v'(0) e^{-a pi/w},
+# hence i_L(pi/w) = -i_L(0) e^{-a pi/w}.  Blocking: the free tank, v = -(i_L/(C w0)) sin(w0 s)
+# with w0 = 1/sqrt(LC): back to 0 after pi/w0 with i_L -> -i_L.
+# Defaults L = C = 1, R = 5/6: a = 3/5, w = 4/5, pi/w = 5 pi/4, a pi/w = 3 pi/4.
+
+
+def test_half_wave_rectifier_events_by_hand():
+    lcs = examples.half_wave_rectifier()
+    assert lcs.A == fmpq_mat([[0, -1], [1, 0]]) and lcs.B == fmpq_mat([[-1], [0]])
+    assert lcs.C == fmpq_mat([[-1, 0]]) and lcs.D == fmpq_mat([[5]]) / 6
+    tr = L.simulate(lcs, [0, -1], 12, digits=30)
+    assert tr.certified
+    pi, e = mp.pi, mp.e
+    times = [5 * pi / 4, 9 * pi / 4, 7 * pi / 2]
+    currents = [e ** (-3 * pi / 4), -e ** (-3 * pi / 4), e ** (-3 * pi / 2)]
+    modes = [({0}, set()), (set(), {0}), ({0}, set())]
+    assert len(tr.events) == 3
+    for ev, t, i, (before, after) in zip(tr.events, times, currents, modes):
+        assert close(num(ev.time), t)
+        assert ev.mode_before == frozenset(before) and ev.mode_after == frozenset(after)
+        assert ev.multiplicity == 0  # no jump: a diode switch in an RLC tank is smooth
+        v, iL = ev.state_after
+        assert abs(num(v)) < mp.mpf(10) ** -28 and close(num(iL), i)
+    # the event times are proven rational multiples of pi
+    assert [ev.time.closed_form for ev in tr.events] == [sp.Rational(5, 4) * sp.pi, sp.Rational(9, 4) * sp.pi,
+                                                         sp.Rational(7, 2) * sp.pi]
+
+
+def test_half_wave_rectifier_other_parameters():
+    # L = 1/2, C = 2, R = 1/2: a = 1/2, w^2 = 1 - 1/4, conduction 2 pi/sqrt 3, blocking pi sqrt(LC) = pi
+    lcs = examples.half_wave_rectifier(L="1/2", C=2, R="1/2")
+    tr = L.simulate(lcs, [0, -1], 7, digits=30)
+    w = mp.sqrt(3) / 2
+    assert close(num(tr.events[0].time), mp.pi / w)
+    assert close(num(tr.events[1].time), mp.pi / w + mp.pi)
+    assert close(num(tr.events[0].state_after[1]), mp.e ** (-mp.pi / (2 * w)))
+
+
+# --- full-wave bridge -------------------------------------------------------------------------
+# v > 0: D1, D4 conduct (modes {0, 3}); v < 0: D2, D3 ({1, 2}).  Either way the tank sees
+# R_eq = (r + R) || Rg + r || Rg = 1/2 + 1/3 = 5/6 for r = R = 1/2, Rg = 1: the same damped
+# tank as the rectifier's conduction, in both half-waves: events every 5 pi/4 and
+# i_L(k 5pi/4) = (-1)^(k+1) e^{-3 pi k/4} from (v, i_L) = (0, -1).
+
+
+def test_diode_bridge_events_by_hand():
+    lcs = examples.diode_bridge()
+    assert lcs.well_posedness().well_posed
+    tr = L.simulate(lcs, [0, -1], 9, digits=30)
+    assert tr.certified and len(tr.events) == 2
+    for k, ev in enumerate(tr.events, 1):
+        assert close(num(ev.time), k * 5 * mp.pi / 4)
+        assert ev.time.closed_form == sp.Rational(5 * k, 4) * sp.pi
+        assert close(num(ev.state_after[1]), (-1) ** (k + 1) * mp.e ** (-3 * mp.pi * k / 4))
+    assert [(e.mode_before, e.mode_after) for e in tr.events] == [({0, 3}, {1, 2}), ({1, 2}, {0, 3})]
+    # the load current flows p -> 0 in both half-waves: D1's current in the first, D2's in the second
+    u1, u2 = tr.u(1), tr.u(5)
+    assert num(u1[0]) > 0 and num(u1[3]) > 0 and abs(num(u1[1])) == 0 == abs(num(u1[2]))
+    assert num(u2[1]) > 0 and num(u2[2]) > 0 and abs(num(u2[0])) == 0
+    # while D1 and D4 conduct: the tank current 6v/5 splits at a between r + R = 1 and Rg = 1
+    # (e(a) = 3v/5, D1 carries 3v/5) and returns through r = 1/2 || Rg = 1 (e(0) - e(b) = 2v/5,
+    # D4 carries 4v/5); D2 and D3 block with positive reverse voltages
+    v = num(tr.state(1)[0])
+    assert v > 0 and close(num(u1[0]), 3 * v / 5) and close(num(u1[3]), 4 * v / 5)
+    y1 = tr.y(1)
+    assert num(y1[1]) > 0 and num(y1[2]) > 0 and abs(num(y1[0])) < mp.mpf(10) ** -28
+
+
+def test_examples_have_names_everywhere():
+    for build in (examples.two_carts, examples.two_carts_with_hook, examples.half_wave_rectifier,
+                  examples.diode_bridge):
+        lcs = build()
+        assert lcs.name and len(lcs.state_names) == lcs.n and len(lcs.constraint_names) == lcs.k
+        assert lcs.constraint_names != tuple(str(i) for i in range(lcs.k))
+        assert lcs.well_posedness().well_posed
