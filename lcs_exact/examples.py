@@ -50,7 +50,7 @@ def two_carts_with_hook() -> LCS:
                       name="two carts with hook (Example 8.3)", constraint_names=("stop", "hook"))
 
 
-def half_wave_rectifier(L: Any = 1, C: Any = 1, R: Any = "5/6") -> LCS:
+def half_wave_rectifier(L: Any = 1, C: Any = 1, R: Any = "13/10") -> LCS:
     """An LC tank (the AC source) feeding a resistive load R through one ideal diode.
 
     Netlist: ``C1 1 0 C``, ``L1 1 0 L``, ``D1 1 2``, ``R1 2 0 R``.  State x = (v(C1), i(L1)):
@@ -60,19 +60,20 @@ def half_wave_rectifier(L: Any = 1, C: Any = 1, R: Any = "5/6") -> LCS:
     v'' + v'/(RC) + v/(LC) = 0; while v < 0 it blocks and the tank oscillates freely at
     1/sqrt(LC).  Every event is a zero of v: conduction lasts pi/omega_d with
     omega_d^2 = 1/(LC) - 1/(2RC)^2, blocking lasts pi sqrt(LC).  With the defaults (L = C = 1,
-    R = 5/6): omega_d = 4/5, so from v = 0, v' > 0 the events are at 5pi/4, 9pi/4, 7pi/2, ...
+    R = 13/10): decay 1/(2RC) = 5/13, omega_d = 12/13, so from v = 0, v' > 0 the events are at
+    13pi/12, 25pi/12, 19pi/6, ... and each conduction shrinks the tank's energy by e^(-5pi/6).
 
     >>> rect = half_wave_rectifier()
     >>> rect.A, rect.D, rect.state_names
     ([0, -1]
-    [1,  0], [5/6], ('v(C1)', 'i(L1)'))
+    [1,  0], [13/10], ('v(C1)', 'i(L1)'))
     """
     L, C, R = (to_fmpq(v, name) for v, name in ((L, "L"), (C, "C"), (R, "R")))
     return circuit([("C1", "1", "0", C), ("L1", "1", "0", L), ("D1", "1", "2"), ("R1", "2", "0", R)],
                    name="half-wave rectifier (LC tank, diode, load R)")
 
 
-def diode_bridge(L: Any = 1, C: Any = 1, R: Any = "1/2", r: Any = "1/2", R_ground: Any = 1) -> LCS:
+def diode_bridge(L: Any = 1, C: Any = 1, R: Any = "7/6", r: Any = "1/3", R_ground: Any = 3) -> LCS:
     """A full-wave diode bridge rectifying a floating LC tank into a load R.
 
     The tank (C1 and L1 in parallel) sits between nodes a and b; diodes D1: a -> p, D2: b -> p,
@@ -87,8 +88,9 @@ def diode_bridge(L: Any = 1, C: Any = 1, R: Any = "1/2", r: Any = "1/2", R_groun
     (u_i = current of D(i+1), y_i = its reverse voltage).  For v > 0, D1 and D4 conduct; for
     v < 0, D2 and D3: either way the tank sees R_eq = (r + R) || R_ground + r || R_ground and
     v'' + v'/(R_eq C) + v/(LC) = 0, and every zero of v is an event that swaps the pairs.  The
-    load current flows from p to 0 in both half-waves.  Defaults: R_eq = 1/2 + 1/3 = 5/6,
-    omega_d = 4/5, events every 5pi/4.
+    load current flows from p to 0 in both half-waves.  Defaults (L = C = 1, r = 1/3, R = 7/6,
+    R_ground = 3): R_eq = 1 + 3/10 = 13/10, the rectifier's conduction: omega_d = 12/13, decay
+    5/13, events every 13pi/12.
 
     >>> bridge = diode_bridge()
     >>> bridge.constraint_names, bool(bridge.well_posedness())

@@ -49,18 +49,18 @@ def test_filippov_spiral_says_what_it_needs():
 # so v returns to 0 at t = pi/w; there i_D = 0 and C v' = -i_L, v'(pi/w) = -v'(0) e^{-a pi/w},
 # hence i_L(pi/w) = -i_L(0) e^{-a pi/w}.  Blocking: the free tank, v = -(i_L/(C w0)) sin(w0 s)
 # with w0 = 1/sqrt(LC): back to 0 after pi/w0 with i_L -> -i_L.
-# Defaults L = C = 1, R = 5/6: a = 3/5, w = 4/5, pi/w = 5 pi/4, a pi/w = 3 pi/4.
+# Defaults L = C = 1, R = 13/10: a = 5/13, w = 12/13, pi/w = 13 pi/12, a pi/w = 5 pi/12.
 
 
 def test_half_wave_rectifier_events_by_hand():
     lcs = examples.half_wave_rectifier()
     assert lcs.A == fmpq_mat([[0, -1], [1, 0]]) and lcs.B == fmpq_mat([[-1], [0]])
-    assert lcs.C == fmpq_mat([[-1, 0]]) and lcs.D == fmpq_mat([[5]]) / 6
+    assert lcs.C == fmpq_mat([[-1, 0]]) and lcs.D == fmpq_mat([[13]]) / 10
     tr = L.simulate(lcs, [0, -1], 12, digits=30)
     assert tr.certified
     pi, e = mp.pi, mp.e
-    times = [5 * pi / 4, 9 * pi / 4, 7 * pi / 2]
-    currents = [e ** (-3 * pi / 4), -e ** (-3 * pi / 4), e ** (-3 * pi / 2)]
+    times = [13 * pi / 12, 25 * pi / 12, 19 * pi / 6]
+    currents = [e ** (-5 * pi / 12), -e ** (-5 * pi / 12), e ** (-5 * pi / 6)]
     modes = [({0}, set()), (set(), {0}), ({0}, set())]
     assert len(tr.events) == 3
     for ev, t, i, (before, after) in zip(tr.events, times, currents, modes):
@@ -70,8 +70,8 @@ def test_half_wave_rectifier_events_by_hand():
         v, iL = ev.state_after
         assert abs(num(v)) < mp.mpf(10) ** -28 and close(num(iL), i)
     # the event times are proven rational multiples of pi
-    assert [ev.time.closed_form for ev in tr.events] == [sp.Rational(5, 4) * sp.pi, sp.Rational(9, 4) * sp.pi,
-                                                         sp.Rational(7, 2) * sp.pi]
+    assert [ev.time.closed_form for ev in tr.events] == [sp.Rational(13, 12) * sp.pi, sp.Rational(25, 12) * sp.pi,
+                                                         sp.Rational(19, 6) * sp.pi]
 
 
 def test_half_wave_rectifier_other_parameters():
@@ -86,9 +86,9 @@ def test_half_wave_rectifier_other_parameters():
 
 # --- full-wave bridge -------------------------------------------------------------------------
 # v > 0: D1, D4 conduct (modes {0, 3}); v < 0: D2, D3 ({1, 2}).  Either way the tank sees
-# R_eq = (r + R) || Rg + r || Rg = 1/2 + 1/3 = 5/6 for r = R = 1/2, Rg = 1: the same damped
-# tank as the rectifier's conduction, in both half-waves: events every 5 pi/4 and
-# i_L(k 5pi/4) = (-1)^(k+1) e^{-3 pi k/4} from (v, i_L) = (0, -1).
+# R_eq = (r + R) || Rg + r || Rg = (3/2 || 3) + (1/3 || 3) = 1 + 3/10 = 13/10 for r = 1/3,
+# R = 7/6, Rg = 3: the rectifier's conduction, in both half-waves: events every 13 pi/12 and
+# i_L(k 13pi/12) = (-1)^(k+1) e^{-5 pi k/12} from (v, i_L) = (0, -1).
 
 
 def test_diode_bridge_events_by_hand():
@@ -97,19 +97,19 @@ def test_diode_bridge_events_by_hand():
     tr = L.simulate(lcs, [0, -1], 9, digits=30)
     assert tr.certified and len(tr.events) == 2
     for k, ev in enumerate(tr.events, 1):
-        assert close(num(ev.time), k * 5 * mp.pi / 4)
-        assert ev.time.closed_form == sp.Rational(5 * k, 4) * sp.pi
-        assert close(num(ev.state_after[1]), (-1) ** (k + 1) * mp.e ** (-3 * mp.pi * k / 4))
+        assert close(num(ev.time), k * 13 * mp.pi / 12)
+        assert ev.time.closed_form == sp.Rational(13 * k, 12) * sp.pi
+        assert close(num(ev.state_after[1]), (-1) ** (k + 1) * mp.e ** (-5 * mp.pi * k / 12))
     assert [(e.mode_before, e.mode_after) for e in tr.events] == [({0, 3}, {1, 2}), ({1, 2}, {0, 3})]
     # the load current flows p -> 0 in both half-waves: D1's current in the first, D2's in the second
     u1, u2 = tr.u(1), tr.u(5)
     assert num(u1[0]) > 0 and num(u1[3]) > 0 and abs(num(u1[1])) == 0 == abs(num(u1[2]))
     assert num(u2[1]) > 0 and num(u2[2]) > 0 and abs(num(u2[0])) == 0
-    # while D1 and D4 conduct: the tank current 6v/5 splits at a between r + R = 1 and Rg = 1
-    # (e(a) = 3v/5, D1 carries 3v/5) and returns through r = 1/2 || Rg = 1 (e(0) - e(b) = 2v/5,
-    # D4 carries 4v/5); D2 and D3 block with positive reverse voltages
+    # while D1 and D4 conduct: the tank current 10v/13 splits at a between r + R = 3/2 and Rg = 3
+    # (e(a) = 10v/13, D1 carries e(a)/(3/2) = 20v/39) and returns through r = 1/3 || Rg = 3
+    # (e(0) - e(b) = 3v/13, D4 carries 9v/13); D2 and D3 block with positive reverse voltages
     v = num(tr.state(1)[0])
-    assert v > 0 and close(num(u1[0]), 3 * v / 5) and close(num(u1[3]), 4 * v / 5)
+    assert v > 0 and close(num(u1[0]), 20 * v / 39) and close(num(u1[3]), 9 * v / 13)
     y1 = tr.y(1)
     assert num(y1[1]) > 0 and num(y1[2]) > 0 and abs(num(y1[0])) < mp.mpf(10) ** -28
 
