@@ -446,6 +446,16 @@ def _inside(signs: tuple, box: tuple) -> bool:
     return all(s in al for s, al in zip(signs, box))
 
 
+def _mask(box_or_signs) -> int:
+    """Bit 3j + (s + 1) set for each sign s allowed at hyperplane j (one bit per j for a face):
+    a face lies in a box iff face_mask & ~box_mask == 0 (one integer operation, not m tests)."""
+    out = 0
+    for j, al in enumerate(box_or_signs):
+        for sg in (al if isinstance(al, frozenset) else (al,)):
+            out |= 1 << (3 * j + sg + 1)
+    return out
+
+
 def _cover(S: frozenset, own: list[Face], faces: list[Face], value_of: dict, hyperplanes: tuple,
            names: tuple) -> tuple:
     """Conjunctions of sign conditions whose realizable faces all have S(x0) = S, covering ``own``.
@@ -458,9 +468,16 @@ def _cover(S: frozenset, own: list[Face], faces: list[Face], value_of: dict, hyp
     conjunction is irredundant.
     """
     order = sorted(own, key=lambda f: -f.dimension)
+    masks = [(_mask(f.signs), value_of[f.signs] == S, f.signs) for f in faces]
+    foreign = [m for m, mine, _ in masks if not mine]
 
-    def valid(box):
-        return all(value_of[f.signs] == S for f in faces if _inside(f.signs, box))
+    def valid(box) -> bool:
+        bm = ~_mask(box)
+        return not any(m & bm == 0 for m in foreign)
+
+    def members(box) -> list:
+        bm = ~_mask(box)
+        return [sg for m, _, sg in masks if m & bm == 0]
 
     covered: set[tuple] = set()
     boxes = []
@@ -481,18 +498,18 @@ def _cover(S: frozenset, own: list[Face], faces: list[Face], value_of: dict, hyp
                     if valid(trial):
                         box, grown = trial, True
         boxes.append(box)
-        covered |= {f.signs for f in faces if _inside(f.signs, box)}
+        covered |= set(members(box))
     height = [sum(abs(int(v.p)) for v in a) + abs(int(b.p)) for a, b in hyperplanes]
     out = []
     for box in boxes:
         box = list(box)
-        members = sum(1 for f in faces if _inside(f.signs, box))
+        count = len(members(box))
         for j in sorted(range(len(box)), key=lambda j: -height[j]):
             for loose in (_ALL, *(frozenset((0, s)) for s in (1, -1) if box[j] == frozenset((s,)))):
                 if box[j] == loose:
                     continue
                 trial = box[:j] + [loose] + box[j + 1:]
-                if sum(1 for f in faces if _inside(f.signs, trial)) == members:
+                if len(members(trial)) == count:
                     box = trial
                     break
         out.append(tuple(_conditions(box, hyperplanes, names)))
