@@ -189,10 +189,12 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     cyc = [palette[i % len(palette)] for i in range(max(lcs.n, lcs.k))]
 
+    # one colour per mode, the same whatever the order of the phases: the free mode grey
+    ordered = sorted({ph.mode for ph in phases if ph.mode}, key=lambda m: (len(m), sorted(m)))
+    colors = {m: _MODE_COLORS[i % len(_MODE_COLORS)] for i, m in enumerate(ordered)}
+    colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
     for ph in phases:
         fa, fb = float(ph.start), float(ph.end)
-        if ph.mode not in colors:
-            colors[ph.mode] = _MODE_COLORS[len(colors) % len(_MODE_COLORS)]
         for ax in axes:
             ax.axvspan(fa, fb, color=colors[ph.mode], alpha=0.10, lw=0)
         npts = max(6, int(points * (fb - fa) / total))
@@ -263,8 +265,8 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
         else:
             handles = [Line2D([], [], color=cyc[pos], lw=1.6, label=_pair_label(lcs, p, i)) for pos, i in enumerate(cidx)]
         if ax is axes[0]:
-            handles += [Patch(color=c, alpha=0.3, label=f"mode {format_mode(m) if m is not None else '?'}")
-                        for m, c in colors.items()]
+            handles += [Patch(color=colors[m], alpha=0.3, label=f"mode {format_mode(m) if m is not None else '?'}")
+                        for m in sorted(colors, key=lambda m: (m is None, len(m or ()), sorted(m or ())))]
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     name = title if title is not None else (getattr(lcs, "name", None) or "LCS trajectory")
     if getattr(traj, "partial", False):
