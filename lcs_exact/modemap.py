@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from itertools import combinations
 from typing import Any, Sequence
 
-from flint import fmpq, fmpq_mat, fmpz
+from flint import fmpq, fmpq_mat
 
 from .errors import NotAutonomous, ShapeError
 from .modes import format_mode
@@ -49,6 +49,10 @@ class Inequality:
     """``sum_i coefficients[i] * z_i + constant  relation  0`` with ``relation`` in ``>``, ``>=``, ``=``.
 
     ``variables`` names the coordinates z_i (state names, or slice coordinates s_i).
+
+    >>> q = Inequality((fmpq(1), fmpq(-2)), fmpq(1), ">=", ("a", "b"))
+    >>> str(q), q.holds([1, 1]), q.holds([0, 1])
+    ('a - 2*b >= -1', True, False)
     """
 
     coefficients: tuple
@@ -112,7 +116,13 @@ class Region:
     unique_jump: bool = True
 
     def contains(self, point: Sequence[Any]) -> bool:
-        """True iff the rational point (map coordinates) lies in the region."""
+        """True iff the rational point (map coordinates) lies in the region, by its inequalities.
+
+        >>> from lcs_exact.examples import two_carts
+        >>> mm = two_carts().mode_map(slice=([0, 0, 0, 0], [[1, 0, 0, 0], [0, 0, 1, 0]]))
+        >>> [r.contains([0, 0]) for r in mm.regions]   # only the origin's region
+        [False, False, True]
+        """
         return any(all(q.holds(point) for q in conj) for conj in self.inequalities)
 
     @property

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from lcs_exact import LCS, is_p_matrix
 from lcs_exact.errors import NotAutonomous, ShapeError
 from lcs_exact.examples import two_carts, two_carts_with_hook
-from lcs_exact.modemap import Inequality, mode_map
+from lcs_exact.modemap import Inequality
 from lcs_exact.rational import to_vector
 
 SLICE = ([0, 0, 0, 0], [[0, 0, 1, 0], [0, 0, 0, 1]])
