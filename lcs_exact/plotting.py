@@ -454,7 +454,7 @@ def plot_mode_map(mm, ax=None, *, window: Sequence[Any] | None = None, arrows: b
                 if seg is not None:
                     ax.plot([float(seg[0][0]), float(seg[1][0])], [float(seg[0][1]), float(seg[1][1])],
                             color=color[r.modes], lw=lw, solid_capstyle="butt", zorder=3)
-            elif f.dimension == 0:
+            elif f.dimension == 0 and r.dimension == 0:  # a vertex inside a larger region is not special
                 p = f.point
                 if x0 <= p[0] <= x1 and y0 <= p[1] <= y1:
                     ax.plot([float(p[0])], [float(p[1])], "o", color=color[r.modes], mec="black", ms=8, zorder=4)
