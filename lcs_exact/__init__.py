@@ -1,8 +1,8 @@
 """lcs_exact: an exact engine for linear complementarity systems (Heemels, Schumacher, Weiland 2000)."""
 from __future__ import annotations
 
-from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, NotAutonomous, NotRational,
-                     ShapeError, UnresolvedSign, Unsupported, ZenoDetected)
+from .errors import (Deadlock, IllPosed, InvalidArgument, LCSError, LimitExceeded, NotAutonomous,
+                     NotRational, ShapeError, UnresolvedSign, Unsupported, ZenoDetected)
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
 from .rational import RationalFunction, RationalMatrix
@@ -17,7 +17,7 @@ __all__ = [
     "LCS", "Mode", "simulate", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
-    "ZenoDetected", "UnresolvedSign", "LimitExceeded", "Unsupported",
+    "ZenoDetected", "UnresolvedSign", "LimitExceeded", "Unsupported", "InvalidArgument",
     "ModeMap", "Region", "examples", "models",
 ]
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 __all__ = [
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
-    "ZenoDetected", "UnresolvedSign", "LimitExceeded", "Unsupported",
+    "ZenoDetected", "UnresolvedSign", "LimitExceeded", "Unsupported", "InvalidArgument",
 ]
 
 
@@ -56,3 +56,9 @@ class Unsupported(LCSError, NotImplementedError):
     """A valid request that this version cannot serve (the message says what is missing and where
     it is planned), e.g. a circuit with a loop of capacitors, or an example that needs a builder
     not written yet."""
+
+
+class InvalidArgument(LCSError, ValueError, TypeError):
+    """An argument has a wrong type or value that is not a matter of shape or exactness (names,
+    options, a malformed constraint); the message names the argument.  Also a ValueError and a
+    TypeError, so code catching either keeps working."""

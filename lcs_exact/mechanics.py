@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .errors import ShapeError
+from .errors import InvalidArgument, ShapeError
 from .rational import hstack, identity, to_matrix, vstack, zeros
 from .system import LCS
 
@@ -61,14 +61,14 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, name: 
     """
     if legacy:
         if len(legacy) > 1:
-            raise TypeError(f"mechanical() takes M, K, E (and damping=...), or the old M, D, K, E; "
+            raise InvalidArgument(f"mechanical() takes M, K, E (and damping=...), or the old M, D, K, E; "
                             f"got {3 + len(legacy)} positional arguments")
         if damping is not None or D is not None:
-            raise TypeError("mechanical(M, D, K, E) with damping= or D= as well: give the damping once")
+            raise InvalidArgument("mechanical(M, D, K, E) with damping= or D= as well: give the damping once")
         M, damping, K, E = M, K, E, legacy[0]  # the old order (M, D, K, E)
     if D is not None:
         if damping is not None:
-            raise TypeError("give the damping once: damping= or its old name D=, not both")
+            raise InvalidArgument("give the damping once: damping= or its old name D=, not both")
         damping = D
     Mm = to_matrix(M, "M")
     m = Mm.nrows()
@@ -90,7 +90,7 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, name: 
         raise ShapeError(f"q_names must be {m} names (one per coordinate), got {q_names!r}")
     q_names = tuple(q_names)
     if not all(isinstance(q, str) and q for q in q_names):
-        raise TypeError(f"q_names must be nonempty strings, got {q_names!r}")
+        raise InvalidArgument(f"q_names must be nonempty strings, got {q_names!r}")
     Minv = Mm.solve(identity(m))
     A = vstack(hstack(zeros(m, m), identity(m)), hstack(-(Minv * Km), -(Minv * Dm)))
     B = vstack(zeros(m, k), Minv * Em.transpose())

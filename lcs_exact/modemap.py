@@ -29,7 +29,7 @@ from typing import Any, Sequence
 
 from flint import fmpq, fmpq_mat
 
-from .errors import NotAutonomous, ShapeError
+from .errors import NotAutonomous, ShapeError, Unsupported
 from .modes import format_mode
 from .polyhedra import find_point
 from .rational import hstack, identity, to_fmpq, to_vector, zeros
@@ -325,7 +325,7 @@ def mode_map(lcs, slice: Any = None) -> ModeMap:
     <Region S = {0} (dim 2), jump P_{0}: -q_0' >= 0 and -q_1' > 0>
     """
     if lcs.k > MAX_PAIRS:
-        raise ValueError(f"mode_map enumerates the 2^k modes; k = {lcs.k} > {MAX_PAIRS} is too many")
+        raise Unsupported(f"mode_map enumerates the 2^k modes; k = {lcs.k} > {MAX_PAIRS} is too many")
     base, D, names = _slice(lcs, slice)
     d = D.ncols()
     modes = [frozenset(c) for r in range(lcs.k + 1) for c in combinations(range(lcs.k), r)]

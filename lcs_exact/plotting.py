@@ -28,6 +28,7 @@ from typing import Any, Sequence
 
 from flint import fmpq
 
+from .errors import InvalidArgument
 from .modes import format_mode
 
 __all__ = ["plot_trajectory", "plot_mode_map", "phase_intervals", "PhaseInterval"]
@@ -178,7 +179,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     cidx = _indices(constraints, getattr(lcs, "constraint_names", ()), lcs.k, "constraint")
     panels = [p for p in ("x", "u", "y") if p in panels]
     if not panels:
-        raise ValueError("panels must contain at least one of 'x', 'u', 'y'")
+        raise InvalidArgument("panels must contain at least one of 'x', 'u', 'y'")
     phases = phase_intervals(traj)
     fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
                              figsize=figsize or (9, 2.4 * len(panels) + 0.8), layout="constrained")
@@ -282,12 +283,12 @@ def _indices(sel, names, count: int, what: str) -> list[int]:
     for v in sel:
         if isinstance(v, str):
             if v not in names:
-                raise ValueError(f"unknown {what} name {v!r}; the names are {tuple(names)}")
+                raise InvalidArgument(f"unknown {what} name {v!r}; the names are {tuple(names)}")
             out.append(tuple(names).index(v))
         else:
             i = int(v)
             if not 0 <= i < count:
-                raise ValueError(f"{what} index {i} outside 0..{count - 1} (indices are 0-based)")
+                raise InvalidArgument(f"{what} index {i} outside 0..{count - 1} (indices are 0-based)")
             out.append(i)
     return out
 
@@ -401,14 +402,14 @@ def plot_mode_map(mm, ax=None, *, window: Sequence[Any] | None = None, arrows: b
     from .rational import to_fmpq
 
     if mm.dimension != 2:
-        raise ValueError(f"plot draws a 2-D map; this map has {mm.dimension} coordinates "
+        raise InvalidArgument(f"plot draws a 2-D map; this map has {mm.dimension} coordinates "
                          "(give slice=(base, [d_0, d_1]))")
     if window is None:
         window = _default_window(mm)
     window = tuple(to_fmpq(w, "window") for w in window)
     x0, x1, y0, y1 = window
     if not (x0 < x1 and y0 < y1):
-        raise ValueError("window must be (xmin, xmax, ymin, ymax) with xmin < xmax and ymin < ymax")
+        raise InvalidArgument("window must be (xmin, xmax, ymin, ymax) with xmin < xmax and ymin < ymax")
     own_figure = ax is None
     if own_figure:
         fig, ax = plt.subplots(figsize=(8.2, 5.0), layout="constrained")

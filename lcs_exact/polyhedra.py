@@ -19,7 +19,7 @@ from typing import Any, Iterable, Sequence
 
 from flint import fmpq
 
-from .errors import LCSError
+from .errors import InvalidArgument, LCSError
 from .rational import to_fmpq
 
 __all__ = ["Constraint", "find_point", "is_feasible", "RELATIONS"]
@@ -35,12 +35,12 @@ def _read(constraints: Iterable[Any], nvars: int) -> list[tuple[list[fmpq], fmpq
         try:
             a, b, rel = c
         except (TypeError, ValueError):
-            raise ValueError(f"a constraint is (coefficients, constant, relation), got {c!r}") from None
+            raise InvalidArgument(f"a constraint is (coefficients, constant, relation), got {c!r}") from None
         if rel not in RELATIONS:
-            raise ValueError(f"relation must be one of {RELATIONS}, got {rel!r}")
+            raise InvalidArgument(f"relation must be one of {RELATIONS}, got {rel!r}")
         a = [to_fmpq(v, "coefficient") for v in a]
         if len(a) != nvars:
-            raise ValueError(f"constraint has {len(a)} coefficients, expected {nvars}")
+            raise InvalidArgument(f"constraint has {len(a)} coefficients, expected {nvars}")
         out.append((a, to_fmpq(b, "constant"), rel))
     return out
 

@@ -17,7 +17,7 @@ from typing import Any, Iterable
 
 from flint import fmpq_mat, fmpq_poly
 
-from .errors import IllPosed, ShapeError
+from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
 from .rational import (RationalFunction, RationalMatrix, identity, mat_rows, matrix_to_sympy,
                        submatrix, to_matrix)
@@ -57,16 +57,16 @@ def _names(names: Any, count: int, what: str, prefix: str) -> tuple:
     if names is None:
         return tuple(f"{prefix}{i}" for i in range(count))
     if isinstance(names, str) or not isinstance(names, Iterable):
-        raise TypeError(f"{what} must be a sequence of {count} strings, got {type(names).__name__}")
+        raise InvalidArgument(f"{what} must be a sequence of {count} strings, got {type(names).__name__}")
     names = tuple(names)
     if len(names) != count:
         raise ShapeError(f"{what} has {len(names)} names, expected {count}")
     bad = [nm for nm in names if not isinstance(nm, str) or not nm]
     if bad:
-        raise TypeError(f"{what} must be nonempty strings, got {bad[0]!r}")
+        raise InvalidArgument(f"{what} must be nonempty strings, got {bad[0]!r}")
     dup = sorted({nm for nm in names if names.count(nm) > 1})
     if dup:
-        raise ValueError(f"{what} must be distinct: {dup[0]!r} occurs more than once")
+        raise InvalidArgument(f"{what} must be distinct: {dup[0]!r} occurs more than once")
     return names
 
 
@@ -121,7 +121,7 @@ class LCS:
         self.D = to_matrix(_as_row(D), "D", (k, k))
         self.n, self.k = n, k
         if name is not None and not isinstance(name, str):
-            raise TypeError(f"name must be a str, got {type(name).__name__}")
+            raise InvalidArgument(f"name must be a str, got {type(name).__name__}")
         self.name = name
         self.state_names = _names(state_names, n, "state_names", "x_")
         self.constraint_names = _names(constraint_names, k, "constraint_names", "")

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lcs_exact import LCS, RationalFunction, RationalMatrix
-from lcs_exact.errors import NotRational, ShapeError
+from lcs_exact.errors import InvalidArgument, NotRational, ShapeError
 from lcs_exact.examples import two_carts, two_carts_with_hook
 from lcs_exact.modes import latex_mode
 
@@ -54,15 +54,15 @@ def test_name_validation():
     args = ([[1, 0], [0, 1]], [[1], [0]], [[1, 0]], [[0]])
     with pytest.raises(ShapeError, match="state_names has 3 names, expected 2"):
         LCS(*args, state_names=["a", "b", "c"])
-    with pytest.raises(ValueError, match="distinct"):
+    with pytest.raises(InvalidArgument, match="distinct"):
         LCS(*args, state_names=["a", "a"])
-    with pytest.raises(TypeError, match="nonempty strings"):
+    with pytest.raises(InvalidArgument, match="nonempty strings"):
         LCS(*args, state_names=["a", 2])
-    with pytest.raises(TypeError, match="nonempty strings"):
+    with pytest.raises(InvalidArgument, match="nonempty strings"):
         LCS(*args, constraint_names=[""])
-    with pytest.raises(TypeError, match="sequence"):
+    with pytest.raises(InvalidArgument, match="sequence"):
         LCS(*args, constraint_names="stop")  # a bare string is not a sequence of names
-    with pytest.raises(TypeError, match="name must be a str"):
+    with pytest.raises(InvalidArgument, match="name must be a str"):
         LCS(*args, name=3)
     lcs = LCS(*args, state_names=iter(["a", "b"]))
     assert lcs.state_names == ("a", "b") and isinstance(lcs.constraint_names, tuple)

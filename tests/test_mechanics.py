@@ -4,7 +4,7 @@ from __future__ import annotations
 import pytest
 from flint import fmpq_mat
 
-from lcs_exact.errors import ShapeError
+from lcs_exact.errors import InvalidArgument, ShapeError
 from lcs_exact.models import mechanical
 
 
@@ -57,11 +57,11 @@ def test_errors():
         mechanical(M, K, [[1, 0, 0]])
     with pytest.raises(ShapeError, match="damping has shape"):
         mechanical(M, K, E, damping=[[1]])
-    with pytest.raises(TypeError, match="once"):
+    with pytest.raises(InvalidArgument, match="once"):
         mechanical(M, K, E, damping=M, D=M)
-    with pytest.raises(TypeError, match="once"):
+    with pytest.raises(InvalidArgument, match="once"):
         mechanical(M, M, K, E, damping=M)
-    with pytest.raises(TypeError, match="positional"):
+    with pytest.raises(InvalidArgument, match="positional"):
         mechanical(M, M, K, E, E)
     with pytest.raises(ShapeError, match="q_names"):
         mechanical(M, K, E, q_names=["a"])

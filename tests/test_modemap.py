@@ -11,7 +11,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from lcs_exact import LCS, is_p_matrix
-from lcs_exact.errors import NotAutonomous, ShapeError
+from lcs_exact.errors import NotAutonomous, ShapeError, Unsupported
 from lcs_exact.examples import two_carts, two_carts_with_hook
 from lcs_exact.modemap import Inequality
 from lcs_exact.rational import to_vector
@@ -261,3 +261,6 @@ def test_errors():
     bad = LCS([[0, 1], [0, 0]], [[0, 0], [1, 1]], [[1, 0], [1, 0]], [[0, 0], [0, 0]])
     with pytest.raises(NotAutonomous, match="Assumption 4.1"):
         bad.mode_map()
+    many = LCS([[0]], [[1] * 9], [[1]] * 9, [[int(i == j) for j in range(9)] for i in range(9)])
+    with pytest.raises(Unsupported, match="k = 9"):
+        many.mode_map()

@@ -91,7 +91,7 @@ def test_trajectory_selection_and_defaults():
     assert len(fig.axes) == 2
     assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()][:1] == ["$x_{1}$"]
     assert [t.get_text() for t in fig.axes[1].get_legend().get_texts()] == ["$y_{0}$"]
-    with pytest.raises(ValueError, match="unknown state name"):
+    with pytest.raises(L.InvalidArgument, match="unknown state name"):
         plot_trajectory(tr, states=["nope"])
     with pytest.raises(ValueError, match="outside"):
         plot_trajectory(tr, states=[5])
@@ -125,7 +125,7 @@ def test_mode_map_figure():
     assert (ax.get_xlabel(), ax.get_ylabel()) == ("q_0'", "q_1'")
     legend = [t.get_text() for t in fig.legends[0].get_texts()]
     assert "S = {0}: stop" in legend and "S = {0, 1}: stop+hook" in legend and "S = ∅: free" in legend
-    with pytest.raises(ValueError, match="2-D"):
+    with pytest.raises(L.InvalidArgument, match="2-D"):
         plot_mode_map(two_carts().mode_map())
     with pytest.raises(ValueError, match="window"):
         mm.plot(window=(1, 0, 0, 1))

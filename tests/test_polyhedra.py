@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from lcs_exact.errors import InvalidArgument
 from lcs_exact.polyhedra import find_point, is_feasible
 
 
@@ -61,11 +62,11 @@ def test_degenerate_cycling_candidate():
 
 
 def test_bad_input():
-    with pytest.raises(ValueError):
+    with pytest.raises(InvalidArgument, match="expected 2"):
         find_point(2, [([1], 0, ">")])
-    with pytest.raises(ValueError):
+    with pytest.raises(InvalidArgument, match="relation"):
         find_point(1, [([1], 0, "<")])
-    with pytest.raises(ValueError):
+    with pytest.raises(InvalidArgument, match="constraint is"):
         find_point(1, [([1], 0)])
 
 
