@@ -2,8 +2,9 @@
 from __future__ import annotations
 
 from .compare import ComparisonReport, FixtureTrajectory, compare, convergence_order, read_fixture
-from .errors import (Deadlock, FixtureMismatch, FormatError, IllPosed, LCSError, LimitExceeded,
-                     NotAutonomous, NotRational, ShapeError, UnresolvedSign, ZenoDetected)
+from .errors import (Deadlock, FixtureMismatch, FormatError, IllPosed, InvalidArgument, LCSError,
+                     LimitExceeded, NotAutonomous, NotRational, ShapeError, UnresolvedSign, Unsupported,
+                     ZenoDetected)
 from .fixture import validate_fixture
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
@@ -13,14 +14,17 @@ from .simulate import simulate
 from .sweep import SweepResult, param_sweep, sweep
 from .system import LCS, WellPosedness
 from .trajectory import Event, Trajectory
+from .modemap import ModeMap, Region
+from . import examples, models  # lcs_exact.examples, lcs_exact.models as attributes
 
 __all__ = [
     "LCS", "Mode", "simulate", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
+    "Unsupported", "InvalidArgument",
     "read_fixture", "validate_fixture", "compare", "convergence_order", "ComparisonReport",
-    "FixtureTrajectory",
+    "FixtureTrajectory", "ModeMap", "Region", "examples", "models",
 ]
 
 __version__ = "0.1.0"

@@ -237,7 +237,7 @@ def check_report(lcs: LCS, out=print, max_k: int = 8) -> None:
 
     >>> from lcs_exact.models import two_carts
     >>> check_report(two_carts())   # doctest: +ELLIPSIS
-    two carts (section 2): n = 4 states, k = 1 complementarity pairs
+    two carts (section 2): n = 4 states (q_0, q_1, q_0', q_1'), k = 1 complementarity pairs (stop)
     Theorem 6.3 well-posedness: WELL-POSED
     ...
     H_2 = [1]

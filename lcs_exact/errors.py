@@ -9,6 +9,7 @@ from __future__ import annotations
 __all__ = [
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
+    "Unsupported", "InvalidArgument",
 ]
 
 
@@ -58,3 +59,15 @@ class FormatError(LCSError, ValueError):
 
 class FixtureMismatch(FormatError):
     """A fixture disagrees with the trajectory recomputed exactly from its own system and x0."""
+
+
+class Unsupported(LCSError, NotImplementedError):
+    """A valid request that this version cannot serve (the message says what is missing and where
+    it is planned), e.g. a circuit with a loop of capacitors, or an example that needs a builder
+    not written yet."""
+
+
+class InvalidArgument(LCSError, ValueError, TypeError):
+    """An argument has a wrong type or value that is not a matter of shape or exactness (names,
+    options, a malformed constraint); the message names the argument.  Also a ValueError and a
+    TypeError, so code catching either keeps working."""

@@ -29,17 +29,25 @@ __all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound"
 _START_HALVINGS = 400
 
 
-def _finder(phase: Phase, c: Constraint):
-    """The closed-form finder of a root of constraint c on the phase (lazy; see closedforms)."""
-    def find(root: RootReal):
-        return prove_root(root, phase.spectrum, c.g, phase.base, phase.policy.deadline)
-    return find
+class _Finder:
+    """The closed-form finder of a root of constraint c on a phase (lazy; see closedforms).
+    A class rather than a closure so that trajectories pickle (sweeps send them between
+    processes)."""
+
+    def __init__(self, phase: Phase, c: Constraint):
+        self.phase, self.c = phase, c
+
+    def __call__(self, root: RootReal):
+        ph = self.phase
+        return prove_root(root, ph.spectrum, self.c.g, ph.base, ph.policy.deadline)
 
 
-def _toucher(phase: Phase, c: Constraint):
-    def touch(lo: fmpq, hi: fmpq):
-        return prove_touch(phase.spectrum, c.g, phase.base, lo, hi, phase.policy.deadline)
-    return touch
+class _Toucher(_Finder):
+    """Proves a tangential touch of constraint c at a critical point in [lo, hi]."""
+
+    def __call__(self, lo: fmpq, hi: fmpq):
+        ph = self.phase
+        return prove_touch(ph.spectrum, self.c.g, ph.base, lo, hi, ph.policy.deadline)
 
 
 def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> RootReal | None | str:
@@ -69,10 +77,10 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> RootRea
         if eps >= horizon:
             return None
         a, prec = eps, p
-    br = first_crossing(fn, a, horizon, prec, touch=_toucher(phase, c))
+    br = first_crossing(fn, a, horizon, prec, touch=_Toucher(phase, c))
     if br is None:
         return None
-    return RootReal(fn, br, _finder(phase, c))
+    return RootReal(fn, br, _Finder(phase, c))
 
 
 def horizon_bound(H: Real) -> fmpq:

@@ -23,12 +23,28 @@ from .errors import LCSError, NotAutonomous
 from .rational import hstack, identity, matrix_to_sympy, submatrix, vstack, zeros
 from .subspaces import image, intersection, kernel, left_kernel, projection, rank, solve_any
 
-__all__ = ["Mode", "format_mode"]
+__all__ = ["Mode", "format_mode", "latex_mode", "LATEX_MAX_N"]
+
+#: ``_repr_latex_`` of a mode (and of results showing n x n matrices) returns None above this n
+LATEX_MAX_N = 12
 
 
 def format_mode(I) -> str:
-    """{0, 2} style (0-based), ∅ for the empty mode."""
+    """{0, 2} style (0-based), ∅ for the empty mode.
+
+    >>> format_mode({2, 0}), format_mode(set())
+    ('{0, 2}', '∅')
+    """
     return "{" + ", ".join(str(i) for i in sorted(I)) + "}" if I else "∅"
+
+
+def latex_mode(I) -> str:
+    """The mode as LaTeX: ``\\{0, 2\\}`` (braces escaped so they render), ``\\emptyset``.
+
+    >>> print(latex_mode({0, 2}), latex_mode(()))
+    \\{0, 2\\} \\emptyset
+    """
+    return r"\{" + ", ".join(str(i) for i in sorted(I)) + r"\}" if I else r"\emptyset"
 
 
 class Mode:
@@ -206,11 +222,11 @@ class Mode:
 
     def _repr_latex_(self):
         import sympy
-        if self.lcs.n > 12:
+        if self.lcs.n > LATEX_MAX_N:
             return None
         V, T = self.consistent_subspace(), self.jump_space()
         f = lambda m: sympy.latex(matrix_to_sympy(m)) if m.ncols() else r"\{0\}"  # noqa: E731
-        name = format_mode(self.I).replace("∅", "\\emptyset")
+        name = latex_mode(self.I)
         s = rf"\text{{mode }} I = {name}:\ V_I = \operatorname{{Im}}{f(V)},\ T_I = \operatorname{{Im}}{f(T)}"
         if self.is_autonomous:
             s += rf",\ P_I = {f(self.projection())}"

@@ -20,6 +20,7 @@ raises :class:`~lcs_exact.errors.UnresolvedSign`.
 """
 from __future__ import annotations
 
+import re
 from fractions import Fraction
 from numbers import Integral, Rational
 from typing import Any, Iterable, Sequence, Union
@@ -251,10 +252,17 @@ def _poly(p: Any) -> fmpq_poly:
 class RationalFunction:
     """An element p(s)/q(s) of Q(s), normalized: q monic, gcd(p, q) = 1, zero is 0/1.
 
+    ``RationalFunction(num, den)`` takes polynomials (``fmpq_poly``, coefficient lists lowest
+    degree first, or scalars); ``RationalFunction(text)`` reads an expression in ``s`` with
+    rational numbers, ``+ - * /``, parentheses and integer powers (``^`` or ``**``), which is
+    what the repr prints, so the repr pastes back.
+
     >>> s = RationalFunction.s()
     >>> f = 1 + s / (s**2 + 1)
     >>> f
     RationalFunction('(s^2 + s + 1)/(s^2 + 1)')
+    >>> RationalFunction('(s^2 + s + 1)/(s^2 + 1)') == f
+    True
     >>> [str(c) for c in f.laurent(4)]
     ['1', '1', '0', '-1']
     """
@@ -262,6 +270,12 @@ class RationalFunction:
     __slots__ = ("num", "den")
 
     def __init__(self, num: Any = 0, den: Any = 1):
+        if isinstance(num, str):
+            parsed = _parse_rational_function(num)
+            if not (isinstance(den, (int, fmpq)) and den == 1):
+                parsed = parsed / RationalFunction(den)
+            self.num, self.den = parsed.num, parsed.den
+            return
         p, q = _poly(num), _poly(den)
         if q.is_zero():
             raise ZeroDivisionError("rational function with zero denominator")
@@ -398,6 +412,100 @@ class RationalFunction:
     def _repr_latex_(self):
         import sympy
         return f"${sympy.latex(self.to_sympy())}$"
+
+
+_TOKEN = re.compile(r"\s*(?:(\d+(?:\.\d*)?|\.\d+)|(\*\*|[-+*/^()])|([A-Za-z_]\w*))")
+
+
+def _parse_rational_function(text: str) -> "RationalFunction":
+    """Read an expression in s (numbers, + - * /, parentheses, integer powers) exactly."""
+    tokens: list[tuple[str, str]] = []
+    pos, text_ = 0, text.strip()
+    while pos < len(text_):
+        m = _TOKEN.match(text_, pos)
+        if m is None or m.end() == pos:
+            raise NotRational(f"cannot read {text!r} as a rational function of s: unexpected "
+                              f"{text_[pos:pos + 10]!r} at position {pos}")
+        num, op, ident = m.groups()
+        if ident is not None and ident != "s":
+            raise NotRational(f"cannot read {text!r} as a rational function of s: unknown name {ident!r}")
+        tokens.append(("num", num) if num is not None else ("op", "^" if op == "**" else op)
+                      if op is not None else ("s", "s"))
+        pos = m.end()
+        while pos < len(text_) and text_[pos].isspace():
+            pos += 1
+    if not tokens:
+        raise NotRational("cannot read an empty string as a rational function of s")
+    i = 0
+
+    def fail(why: str):
+        raise NotRational(f"cannot read {text!r} as a rational function of s: {why}")
+
+    def peek():
+        return tokens[i] if i < len(tokens) else ("end", "")
+
+    def take():
+        nonlocal i
+        i += 1
+        return tokens[i - 1]
+
+    def expr():
+        v = term()
+        while peek() in (("op", "+"), ("op", "-")):
+            v = v + term() if take()[1] == "+" else v - term()
+        return v
+
+    def term():
+        v = unary()
+        while peek() in (("op", "*"), ("op", "/")):
+            if take()[1] == "*":
+                v = v * unary()
+            else:
+                d = unary()
+                if d.is_zero():
+                    fail("division by zero")
+                v = v / d
+        return v
+
+    def unary():
+        if peek() in (("op", "+"), ("op", "-")):
+            return unary() if take()[1] == "+" else -unary()
+        return power()
+
+    def power():
+        v = atom()
+        if peek() == ("op", "^"):
+            take()
+            sign = 1
+            if peek() in (("op", "+"), ("op", "-")):
+                sign = -1 if take()[1] == "-" else 1
+            kind, tok = take() if i < len(tokens) else ("end", "")
+            if kind != "num" or not tok.isdigit():
+                fail("an exponent must be an integer")
+            if v.is_zero() and sign < 0:
+                fail("division by zero")
+            v = v ** (sign * int(tok))
+        return v
+
+    def atom():
+        if i >= len(tokens):
+            fail("unexpected end")
+        kind, tok = take()
+        if kind == "num":
+            return RationalFunction(to_fmpq(tok))
+        if kind == "s":
+            return RationalFunction(_S)
+        if tok == "(":
+            v = expr()
+            if i >= len(tokens) or take() != ("op", ")"):
+                fail("missing ')'")
+            return v
+        fail(f"unexpected {tok!r}")
+
+    v = expr()
+    if i != len(tokens):
+        fail(f"unexpected {tokens[i][1]!r}")
+    return v
 
 
 def _poly_str(p: fmpq_poly, var: str = "s") -> str:

@@ -61,6 +61,13 @@ class _Node:
         """The nodes whose balls at the same precision :meth:`_compute` reads."""
         return ()
 
+    def __getstate__(self):
+        # Calcium numbers do not pickle: drop the caches that hold them (rebuilt on demand)
+        state = dict(self.__dict__)
+        if "_ca" in state:
+            state["_ca"], state["_ca_done"] = None, False
+        return state
+
     @abc.abstractmethod
     def _compute(self, prec: int):
         """The ball at ``prec`` bits, assuming every dependency has a ball at >= prec bits."""

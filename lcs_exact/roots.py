@@ -360,6 +360,9 @@ class RootReal(Real):
 
     def to_ca(self):
         self.closed_form
+        if self._proven and self._proven[1] is None:
+            from . import calcium
+            self._proven = (self._proven[0], calcium.from_sympy(self._proven[0]))
         return self._proven[1] if self._proven else None
 
     def known_rational(self):
@@ -368,6 +371,12 @@ class RootReal(Real):
             if e.is_Rational:
                 return fmpq(int(e.p), int(e.q))
         return None
+
+    def __getstate__(self):
+        state = super().__getstate__()
+        if state.get("_proven"):
+            state["_proven"] = (state["_proven"][0], None)  # the Calcium number is rebuilt on demand
+        return state
 
     def set_proven(self, expr, ca) -> None:
         """Record a closed form proven by the caller (an exact zero of f in the bracket)."""

@@ -27,12 +27,13 @@ from flint import fmpq_mat
 
 from .errors import IllPosed, LCSError
 from .lcp import murty
-from .modes import format_mode
+from .modes import LATEX_MAX_N, format_mode, latex_mode
 from .rational import (RationalFunction, RationalMatrix, is_rational_vector, is_zero, laurent_coefficients,
                        lex_sign, sign_of_form, submatrix, to_vector, zeros)
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "LDCPSolution", "select_modes",
-           "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data"]
+           "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data",
+           "admissibility_forms"]
 
 
 def as_state(lcs, x0: Any):
@@ -89,10 +90,10 @@ def _row_series(m: RationalMatrix, i: int) -> _RowSeries:
 def rcp_data(mode) -> dict:
     """W_I(s), Z_I(s), their Laurent forms and the impulse matrices of mode I (cached on the mode):
     ``{"W", "Z", "u", "y", "impulse"}``, impulse[p] the k x n forms of u^{-p} (3.6)."""
-    return mode.memo("rcp", lambda: _build_rcp_data(mode))
+    return mode.memo("rcp", lambda: _buildrcp_data(mode))
 
 
-def _build_rcp_data(mode) -> dict:
+def _buildrcp_data(mode) -> dict:
     mode.require_autonomous()
     lcs = mode.lcs
     G, R = lcs.G(), lcs.R()
@@ -124,6 +125,25 @@ def mode_admissible(mode, x) -> bool:
     return all(r.sign(x) >= 0 for r in data["u"]) and all(r.sign(x) >= 0 for r in data["y"])
 
 
+def admissibility_forms(mode) -> tuple:
+    """The linear forms that decide I in S(x0) (5.4), (5.6)-(5.7), Lemma 5.1.
+
+    Returns one entry per row of u_I(s) = W_I(s) x0 (i in I, in increasing order) followed by
+    one per row of y_Ic(s) = Z_I(s) x0 (i not in I): a tuple of 1 x n ``fmpq_mat`` forms
+    (f_1, f_2, ...), the Laurent coefficients at s = oo of that row.  I is in S(x0) iff every
+    entry is lexicographically nonnegative at x0 (the first nonzero f_j . x0 is positive, or
+    all vanish).  Requires the mode to be autonomous (Assumption 4.1).
+
+    >>> from lcs_exact import LCS
+    >>> carts = LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]], [[0], [0], [1], [0]],
+    ...             [[1, 0, 0, 0]], [[0]])
+    >>> [[str(f) for f in row] for row in admissibility_forms(carts.mode(()))]  # y(s) = R(s) x0
+    [['[1, 0, 0, 0]', '[0, 0, 1, 0]', '[-2, 1, 0, 0]', '[0, 0, -2, 1]']]
+    """
+    data = rcp_data(mode)
+    return tuple(r.forms for r in data["u"]) + tuple(r.forms for r in data["y"])
+
+
 @dataclass(frozen=True)
 class RCPSolution:
     """A solution (u(s), y(s)) of RCP(x0) in mode I (u_Ic = 0, y_I = 0), for a rational x0."""
@@ -144,9 +164,11 @@ class RCPSolution:
 
     def _repr_latex_(self):
         import sympy
+        if len(self.u) > LATEX_MAX_N:
+            return None
         u = sympy.latex(sympy.Matrix([f.to_sympy() for f in self.u]))
         y = sympy.latex(sympy.Matrix([f.to_sympy() for f in self.y]))
-        name = format_mode(self.mode).replace("∅", "\\emptyset")
+        name = latex_mode(self.mode)
         return rf"$I = {name}:\ u(s) = {u},\ y(s) = {y}$"
 
 

@@ -11,12 +11,13 @@ Mode selection (section 5) is in :mod:`lcs_exact.selection`; the methods here de
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from typing import Any, Iterable
 
 from flint import fmpq_mat, fmpq_poly
 
-from .errors import IllPosed, ShapeError
+from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
 from .rational import (RationalFunction, RationalMatrix, adjugate_coefficients, mat_rows,
                        matrix_to_sympy, submatrix, to_matrix)
@@ -37,6 +38,24 @@ def _as_row(data: Any) -> Any:
     return data
 
 
+def _names(names: Any, count: int, what: str, prefix: str) -> tuple:
+    """Validated names (distinct nonempty strings, one per index) as a tuple; defaults prefix+i."""
+    if names is None:
+        return tuple(f"{prefix}{i}" for i in range(count))
+    if isinstance(names, str) or not isinstance(names, Iterable):
+        raise InvalidArgument(f"{what} must be a sequence of {count} strings, got {type(names).__name__}")
+    names = tuple(names)
+    if len(names) != count:
+        raise ShapeError(f"{what} has {len(names)} names, expected {count}")
+    bad = [nm for nm in names if not isinstance(nm, str) or not nm]
+    if bad:
+        raise InvalidArgument(f"{what} must be nonempty strings, got {bad[0]!r}")
+    dup = sorted({nm for nm in names if names.count(nm) > 1})
+    if dup:
+        raise InvalidArgument(f"{what} must be distinct: {dup[0]!r} occurs more than once")
+    return names
+
+
 class LCS:
     """A linear complementarity system (4.1) with exact rational data.
 
@@ -47,6 +66,16 @@ class LCS:
         fmpq; a float is read as its shortest decimal repr (0.1 -> 1/10).  For k = 1, B and C may
         be flat lists and D a scalar.
     name : str, optional
+        A title shown by ``str`` and in reprs.
+    state_names : sequence of str, optional
+        Names of x_0, ..., x_{n-1} (plots, tables, reprs).  Default ``("x_0", ..., "x_{n-1}")``:
+        0-based, like every index in the library (the paper's x_1 is ``x_0`` here).
+    constraint_names : sequence of str, optional
+        Names of the complementarity pairs (u_i, y_i), i = 0..k-1.  Default ``("0", ..., "k-1")``,
+        so that plots label the pairs u_0, y_0, ...; a name such as ``"stop"`` labels them
+        u (stop), y (stop).
+
+    Names must be distinct nonempty strings; they are stored as tuples.
 
     Examples
     --------
@@ -62,7 +91,8 @@ class LCS:
     True
     """
 
-    def __init__(self, A: Any, B: Any, C: Any, D: Any, *, name: str | None = None):
+    def __init__(self, A: Any, B: Any, C: Any, D: Any, *, name: str | None = None,
+                 state_names: Any = None, constraint_names: Any = None):
         self.A = to_matrix(A, "A")
         n = self.A.nrows()
         if n == 0 or self.A.ncols() != n:
@@ -76,7 +106,11 @@ class LCS:
             D = [[D]]
         self.D = to_matrix(_as_row(D), "D", (k, k))
         self.n, self.k = n, k
+        if name is not None and not isinstance(name, str):
+            raise InvalidArgument(f"name must be a str, got {type(name).__name__}")
         self.name = name
+        self.state_names = _names(state_names, n, "state_names", "x_")
+        self.constraint_names = _names(constraint_names, k, "constraint_names", "")
         self._markov: list[fmpq_mat] = [self.D]
         self._apow_b: list[fmpq_mat] = [self.B]  # A^i B
         self._modes: dict[frozenset, Any] = {}
@@ -237,6 +271,13 @@ class LCS:
         from .selection import initial_solution
         return initial_solution(self, x0)
 
+    def mode_map(self, slice: Any = None):
+        """The exact partition of the state space (or of ``slice=(base, directions)``) into the
+        polyhedral regions where S(x0) and the re-initialization are constant (DESIGN.md
+        section 6).  See :func:`lcs_exact.modemap.mode_map`."""
+        from .modemap import mode_map
+        return mode_map(self, slice)
+
     def is_regular(self, x0: Any) -> bool:
         """Theorem 6.8: x0 admits a smooth initial solution."""
         from .selection import is_regular
@@ -244,21 +285,45 @@ class LCS:
 
     # --- display ------------------------------------------------------------------------------
     def __repr__(self):
-        f = lambda m: "[" + ", ".join("[" + ", ".join(str(e) for e in r) + "]" for r in mat_rows(m)) + "]"  # noqa: E731
-        nm = f", name={self.name!r}" if self.name else ""
-        return f"LCS(A={f(self.A)}, B={f(self.B)}, C={f(self.C)}, D={f(self.D)}{nm})"
+        # non-integers are quoted: "1/3" pastes back exactly (an unquoted 1/3 would be a float)
+        q = lambda e: str(e) if e.q == 1 else f"'{e}'"  # noqa: E731
+        f = lambda m: "[" + ", ".join("[" + ", ".join(q(e) for e in r) + "]" for r in mat_rows(m)) + "]"  # noqa: E731
+        extra = f", name={self.name!r}" if self.name is not None else ""
+        if self.state_names != _names(None, self.n, "", "x_"):
+            extra += f", state_names={self.state_names!r}"
+        if self.constraint_names != _names(None, self.k, "", ""):
+            extra += f", constraint_names={self.constraint_names!r}"
+        return f"LCS(A={f(self.A)}, B={f(self.B)}, C={f(self.C)}, D={f(self.D)}{extra})"
 
     def __str__(self):
         title = self.name or "LCS"
-        return f"{title}: n = {self.n} states, k = {self.k} complementarity pairs"
+        return (f"{title}: n = {self.n} states ({', '.join(self.state_names)}), "
+                f"k = {self.k} complementarity pairs ({', '.join(self.constraint_names)})")
 
     def _repr_latex_(self):
         import sympy
         if self.n * (self.n + self.k) > 400:
             return None
         L = lambda m: sympy.latex(matrix_to_sympy(m))  # noqa: E731
-        return (rf"$\dot x = {L(self.A)} x + {L(self.B)} u,\quad y = {L(self.C)} x + {L(self.D)} u,"
-                rf"\quad 0 \le y \perp u \ge 0$")
+        out = (rf"\dot x = {L(self.A)} x + {L(self.B)} u,\quad y = {L(self.C)} x + {L(self.D)} u,"
+               rf"\quad 0 \le y \perp u \ge 0")
+        if self.state_names != _names(None, self.n, "", "x_"):
+            out += r",\quad x = (" + r",\ ".join(_latex_name(nm) for nm in self.state_names) + ")"
+        if self.constraint_names != _names(None, self.k, "", ""):
+            out += r",\quad \text{pairs } (" + r",\ ".join(_latex_name(nm) for nm in self.constraint_names) + ")"
+        return f"${out}$"
+
+
+def _latex_name(name: str) -> str:
+    """x_0, q_1' (one letter, a subscript, primes) as math; anything else as escaped \\text{...}."""
+    if re.fullmatch(r"[A-Za-z](_[A-Za-z0-9]+)?'*", name):
+        base, _, sub = name.rstrip("'").partition("_")
+        primes = "'" * (len(name) - len(name.rstrip("'")))
+        return base + (f"_{{{sub}}}" if sub else "") + primes
+    for c, r in (("\\", r"\textbackslash "), ("{", r"\{"), ("}", r"\}"), ("_", r"\_"), ("^", r"\^{}"),
+                 ("$", r"\$"), ("&", r"\&"), ("%", r"\%"), ("#", r"\#"), ("~", r"\~{}")):
+        name = name.replace(c, r)
+    return rf"\text{{{name}}}"
 
 
 @dataclass(frozen=True)

@@ -218,24 +218,10 @@ class Trajectory:
         from .fixture import fixture_dict
         return fixture_dict(self, digits, sample)
 
-    def plot(self, ax=None, points: int = 400, components=None):
-        """Plot the state components with matplotlib (events marked); returns the axes."""
-        import matplotlib.pyplot as plt
-        import numpy as np
-        if ax is None:
-            _, ax = plt.subplots()
-        t_last = float(self.t_last)
-        ts = [fmpq(int(round(float(x) * 10**9)), 10**9) for x in np.linspace(0, t_last, points)]
-        ts[-1] = min(ts[-1], fmpq(int(t_last * 10**9), 10**9))
-        xs = self.sample(ts, 8)
-        comps = range(self.lcs.n) if components is None else components
-        for i in comps:
-            ax.plot([float(t) for t in ts], [float(x[i].mid()) for x in xs], label=f"x{i}")
-        for e in self.events:
-            ax.axvline(float(e.time), color="gray", lw=0.5, ls="--")
-        ax.set_xlabel("t")
-        ax.legend()
-        return ax
+    def plot(self, **kw):
+        """States and u/y against t, events and jumps marked (see lcs_exact.plotting.plot_trajectory)."""
+        from .plotting import plot_trajectory
+        return plot_trajectory(self, **kw)
 
     # --- display ------------------------------------------------------------------------------
     def __repr__(self):

@@ -1,0 +1,126 @@
+"""The paper's systems and a few standard circuits, ready to simulate, with names.
+
+* :func:`two_carts` - section 2, (2.1); :func:`two_carts_with_hook` - Example 8.3, (8.12);
+* :func:`half_wave_rectifier`, :func:`diode_bridge` - LC tanks rectified by ideal diodes;
+* :func:`filippov_spiral` - (4.12): needs the relay builder (issue 8), raises Unsupported.
+
+Indices are 0-based (the paper's x_1 and mode {1} are ``x_0`` and ``{0}`` here).  Mechanical
+examples name their states q_0, q_1, q_0', q_1' (positions, velocities): the paper's x1..x4.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+from .circuits import circuit
+from .errors import Unsupported
+from .mechanics import mechanical
+from .rational import to_fmpq
+from .system import LCS
+
+__all__ = ["two_carts", "two_carts_with_hook", "half_wave_rectifier", "diode_bridge", "filippov_spiral"]
+
+
+def two_carts() -> LCS:
+    """Two carts, springs and an inelastic stop (section 2, (2.1)).
+
+    Unit masses at positions q_0 (left cart) and q_1; a spring of stiffness 1 from the wall to the
+    left cart and one between the carts (K = [[2, -1], [-1, 1]]); a completely inelastic stop
+    keeps q_0 >= 0 with contact force u >= 0 (the constraint "stop", y = q_0).  State
+    x = (q_0, q_1, q_0', q_1') = the paper's (x1, x2, x3, x4).
+
+    >>> carts = two_carts()
+    >>> carts.markov(2)[0, 0], carts.constraint_names
+    (1, ('stop',))
+    """
+    return mechanical([[1, 0], [0, 1]], [[2, -1], [-1, 1]], [[1, 0]], name="two carts (section 2)",
+                      constraint_names=("stop",))
+
+
+def two_carts_with_hook() -> LCS:
+    """The two carts with the stop (y_0 = q_0 >= 0) and a hook (y_1 = q_0 - q_1 >= 0) (Example 8.3).
+
+    (8.12): M = I, D = 0, K = [[2, -1], [-1, 1]], E = [[1, 0], [1, -1]]; u_0, u_1 are the forces
+    of the stop and the hook.  Figure 8.2 is the mode map on the slice q = 0:
+    ``two_carts_with_hook().mode_map(slice=([0, 0, 0, 0], [[0, 0, 1, 0], [0, 0, 0, 1]]))``.
+
+    >>> two_carts_with_hook().select_modes([0, 0, -1, 2])   # hook-constrained (see section 8)
+    {frozenset({1})}
+    """
+    return mechanical([[1, 0], [0, 1]], [[2, -1], [-1, 1]], [[1, 0], [1, -1]],
+                      name="two carts with hook (Example 8.3)", constraint_names=("stop", "hook"))
+
+
+def half_wave_rectifier(L: Any = 1, C: Any = 1, R: Any = "13/10") -> LCS:
+    """An LC tank (the AC source) feeding a resistive load R through one ideal diode.
+
+    Netlist: ``C1 1 0 C``, ``L1 1 0 L``, ``D1 1 2``, ``R1 2 0 R``.  State x = (v(C1), i(L1)):
+    the tank voltage and the inductor current (node 1 -> ground).  The diode is a current port:
+    u = i_D (load current), y = R u - v (its reverse voltage), so D = R > 0 (well-posed).
+    While v > 0 the diode conducts and the tank is a damped parallel RLC,
+    v'' + v'/(RC) + v/(LC) = 0; while v < 0 it blocks and the tank oscillates freely at
+    1/sqrt(LC).  Every event is a zero of v: conduction lasts pi/omega_d with
+    omega_d^2 = 1/(LC) - 1/(2RC)^2, blocking lasts pi sqrt(LC).  With the defaults (L = C = 1,
+    R = 13/10): decay 1/(2RC) = 5/13, omega_d = 12/13, so from v = 0, v' > 0 the events are at
+    13pi/12, 25pi/12, 19pi/6, ... and each conduction shrinks the tank's energy by e^(-5pi/6).
+
+    >>> rect = half_wave_rectifier()
+    >>> rect.A, rect.D, rect.state_names
+    ([0, -1]
+    [1,  0], [13/10], ('v(C1)', 'i(L1)'))
+    """
+    L, C, R = (to_fmpq(v, name) for v, name in ((L, "L"), (C, "C"), (R, "R")))
+    return circuit([("C1", "1", "0", C), ("L1", "1", "0", L), ("D1", "1", "2"), ("R1", "2", "0", R)],
+                   name="half-wave rectifier (LC tank, diode, load R)")
+
+
+def diode_bridge(L: Any = 1, C: Any = 1, R: Any = "7/6", r: Any = "1/3", R_ground: Any = 3) -> LCS:
+    """A full-wave diode bridge rectifying a floating LC tank into a load R.
+
+    The tank (C1 and L1 in parallel) sits between nodes a and b; diodes D1: a -> p, D2: b -> p,
+    D3: 0 -> a, D4: 0 -> b, each with a series on-resistance r (nodes n1..n4); the load R1 is
+    between p and ground 0, and two resistors R_ground tie a and b to ground.  The series r
+    breaks the loop made of diodes alone (in which a circulating current would be undetermined)
+    and R_ground the cutset made of diodes alone (the tank's potential would be undetermined
+    when all four block): without them some modes are not autonomous (Lemma 3.3) and the
+    network is not an LCS with unique solutions.
+
+    State x = (v(C1), i(L1)) with v = e(a) - e(b); the diodes are current ports
+    (u_i = current of D(i+1), y_i = its reverse voltage).  For v > 0, D1 and D4 conduct; for
+    v < 0, D2 and D3: either way the tank sees R_eq = (r + R) || R_ground + r || R_ground and
+    v'' + v'/(R_eq C) + v/(LC) = 0, and every zero of v is an event that swaps the pairs.  The
+    load current flows from p to 0 in both half-waves.  Defaults (L = C = 1, r = 1/3, R = 7/6,
+    R_ground = 3): R_eq = 1 + 3/10 = 13/10, the rectifier's conduction: omega_d = 12/13, decay
+    5/13, events every 13pi/12.
+
+    >>> bridge = diode_bridge()
+    >>> bridge.constraint_names, bool(bridge.well_posedness())
+    (('D1', 'D2', 'D3', 'D4'), True)
+    """
+    L, C, R, r, Rg = (to_fmpq(v, name) for v, name in ((L, "L"), (C, "C"), (R, "R"), (r, "r"), (R_ground, "R_ground")))
+    net = [("C1", "a", "b", C), ("L1", "a", "b", L),
+           ("D1", "a", "n1"), ("Rd1", "n1", "p", r),
+           ("D2", "b", "n2"), ("Rd2", "n2", "p", r),
+           ("D3", "0", "n3"), ("Rd3", "n3", "a", r),
+           ("D4", "0", "n4"), ("Rd4", "n4", "b", r),
+           ("R1", "p", "0", R), ("Rga", "a", "0", Rg), ("Rgb", "b", "0", Rg)]
+    return circuit(net, name="full-wave diode bridge (LC tank, load R)")
+
+
+def filippov_spiral() -> LCS:
+    """The paper's right-Zeno example (4.12): x1' = -sgn(x1) + 2 sgn(x2), x2' = -2 sgn(x1) - sgn(x2).
+
+    Not available yet: it is a relay system (x' = A x + B w, w in Sgn(C x)), which becomes an
+    LCS only through the relay builder ``models.relay`` with a constant state for the relay
+    levels, and some of that LCS's modes are not autonomous, so mode selection needs the
+    extension planned in issue 8 ("Hard scenes"), together with the crossing of its
+    accumulation point at t = 3/2 from x0 = (1, 2) (switching times 3/2 - (5/2) 3^-k).
+    Raises :class:`~lcs_exact.errors.Unsupported` until then.
+
+    >>> filippov_spiral()
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.Unsupported: filippov_spiral() (4.12) needs the relay builder models.relay and mode selection with non-autonomous modes (issue 8, "Hard scenes"); notebooks/03_zeno_spiral.ipynb shows its exact switching times derived by hand
+    """
+    raise Unsupported("filippov_spiral() (4.12) needs the relay builder models.relay and mode selection "
+                      "with non-autonomous modes (issue 8, \"Hard scenes\"); notebooks/03_zeno_spiral.ipynb "
+                      "shows its exact switching times derived by hand")

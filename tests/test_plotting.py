@@ -1,0 +1,145 @@
+"""Figures: what a reader must see is checked on the matplotlib objects (lines broken at jumps,
+open/closed markers at x(τ-)/x(τ+), events labelled, phases shaded, names, legends outside)."""
+from __future__ import annotations
+
+import ast
+import pathlib
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import pytest  # noqa: E402
+from matplotlib.patches import Polygon, Rectangle  # noqa: E402
+
+import lcs_exact as L  # noqa: E402
+from lcs_exact.examples import two_carts, two_carts_with_hook  # noqa: E402
+from lcs_exact.plotting import phase_intervals, plot_mode_map, plot_trajectory  # noqa: E402
+
+
+@pytest.fixture(autouse=True)
+def _close():
+    yield
+    plt.close("all")
+
+
+@pytest.fixture(scope="module")
+def impact():
+    """Section 7: from e^{-A}(0, -1, -1, 0) the free phase ends at t = 1 with an impact
+    (q_0' jumps from -1 to 0), the stop holds until 1 + pi/2, then the cart leaves."""
+    c = two_carts()
+    return L.simulate(c, L.expm_action(c.A, -1, [0, -1, -1, 0]), 3)
+
+
+def state_lines(ax):
+    return [ln for ln in ax.get_lines() if len(ln.get_xdata()) > 2]
+
+
+def test_phases_from_events(impact):
+    ph = phase_intervals(impact)
+    assert [(float(p.start), float(p.end)) for p in ph] == [(0.0, 1.0), (1.0, float(impact.events[1].time)),
+                                                            (float(impact.events[1].time), 3.0)]
+    assert [p.mode for p in ph] == [frozenset(), frozenset({0}), frozenset()]
+
+
+def test_trajectory_figure(impact):
+    fig = impact.plot(points=60)
+    assert isinstance(fig, matplotlib.figure.Figure)
+    ax_x, ax_u, ax_y = fig.axes[:3]
+    assert [a.get_ylabel() for a in (ax_x, ax_u, ax_y)] == ["state", "u", "y"]
+    assert ax_y.get_xlabel() == "t" and ax_x.get_shared_x_axes().joined(ax_x, ax_y)
+    # no line crosses an event: every sampled line lies within one phase
+    events = [float(e.time) for e in impact.events]
+    for ax in (ax_x, ax_u, ax_y):
+        for ln in state_lines(ax):
+            xs = ln.get_xdata()
+            for te in events:
+                assert max(xs) <= te + 1e-12 or min(xs) >= te - 1e-12
+    # the impact at t = 1: q_0' (state 2) jumps from -1 (open marker) to 0 (filled marker)
+    markers = [(ln.get_xdata()[0], ln.get_ydata()[0], ln.get_markerfacecolor())
+               for ln in ax_x.get_lines() if ln.get_marker() == "o" and len(ln.get_xdata()) == 1]
+    assert any(abs(x - 1) < 1e-12 and abs(y + 1) < 1e-9 and fc == "white" for x, y, fc in markers)
+    assert any(abs(x - 1) < 1e-12 and abs(y) < 1e-9 and fc != "white" for x, y, fc in markers)
+    assert not any(abs(x - events[1]) < 1e-9 for x, _, _ in markers)  # lift-off: no jump, no marker
+    # the line of q_0' ends at -1 before the event and starts at 0 after it (a discontinuity)
+    q0dot = [ln for ln in state_lines(ax_x) if ln.get_color() == state_lines(ax_x)[2].get_color()]
+    before = [ln for ln in q0dot if max(ln.get_xdata()) <= 1 + 1e-12][0]
+    after = [ln for ln in q0dot if min(ln.get_xdata()) >= 1 - 1e-12][0]
+    assert abs(before.get_ydata()[-1] + 1) < 1e-9 and abs(after.get_ydata()[0]) < 1e-9
+    # events labelled with the mode change; the impulse of the impact (u = 1 delta)
+    texts = [t.get_text() for t in ax_x.texts]
+    assert "∅→{0}" in texts and "{0}→∅" in texts
+    assert any("1·δ" == t.get_text() for t in ax_u.texts)
+    # phases shaded (one span per phase and axes), names from the builder, legends outside
+    spans = sorted((round(p.get_x(), 9), round(p.get_x() + p.get_width(), 9)) for p in ax_x.patches
+                   if isinstance(p, Rectangle))
+    assert spans == [(0.0, 1.0), (1.0, round(events[1], 9)), (round(events[1], 9), 3.0)]
+    labels = [t.get_text() for t in ax_x.get_legend().get_texts()]
+    assert labels[:4] == ["q_0", "q_1", "q_0'", "q_1'"] and "mode {0}" in labels and "x(τ−)" in labels
+    assert [t.get_text() for t in ax_u.get_legend().get_texts()] == ["u (stop)"]
+    fig.canvas.draw()
+    for ax in (ax_x, ax_u, ax_y):
+        assert ax.get_legend().get_window_extent().x0 >= ax.get_window_extent().x1
+
+
+def test_trajectory_selection_and_defaults():
+    tr = L.simulate(L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[1]]), [1, 0], 4)
+    fig = plot_trajectory(tr, states=[1], panels=("x", "y"), points=30)
+    assert len(fig.axes) == 2
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()][:1] == ["$x_{1}$"]
+    assert [t.get_text() for t in fig.axes[1].get_legend().get_texts()] == ["$y_{0}$"]
+    with pytest.raises(L.InvalidArgument, match="unknown state name"):
+        plot_trajectory(tr, states=["nope"])
+    with pytest.raises(ValueError, match="outside"):
+        plot_trajectory(tr, states=[5])
+    with pytest.raises(ValueError, match="panels"):
+        plot_trajectory(tr, panels=())
+
+
+def test_jump_at_time_zero_is_visible():
+    tr = L.simulate(two_carts_with_hook(), [0, 0, -2, 1], 1)  # jump to the origin at t = 0
+    fig = tr.plot(points=20)
+    ax = fig.axes[0]
+    assert ax.get_xlim()[0] < 0  # a margin so that markers at t = 0 are not clipped
+    opened = [ln for ln in ax.get_lines() if ln.get_marker() == "o" and ln.get_markerfacecolor() == "white"]
+    assert sorted(round(ln.get_ydata()[0], 9) for ln in opened) == [-2, 1]
+
+
+def test_mode_map_figure():
+    mm = two_carts_with_hook().mode_map(slice=([0, 0, 0, 0], [[0, 0, 1, 0], [0, 0, 0, 1]]))
+    fig = mm.plot(grid=5)
+    ax = fig.axes[0]
+    assert {t.get_text() for t in ax.texts} == {"∅", "{0}", "{1}", "{0, 1}"}
+    polys = [p for p in ax.patches if isinstance(p, Polygon)]
+    assert len(polys) >= 4
+    total = 0.0
+    for p in polys:
+        xy = p.get_xy()[:-1] if (p.get_xy()[0] == p.get_xy()[-1]).all() else p.get_xy()
+        total += abs(sum(xy[i][0] * xy[(i + 1) % len(xy)][1] - xy[(i + 1) % len(xy)][0] * xy[i][1]
+                         for i in range(len(xy)))) / 2
+    assert abs(total - 4.0) < 1e-9  # the 2-D faces tile the window [-1, 1]^2 exactly
+    assert ax.collections  # the jump arrows
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("q_0'", "q_1'")
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "S = {0}: stop" in legend and "S = {0, 1}: stop+hook" in legend and "S = ∅: free" in legend
+    with pytest.raises(L.InvalidArgument, match="2-D"):
+        plot_mode_map(two_carts().mode_map())
+    with pytest.raises(ValueError, match="window"):
+        mm.plot(window=(1, 0, 0, 1))
+
+
+def test_plotting_imports_point_down():
+    """plotting.py is below trajectory.py: it must not import trajectory or simulate."""
+    src = pathlib.Path(L.__file__).with_name("plotting.py").read_text()
+    mods = {n.module for n in ast.walk(ast.parse(src)) if isinstance(n, ast.ImportFrom) and n.module}
+    assert not mods & {"trajectory", "simulate", "flow", "models", "examples"}
+
+
+def test_import_does_not_load_matplotlib():
+    code = "import sys, lcs_exact; print('matplotlib' in sys.modules, 'numpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         cwd=str(pathlib.Path(L.__file__).parent.parent))
+    assert out.stdout.split() == ["False", "False"]
