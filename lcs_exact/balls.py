@@ -80,10 +80,11 @@ class Deadline:
         self.limit = limit
         self._end = None if limit is None else time.monotonic() + limit
 
-    def check(self, where: str = "") -> None:
-        """Raise :class:`LimitExceeded` when the limit has passed."""
+    def check(self, where: str | Callable[[], str] = "") -> None:
+        """Raise :class:`LimitExceeded` when the limit has passed (``where``: text, or a callable
+        making it - built only when the limit is reached)."""
         if self._end is not None and time.monotonic() > self._end:
-            raise LimitExceeded(f"time_limit = {self.limit} s reached{where}")
+            raise LimitExceeded(f"time_limit = {self.limit} s reached{where() if callable(where) else where}")
 
     def disarm(self) -> None:
         self._end = None
@@ -117,9 +118,9 @@ class Policy:
     def working_prec(self, lost_bits: int = 0) -> int:
         """Working precision of anchors: the target, 32 bits of headroom, and the accuracy the run
         has measured as lost so far (``lost_bits``)."""
-        return min(self.target_bits + 32 + max(0, lost_bits), max(self.max_prec, self.target_bits + 64))
+        return min(self.target_bits + 32 + max(0, lost_bits), 16 * max(self.max_prec, self.target_bits + 64))
 
-    def check_deadline(self, where: str = "") -> None:
+    def check_deadline(self, where: str | Callable[[], str] = "") -> None:
         self.deadline.check(where)
 
     def unresolved(self, what: str | Callable[[], str]) -> int:

@@ -101,6 +101,8 @@ class Spectrum:
     def eigen(self, prec: int) -> list[tuple[acb, int, acb_mat]]:
         """[(lambda, weight, K_lambda)] at ``prec`` bits (cached at the highest precision asked)."""
         if self._eig_prec < prec:
+            # headroom: a run whose precision grows by a few bits per event recomputes rarely
+            prec = max(prec, self._eig_prec + self._eig_prec // 2)
             with workprec(prec + 24):
                 out = []
                 dr = self.r.derivative()

@@ -27,6 +27,9 @@ from .roots import RootReal, dyadic_upper, first_crossing
 __all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound"]
 
 _START_HALVINGS = 400
+#: precision at which roots are searched for (escalated when a decision needs more); the
+#: bracket found is then refined to the run's working precision by interval Newton alone
+SEARCH_PREC = 192
 
 
 class _Finder:
@@ -65,7 +68,7 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> RootRea
         eps = horizon
         p = prec
         for _ in range(_START_HALVINGS):
-            phase.policy.check_deadline(f" while starting {c.name}")
+            phase.policy.check_deadline(lambda: f" while starting {c.name}")
             if fn.at(p).enclose(fmpq(0), eps, order) > 0:
                 break
             eps = eps / 2
@@ -129,12 +132,14 @@ def _equal_closed(a: RootReal, b: RootReal) -> bool | None:
 def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]] | None:
     """(theta, constraints reaching zero at theta) for the first event in (0, H], or None.
 
-    An event exactly at H is reported (the state there is x(H+))."""
+    Roots are searched for at SEARCH_PREC bits (or less, when ``prec`` is less), escalating only
+    where a decision needs it.  An event exactly at H is reported (the state there is x(H+))."""
     hb = horizon_bound(H)
     found: list = []
     limit = hb
+    search = min(prec, SEARCH_PREC)
     for c in phase.constraints:
-        r = first_root(phase, c, limit, prec)
+        r = first_root(phase, c, limit, search)
         if r is None:
             continue
         if r == "now":

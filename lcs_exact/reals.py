@@ -48,6 +48,9 @@ __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "C
 # nodes and their iterative evaluation
 # ---------------------------------------------------------------------------------------------
 
+#: an anchor computed at >= prec - ANCHOR_SLACK bits serves a request for prec bits
+ANCHOR_SLACK = 64
+
 
 class _Node:
     """A definition with a cached ball (the anchor) and the definitions it depends on."""
@@ -83,8 +86,11 @@ class _Node:
         return self._prec
 
     def arb(self, prec: int):
-        """A ball computed at working precision >= ``prec`` bits (cached; the true value inside)."""
-        if self._prec < prec:
+        """A ball computed at working precision >= ``prec - ANCHOR_SLACK`` bits (cached; the true
+        value inside).  The slack lets a run whose working precision grows by a bit or two per
+        event reuse the anchors of earlier events instead of re-evaluating the whole history;
+        callers that need more accuracy double ``prec``, which forces a real refinement."""
+        if self._prec < prec - ANCHOR_SLACK or self._ball is None:
             evaluate(self, prec)
         return self._ball
 
@@ -98,12 +104,13 @@ def _radius_le(a, b) -> bool:
 
 
 def evaluate(node: _Node, prec: int) -> None:
-    """Give ``node`` and every definition it needs a ball at ``prec`` bits, in a loop: post-order
-    over an explicit stack, stopping at anchors that already have >= prec bits."""
+    """Give ``node`` a ball at ``prec`` bits, and every definition it needs one at >= prec -
+    ANCHOR_SLACK bits, in a loop: post-order over an explicit stack, stopping at the anchors
+    that are good enough (walking forward from the nearest anchor, never by recursion)."""
     stack: list = [(node, False)]
     while stack:
         cur, ready = stack.pop()
-        if cur._prec >= prec:
+        if cur is not node and cur._prec >= prec - ANCHOR_SLACK and cur._ball is not None:
             continue
         if ready:
             with workprec(prec):
@@ -111,7 +118,7 @@ def evaluate(node: _Node, prec: int) -> None:
             continue
         stack.append((cur, True))
         for d in cur._deps():
-            if d._prec < prec:
+            if d._prec < prec - ANCHOR_SLACK or d._ball is None:
                 stack.append((d, False))
 
 
@@ -180,6 +187,8 @@ class Real(_Node):
         """The value to ``digits`` significant digits, followed by an error bound ``+/- e``
         unless it is exact."""
         q = self.known_rational()
+        if q is None and self._cf_done and self._cf is not None and self._cf.is_Rational:
+            q = fmpq(int(self._cf.p), int(self._cf.q))  # a closed form already proven rational
         if q is not None:
             return decimal_of_fmpq(q, digits)
         return decimal_of_ball(self.ball(digits + 2), digits)
@@ -286,12 +295,79 @@ class RationalReal(Real):
         return calcium.Ca(self.q) if calcium.available() else None
 
 
-class SumReal(Real):
+def linear_terms(r: Real) -> tuple[fmpq, list[tuple[fmpq, Real]]]:
+    """r = c + sum q_j r_j with rationals c, q_j and reals r_j that are neither sums, multiples
+    nor known rationals, found in a loop (an event time after 10,000 events is a sum of 10,000
+    roots: no recursion)."""
+    const, out = fmpq(0), []
+    stack: list = [(fmpq(1), r)]
+    while stack:
+        q, x = stack.pop()
+        if isinstance(x, SumReal):
+            stack.append((q, x.a))
+            stack.append((q * x.s, x.b))
+        elif isinstance(x, ScaledReal):
+            stack.append((q * x.q, x.a))
+        else:
+            v = x.known_rational()
+            if v is not None:
+                const += q * v
+            else:
+                out.append((q, x))
+    return const, out
+
+
+class _Linear(Real):
+    """A rational linear combination of reals (sums and multiples): closed forms, Calcium numbers
+    and rationality are derived from :func:`linear_terms`, never by recursion."""
+
+    _q = None
+
+    def known_rational(self):
+        return self._q
+
+    def rational(self):
+        if self._q is None and self.policy.closed_forms != "off":
+            const, terms = linear_terms(self)
+            qs = [x.rational() for _, x in terms]
+            if all(q is not None for q in qs):
+                self._q = const + sum((c * q for (c, _), q in zip(terms, qs)), fmpq(0))
+        return self._q
+
+    def _closed_form(self):
+        import sympy
+        const, terms = linear_terms(self)
+        out = sympy.Rational(int(const.p), int(const.q))
+        for c, x in terms:
+            cf = x.closed_form
+            if cf is None:
+                return None
+            out += sympy.Rational(int(c.p), int(c.q)) * cf
+        return out
+
+    def to_ca(self):
+        from . import calcium
+        if not calcium.available():
+            return None
+        const, terms = linear_terms(self)
+        out = calcium.Ca(const)
+        for c, x in terms:
+            cx = x.to_ca()
+            if cx is None:
+                return None
+            out = out + cx * calcium.Ca(c)
+        return out
+
+
+class SumReal(_Linear):
     """a + sign * b."""
 
     def __init__(self, a: Real, b: Real, sign: int = 1, policy: Policy | None = None):
         super().__init__(policy or (a.policy if a.policy is not DEFAULT_POLICY else b.policy))
         self.a, self.b, self.s = a, b, sign
+        qa, qb = a.known_rational(), b.known_rational()  # O(1): cached in the parts
+        if qa is not None and qb is not None:
+            self._q = qa + qb if sign == 1 else qa - qb
 
     def _deps(self):
         return (self.a, self.b)
@@ -300,31 +376,16 @@ class SumReal(Real):
         a, b = self.a.arb(prec), self.b.arb(prec)
         return a + b if self.s == 1 else a - b
 
-    def known_rational(self):
-        qa, qb = self.a.known_rational(), self.b.known_rational()
-        if qa is None or qb is None:
-            return None
-        return qa + qb if self.s == 1 else qa - qb
 
-    def _closed_form(self):
-        ca, cb = self.a.closed_form, self.b.closed_form
-        if ca is None or cb is None:
-            return None
-        return ca + cb if self.s == 1 else ca - cb
-
-    def to_ca(self):
-        ca, cb = self.a.to_ca(), self.b.to_ca()
-        if ca is None or cb is None:
-            return None
-        return ca + cb if self.s == 1 else ca - cb
-
-
-class ScaledReal(Real):
+class ScaledReal(_Linear):
     """q * a for a rational q."""
 
     def __init__(self, a: Real, q: fmpq, policy: Policy | None = None):
         super().__init__(policy or a.policy)
         self.a, self.q = a, q
+        qa = a.known_rational()
+        if qa is not None or q == 0:
+            self._q = fmpq(0) if q == 0 else qa * q
 
     def _deps(self):
         return (self.a,)
@@ -332,28 +393,10 @@ class ScaledReal(Real):
     def _compute(self, prec):
         return self.a.arb(prec) * arb(self.q)
 
-    def known_rational(self):
-        qa = self.a.known_rational()
-        return None if qa is None else qa * self.q
-
     def sign(self):
         if self.q == 0:
             return 0
         return self.a.sign() * ((self.q > 0) - (self.q < 0))
-
-    def _closed_form(self):
-        c = self.a.closed_form
-        if c is None:
-            return None
-        import sympy
-        return sympy.Rational(int(self.q.p), int(self.q.q)) * c
-
-    def to_ca(self):
-        c = self.a.to_ca()
-        if c is None:
-            return None
-        from . import calcium
-        return c * calcium.Ca(self.q)
 
 
 class ClosedFormReal(Real):
@@ -474,7 +517,9 @@ class ExactVector(_Node):
         return None
 
     def proven_zero(self, i: int) -> bool:
-        """Component i is 0 by a proven relation."""
+        """Component i is 0 by a proven relation (or by an exact twin found by a proof)."""
+        if self._twin is not None:
+            return self._twin.q[i, 0] == 0
         if not self.zero_forms.nrows():
             return False
         return in_row_span(fmpq_mat(1, self.n, [int(j == i) for j in range(self.n)]), self.zero_forms)
@@ -615,6 +660,9 @@ class ScaledVector(ExactVector):
 
     def _structural_sign(self, form):
         return self.v.sign_of_form(form)  # c > 0
+
+    def proven_zero(self, i: int) -> bool:
+        return self.v.proven_zero(i)
 
     def _exact_rational(self, depth):
         qv = self.v.exact_rational(depth)

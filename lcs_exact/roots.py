@@ -37,7 +37,7 @@ from flint import acb, arb, fmpq
 from .balls import Policy, ball_sign, workprec
 from .reals import Real
 
-__all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic"]
+__all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic", "newton_ball"]
 
 TAYLOR_ORDER = 4
 _SPLITS = (fmpq(1, 2), fmpq(7, 16), fmpq(9, 16), fmpq(3, 8), fmpq(5, 8), fmpq(13, 32), fmpq(19, 32))
@@ -170,8 +170,8 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
     stack: list = [(a, b, False)]
     while stack:
         lo, hi, neg = stack.pop()
-        policy.check_deadline(f" while isolating the roots of {fn.describe()} near t = {float(lo):.6g} "
-                              "(phase time)")
+        policy.check_deadline(lambda: f" while isolating the roots of {fn.describe()} near t = "
+                              f"{float(lo):.6g} (phase time)")
         while True:
             f = fn.at(prec)
             verdict = _decide_interval(fn, f, lo, hi, neg, prec, touch)
@@ -335,7 +335,7 @@ class RootReal(Real):
     def _bisect(self, f: ExpSum, prec: int, target: fmpq) -> None:
         """Bisection keeping "no crossing before lo" (a search on the left part at each step)."""
         while self.hi - self.lo > target:
-            self.policy.check_deadline(f" while refining the root of {self.function.describe()}")
+            self.policy.check_deadline(lambda: f" while refining the root of {self.function.describe()}")
             sp = _split_point(f, self.lo, self.hi)
             if sp is None:
                 return  # undecidable at this precision: the caller raises the precision
@@ -382,6 +382,25 @@ class RootReal(Real):
         """Record a closed form proven by the caller (an exact zero of f in the bracket)."""
         self._proven = (expr, ca)
         self._cf, self._cf_done = expr, True
+
+
+def newton_ball(f: ExpSum, X: arb, steps: int = 60) -> arb:
+    """Interval Newton X := X n (m - f(m)/f'(X)) on a ball holding one simple root of f (f' != 0
+    on X), until it stops contracting: an enclosure of the root (X itself if f' may vanish)."""
+    with workprec(f.prec):
+        for _ in range(steps):
+            d = f.value(X, 1)
+            if d.contains(0):
+                return X
+            m = X.mid()
+            N = m - f.value(m) / d
+            if not N.overlaps(X):
+                return X  # cannot happen when X holds the root; keep the valid enclosure
+            Y = N.intersection(X)
+            if not Y.rad() < X.rad() * 3 / 4:
+                return Y
+            X = Y
+        return X
 
 
 def dyadic_lower(x: arb) -> fmpq:

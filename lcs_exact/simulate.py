@@ -126,6 +126,8 @@ class _Run:
         self.phases: list[PhaseRecord] = []
         self.durations: list = []
         self.lost = 0  # accuracy (bits) measured as lost by the anchors so far
+        self.accuracy: int | None = None  # accuracy (bits) of the last anchored event state
+        self.boost = 0  # extra precision added when the anchors ran out of accuracy
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
         if status is Status.EVENT_LIMIT and reason and "time_limit" in reason:
@@ -148,8 +150,8 @@ class _Run:
                                         f"at t = {t._label()}")
                 self.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
                                          len(chain), impulse, triggers))
-            policy.check_deadline(f" at t = {t._label()}")
-            prec = policy.working_prec(self.lost)
+            policy.check_deadline(lambda: f" at t = {t._label()}")
+            prec = self.working_prec()
             phase = Phase(mode, homogenized(z), policy)
             H = self.T - t
             if H.sign() == 0:
@@ -161,7 +163,7 @@ class _Run:
                 return
             theta, cons = hit
             t_new = t + theta
-            z = phase.state(theta, vstack(*[c.g for c in cons]))
+            z = phase.event_state(theta, vstack(*[c.g for c in cons]))
             self.anchor(theta, z, prec)
             self.phases.append(PhaseRecord(t, t_new, mode.index_set, phase))
             self.durations.append(theta)
@@ -169,18 +171,27 @@ class _Run:
             mode_before, triggers, t = mode.index_set, tuple(c.name for c in cons), t_new
 
     def anchor(self, theta, z: ExactVector, prec: int) -> None:
-        """Anchor the event: its time and state get balls at the working precision; the accuracy
-        they keep tells how much precision the next events need (the loss of this one)."""
+        """Anchor the event: its time and state get balls at the working precision.  The bits of
+        accuracy the state lost against the previous event's state (re-initialization,
+        homogenization and the phase together: ~1.4 bits an event on the two carts, the
+        wrapping of ball arithmetic) are added to the working precision of the next events, so
+        the anchors keep the accuracy they started with."""
         theta.arb(prec)
-        ball = z.arb(prec)
-        comps = [ball[i, 0] for i in range(z.n) if not ball[i, 0].contains(0)]
-        if not comps:
-            return
-        largest = max(comps, key=lambda b: abs(b.mid()))
-        acc = accuracy_bits(largest)
-        want = self.policy.target_bits + 24
-        if acc < want:
-            self.lost += want - acc
+        acc = min(prec, _accuracy(z.arb(prec)))
+        if self.accuracy is not None and acc < self.accuracy:
+            self.lost += self.accuracy - acc
+        if acc < self.policy.target_bits + 8 and self.events:
+            # the anchors ran out of accuracy: re-anchor this state from the start at a higher
+            # precision (one walk over the history; the boost doubles, so walks are rare)
+            self.boost += max(64, self.lost)
+            prec = self.working_prec()
+            theta.arb(prec)
+            acc = min(prec, _accuracy(z.arb(prec)))
+        self.accuracy = acc
+
+    def working_prec(self) -> int:
+        """The working precision of the next event (policy target, measured loss, boost)."""
+        return self.policy.working_prec(self.lost) + self.boost
 
     def select_and_reinitialize(self, z: ExactVector, t):
         """Steps one to three; returns (mode, chain of jump modes, state after, impulse)."""
@@ -227,6 +238,14 @@ def check_accumulation(durations: list, t_now, t_end) -> None:
         raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically "
                            f"(ratio <= {float(rho.mid()):.3g}); accumulation point near t = "
                            f"{float(limit.mid()):.15g} < t_end (Remark 4.11)")
+
+
+def _accuracy(ball) -> int:
+    """Relative accuracy (bits) of a state ball, measured on its largest component."""
+    comps = [ball[i, 0] for i in range(ball.nrows()) if not ball[i, 0].contains(0)]
+    if not comps:
+        return 0
+    return accuracy_bits(max(comps, key=lambda b: abs(b.mid())))
 
 
 def _in_consistent_subspace(mode, z: ExactVector) -> bool:
