@@ -29,7 +29,7 @@ from typing import Callable, Iterator
 
 from flint import arb, ctx, fmpq
 
-from .errors import LimitExceeded, UnresolvedSign
+from .errors import InvalidArgument, LimitExceeded, UnresolvedSign
 
 __all__ = ["Policy", "Deadline", "DEFAULT_POLICY", "workprec", "digits_to_bits", "decide_sign",
            "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb"]
@@ -216,5 +216,5 @@ def closed_form_arb(e) -> arb:
     f = _ARB_FUNCS.get(type(e).__name__)
     if f is not None and len(e.args) == 1:
         return f(closed_form_arb(e.args[0]))
-    raise ValueError(f"closed form {e} is outside the supported set (rationals, pi, E, +, *, powers, "
+    raise InvalidArgument(f"closed form {e} is outside the supported set (rationals, pi, E, +, *, powers, "
                      f"exp, log, trigonometric functions)")

@@ -248,7 +248,7 @@ class Real(_Node):
         return (self - o).sign() >= 0
 
     # --- display ------------------------------------------------------------------------------
-    def _label(self) -> str:
+    def label(self) -> str:
         """Short text: the known closed form or rational, else 15 digits (never derives one)."""
         q = self.known_rational()
         if q is not None:
@@ -610,7 +610,7 @@ class ExactVector(_Node):
         q = self.known_rational()
         if q is not None:
             return "(" + ", ".join(str(q[i, 0]) for i in range(self.n)) + ")"
-        return "(" + ", ".join(c._label() for c in self) + ")"
+        return "(" + ", ".join(c.label() for c in self) + ")"
 
 
 class RationalVector(ExactVector):

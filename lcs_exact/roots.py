@@ -175,16 +175,21 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
         while True:
             f = fn.at(prec)
             verdict = _decide_interval(fn, f, lo, hi, neg, prec, touch)
-            if verdict != "split":
+            if verdict == "split" and neg:
+                # no crossing before lo, f(hi) < 0: theta is in (lo, hi] (a multiple root or a
+                # cluster: refined by bisection with the same invariant)
+                verdict = Bracket(lo, hi, False)
+            if verdict not in ("split", "escalate"):
                 break
             sp = None
-            if (hi - lo) > fmpq(1, 2 ** max(8, prec // 2)) * max(1, abs(hi)):
+            if verdict == "split" and (hi - lo) > fmpq(1, 2 ** max(8, prec // 2)) * max(1, abs(hi)):
                 sp = _split_point(f, lo, hi)
             if sp is not None:
+                verdict = "split"
                 break
             if prec >= policy.max_prec:  # undecidable: raise, or assume f >= 0 here (recorded)
-                policy.unresolved(lambda: f"the sign of {fn.describe()} on [{float(lo):.17g}, "
-                                  f"{float(hi):.17g}] (phase time; tangential touch?)")
+                policy.unresolved(lambda: f"{fn.describe()} on [{float(lo):.17g}, {float(hi):.17g}] "
+                                  "(phase time; a tangential touch?)")
                 verdict = "none"
                 break
             prec = min(2 * prec, policy.max_prec)
@@ -267,7 +272,8 @@ def _convex_minimum(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, tou
         proven = touch(clo, chi)
         if proven is True:
             return "none"  # f >= 0: convex with f(t*) = f'(t*) = 0
-    return "split"
+    # f(t*) cannot be separated from 0 at this precision: splitting cannot help, more bits can
+    return "escalate"
 
 
 class RootReal(Real):

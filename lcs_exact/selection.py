@@ -25,7 +25,7 @@ from typing import Any
 
 from flint import fmpq_mat
 
-from .errors import IllPosed, LCSError
+from .errors import InvalidArgument, IllPosed, LCSError
 from .lcp import murty
 from .modes import LATEX_MAX_N, format_mode, latex_mode
 from .rational import (RationalFunction, RationalMatrix, is_rational_vector, is_zero, laurent_coefficients,
@@ -185,7 +185,7 @@ def rcp(lcs, x0: Any) -> list[RCPSolution]:
     """
     x = as_state(lcs, x0)
     if not is_rational_vector(x):
-        raise TypeError("rcp() displays u(s), y(s) for a rational x0; use select_modes for exact states")
+        raise InvalidArgument("rcp() displays u(s), y(s) for a rational x0; use select_modes for exact states")
     out = []
     for I in _all_modes(lcs.k):
         mode = lcs.mode(I)
@@ -294,7 +294,7 @@ def ldcp(lcs, x0: Any, kappa: int) -> LDCPSolution:
     complement N_KK - N_KI N_II^{-1} N_IK, a P-matrix (the proof of Theorem 6.8).
     """
     if kappa < -lcs.n + 1:
-        raise ValueError(f"kappa must be >= -n + 1 = {-lcs.n + 1}, got {kappa}")
+        raise InvalidArgument(f"kappa must be >= -n + 1 = {-lcs.n + 1}, got {kappa}")
     _require_N_P(lcs)
     x = as_state(lcs, x0)
     n, k = lcs.n, lcs.k
@@ -387,7 +387,7 @@ def select_modes(lcs, x0: Any, method: str = "auto") -> set:
     {frozenset({0})}
     """
     if method not in ("auto", "rcp", "ldcp"):
-        raise ValueError(f"method must be 'auto', 'rcp' or 'ldcp', got {method!r}")
+        raise InvalidArgument(f"method must be 'auto', 'rcp' or 'ldcp', got {method!r}")
     x = as_state(lcs, x0)
     if method == "ldcp" or (method == "auto" and lcs.well_posedness().N_is_P):
         return ldcp(lcs, x, lcs.n).modes
@@ -438,7 +438,7 @@ def initial_solution(lcs, x0: Any, mode: Any = None) -> InitialSolution:
         raise Deadlock(f"S(x0) is empty: RCP(x0) has no solution at x0 = {_fmt_state(x)}")
     I = frozenset(mode) if mode is not None else min(modes, key=lambda m: (len(m), sorted(m)))
     if I not in modes:
-        raise ValueError(f"mode {format_mode(I)} is not in S(x0) = {sorted(format_mode(m) for m in modes)}")
+        raise InvalidArgument(f"mode {format_mode(I)} is not in S(x0) = {sorted(format_mode(m) for m in modes)}")
     m = lcs.mode(I)
     data = rcp_data(m)
     jump = _jump_forms(lcs, data["impulse"])

@@ -147,10 +147,10 @@ class _Run:
             if chain or mode_before is not None:
                 if len(self.events) >= self.max_events:
                     raise LimitExceeded(f"max_events = {self.max_events} reached: the next event is "
-                                        f"at t = {t._label()}")
+                                        f"at t = {t.label()}")
                 self.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
                                          len(chain), impulse, triggers))
-            policy.check_deadline(lambda: f" at t = {t._label()}")
+            policy.check_deadline(lambda: f" at t = {t.label()}")
             prec = self.working_prec()
             phase = Phase(mode, homogenized(z), policy)
             H = self.T - t
@@ -202,7 +202,7 @@ class _Run:
             q = z.known_rational()
             S = select_modes(lcs, q if q is not None else z)
             if not S:
-                raise Deadlock(f"deadlock at t = {t._label()}: S(z) is empty at z = {z!r} (Remark 7.2)")
+                raise Deadlock(f"deadlock at t = {t.label()}: S(z) is empty at z = {z!r} (Remark 7.2)")
             I = min(S, key=lambda m: (len(m), sorted(m)))
             mode = lcs.mode(I)
             if _in_consistent_subspace(mode, z):
@@ -211,7 +211,7 @@ class _Run:
                 impulse = _impulse(mode, z)
             z = _project(mode, z)
             chain.append(I)
-        raise ZenoDetected(f"re-initialization at t = {t._label()} did not end after {cap} jumps "
+        raise ZenoDetected(f"re-initialization at t = {t.label()} did not end after {cap} jumps "
                            "(infinite multiplicity, Remark 7.2 (2))")
 
     def check_accumulation(self, t_now) -> None:

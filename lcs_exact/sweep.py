@@ -28,6 +28,7 @@ from typing import Any, Callable, Iterable
 
 import flint
 
+from .errors import InvalidArgument
 from . import errors as _errors
 from .simulate import simulate
 from .system import LCS
@@ -161,7 +162,7 @@ def _text_vector(x, where: str) -> list:
     if hasattr(x, "rational") and callable(x.rational):   # an exact vector
         q = x.rational()
         if q is None:
-            raise TypeError(f"{where}: an exact irrational vector cannot be sent to a worker; "
+            raise InvalidArgument(f"{where}: an exact irrational vector cannot be sent to a worker; "
                             "pass a rational vector")
         return [str(q[i, 0]) for i in range(q.nrows())]
     if hasattr(x, "nrows"):
@@ -280,7 +281,7 @@ def _drive(jobs: list, executor: Executor | None, progress: bool, desc: str) -> 
 def _options(simulate_options: dict) -> dict:
     opts = dict(simulate_options)
     if "x0" in opts or "t_end" in opts:
-        raise TypeError("x0 and t_end are arguments of the sweep, not simulate options")
+        raise InvalidArgument("x0 and t_end are arguments of the sweep, not simulate options")
     return opts
 
 

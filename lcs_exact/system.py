@@ -120,7 +120,7 @@ class LCS:
     def markov(self, i: int) -> fmpq_mat:
         """H_i (5.8): H_0 = D, H_i = C A^{i-1} B (exact, k x k)."""
         if i < 0:
-            raise ValueError(f"Markov parameter index must be >= 0, got {i}")
+            raise InvalidArgument(f"Markov parameter index must be >= 0, got {i}")
         while len(self._markov) <= i:
             j = len(self._markov)  # H_j = C A^{j-1} B
             while len(self._apow_b) < j:

@@ -15,7 +15,7 @@ from typing import Any, Sequence
 from flint import arb, fmpq, fmpq_mat
 
 from .balls import DEFAULT_POLICY, Policy, accuracy_bits, digits_to_bits, workprec
-from .errors import LCSError
+from .errors import InvalidArgument, LCSError
 from .modes import format_mode
 from .reals import ExactVector, ProjectedVector, Real, as_real
 
@@ -61,7 +61,7 @@ class Event:
     def __repr__(self):
         mb = "—" if self.mode_before is None else format_mode(self.mode_before)
         chain = " -> ".join(format_mode(m) for m in self.modes) or "no jump"
-        return (f"Event(t={self.time._label()}, {mb} => {format_mode(self.mode_after)}, jumps: {chain}, "
+        return (f"Event(t={self.time.label()}, {mb} => {format_mode(self.mode_after)}, jumps: {chain}, "
                 f"x- = {self.state_before!r}, x+ = {self.state_after!r})")
 
     def _repr_latex_(self):
@@ -137,13 +137,13 @@ class Trajectory:
         if not self.phases:
             raise LCSError("the trajectory has no continuous phase")
         if start == 0 and (t - self.phases[0].t0).sign() < 0:
-            raise ValueError(f"t = {t._label()} is before the start of the trajectory")
+            raise InvalidArgument(f"t = {t.label()} is before the start of the trajectory")
         for i in range(start, len(self.phases)):
             rec = self.phases[i]
             s = 0 if t is rec.t1 else (t - rec.t1).sign()
             if s <= 0:
                 return i, s == 0
-        raise ValueError(f"t = {t._label()} is after the last computed time {self.phases[-1].t1._label()}"
+        raise InvalidArgument(f"t = {t.label()} is after the last computed time {self.phases[-1].t1.label()}"
                          + (" (the trajectory is partial)" if self.partial else ""))
 
     def _phase_at(self, t: Real) -> PhaseRecord:
@@ -226,7 +226,7 @@ class Trajectory:
     # --- display ------------------------------------------------------------------------------
     def __repr__(self):
         status = "certified" if self.certified else f"NOT certified ({len(self.assumptions)} assumptions)"
-        head = f"<Trajectory on [0, {self.t_end._label()}]: {len(self.events)} events, {status}"
+        head = f"<Trajectory on [0, {self.t_end.label()}]: {len(self.events)} events, {status}"
         if self.partial:
             head += f", PARTIAL ({self.status.value}): {self.stop_reason}"
         return head + ">"

@@ -1,0 +1,96 @@
+"""The package's shape (DESIGN.md section 3): imports point down only, no private names cross a
+module boundary, user errors belong to the LCSError tree, and importing the package stays light.
+
+The import graph is read from the source with ``ast`` and includes imports made inside functions
+(a lazy import of a higher module is still a layer that knows one above it)."""
+from __future__ import annotations
+
+import ast
+import pathlib
+import subprocess
+import sys
+
+import lcs_exact
+
+PKG = pathlib.Path(lcs_exact.__file__).parent
+MODULES = {p.stem: p for p in PKG.glob("*.py") if p.stem not in ("__init__", "__main__")}
+
+
+def _imports(path: pathlib.Path) -> set[tuple[str, str]]:
+    """(module, name) pairs imported from sibling modules, anywhere in the file."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom):
+            if node.level == 1 and node.module:
+                mod = node.module.split(".")[0]
+                out |= {(mod, a.name) for a in node.names}
+            elif node.level == 1:  # from . import x
+                out |= {(a.name, "*") for a in node.names}
+            elif (node.module or "").startswith("lcs_exact."):
+                out |= {(node.module.split(".")[1], a.name) for a in node.names}
+    return {(m, n) for m, n in out if m in MODULES}
+
+
+GRAPH = {m: {dep for dep, _ in _imports(p)} for m, p in MODULES.items()}
+
+
+def _cycles() -> list[list[str]]:
+    found, seen = [], set()
+
+    def walk(m, path):
+        for n in sorted(GRAPH[m]):
+            if n in path:
+                cyc = path[path.index(n):] + [n]
+                key = frozenset(cyc)
+                if key not in seen:
+                    seen.add(key)
+                    found.append(cyc)
+            else:
+                walk(n, path + [n])
+
+    for m in sorted(GRAPH):
+        walk(m, [m])
+    return found
+
+
+def test_no_import_cycles():
+    assert _cycles() == []
+
+
+def test_the_core_layers_point_down():
+    """The order of DESIGN.md section 3 for the core: each module imports only modules before it."""
+    order = ["errors", "rational", "subspaces", "lcp", "balls", "calcium", "expm", "reals", "modes",
+             "selection", "system", "roots", "closedforms", "phase", "flow", "trajectory", "simulate"]
+    rank = {m: i for i, m in enumerate(order)}
+    bad = [(m, d) for m in order for d in GRAPH[m] if d in rank and rank[d] >= rank[m]]
+    assert bad == []
+
+
+def test_no_private_names_across_modules():
+    private = [(m, dep, name) for m, p in MODULES.items() for dep, name in _imports(p)
+               if name.startswith("_") and name != "*"]
+    assert private == []
+
+
+def test_user_errors_are_lcs_errors():
+    """No bare ValueError/TypeError raised by the library (calcium's documented contract aside:
+    its callers catch them); every user error is an LCSError subclass that is also the builtin."""
+    offenders = []
+    for m, p in MODULES.items():
+        if m == "calcium":
+            continue
+        for node in ast.walk(ast.parse(p.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call) and \
+                    isinstance(node.exc.func, ast.Name) and node.exc.func.id in ("ValueError", "TypeError",
+                                                                                 "KeyError", "RuntimeError"):
+                offenders.append((m, node.lineno, node.exc.func.id))
+    assert offenders == []
+    assert issubclass(lcs_exact.InvalidArgument, ValueError) and issubclass(lcs_exact.ShapeError, ValueError)
+
+
+def test_import_is_light():
+    """``import lcs_exact`` loads neither SymPy nor matplotlib, numpy, jsonschema or dask."""
+    code = ("import sys, lcs_exact; heavy = [m for m in ('sympy', 'matplotlib', 'numpy', 'jsonschema', "
+            "'dask') if m in sys.modules]; print(heavy)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
