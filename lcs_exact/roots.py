@@ -318,7 +318,7 @@ class RootReal(Real):
                 return
             X = arb(self.lo).union(arb(self.hi))
             m = dyadic(X)
-            fm, dX = f.value(m), f.value(X, 1)
+            fm, dX = f.value(m), f.enclose(self.lo, self.hi, 1)
             if not dX < 0:
                 self.simple = False
                 return self._bisect(f, prec, target)
@@ -342,6 +342,9 @@ class RootReal(Real):
         """Bisection keeping "no crossing before lo" (a search on the left part at each step)."""
         while self.hi - self.lo > target:
             self.policy.check_deadline(lambda: f" while refining the root of {self.function.describe()}")
+            if f.enclose(self.lo, self.hi, 1) < 0:  # one simple root left: Newton from here
+                self.simple = True
+                return self._newton(f, prec, target)
             sp = _split_point(f, self.lo, self.hi)
             if sp is None:
                 return  # undecidable at this precision: the caller raises the precision

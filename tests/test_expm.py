@@ -1,0 +1,62 @@
+"""e^{Mt} (lcs_exact.expm): spectral balls against mpmath, no blow-up for stiff matrices, the exact
+Jordan-Chevalley split, and exact values at closed-form times with Calcium."""
+from __future__ import annotations
+
+import mpmath as mp
+import pytest
+from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from lcs_exact import calcium
+from lcs_exact.expm import Spectrum, jordan_chevalley
+
+
+def _check(M, t, z, digits=40):
+    sp = Spectrum(fmpq_mat(M))
+    with ctx.workprec(200):
+        x = sp.apply(arb(t), arb_mat([[v] for v in z]), 200)
+    with mp.workdps(80):
+        tq = fmpq(t) if not isinstance(t, fmpq) else t
+        want = mp.expm(mp.matrix(M) * (mp.mpf(int(tq.p)) / int(tq.q))) * mp.matrix(z)
+        with ctx.workprec(300):
+            for i in range(len(z)):
+                ref = arb(mp.nstr(want[i], 75), mp.nstr(mp.mpf(10) ** -72 * (1 + abs(want[i])), 5))
+                # the true value is in ref; ours must hold it (when ours is the tighter ball, as an
+                # exact result is, it must at least meet ref)
+                assert x[i, 0].contains(ref) or (x[i, 0].rad() < ref.rad() and x[i, 0].overlaps(ref))
+                assert x[i, 0].rad() < mp.mpf(10) ** -digits * (1 + abs(want[i]))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.integers(-4, 4), min_size=9, max_size=9), st.integers(1, 30))
+def test_spectral_ball_against_mpmath(entries, tq):
+    M = [entries[0:3], entries[3:6], entries[6:9]]
+    _check(M, fmpq(tq, 10), [1, -2, 3], digits=35)
+
+
+def test_repeated_eigenvalues_through_jordan_chevalley():
+    """A Jordan block plus a rotation: chi = s^2 (s^2 + 1)."""
+    M = [[0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, -1, 0]]
+    S, N, m = jordan_chevalley(fmpq_mat(M))
+    assert m == 2 and N * N == fmpq_mat(4, 4) and S * N == N * S and S + N == fmpq_mat(M)
+    _check(M, fmpq(7, 3), [1, 1, 1, 1])
+
+
+def test_stiff_matrix_has_a_tight_ball():
+    """Eigenvalues -10^6 and -1: at t = 1 the ball is tight (arb_mat.exp's bound would be ~e^(10^6))."""
+    _check([[-10**6, 10**6 - 1], [0, -1]], 1, [1, 1], digits=40)
+
+
+def test_e_to_the_a_pi_is_rational():
+    """A with eigenvalues +-i, +-2i: P1 = (A^2 + 4I)/3 and P2 = -(A^2 + I)/3 are the spectral
+    projectors, e^{A pi} = -P1 + P2 = -(2A^2 + 5I)/3 (derived by hand); Calcium proves it."""
+    A = fmpq_mat([[0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [-4, 0, -5, 0]])
+    I4 = fmpq_mat([[int(i == j) for j in range(4)] for i in range(4)])
+    want = (A * A * 2 + I4 * 5) * fmpq(-1, 3)
+    assert Spectrum(A).exact_at(calcium.Ca.pi(), calcium) == want
+
+
+def test_e_to_the_a_at_one_is_not_rational():
+    A = fmpq_mat([[0, 1], [-1, 0]])
+    assert Spectrum(A).exact_at(calcium.Ca(1), calcium) is None

@@ -1,0 +1,54 @@
+"""The continuous phase and the next event (lcs_exact.phase, lcs_exact.flow): Lemma 5.1 at the
+start, the centered form of event states, simultaneous roots."""
+from __future__ import annotations
+
+import mpmath as mp
+import sympy as sp
+from flint import arb, ctx, fmpq_mat
+
+import lcs_exact as L
+from lcs_exact.balls import Policy, workprec
+from lcs_exact.phase import EventState, Phase
+from lcs_exact.reals import ExpVector, as_exact_vector, expm_action
+
+A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
+CARTS = L.LCS(A_CARTS, [[0], [0], [1], [0]], [[1, 0, 0, 0]], [[0]])
+
+
+def test_start_order_lemma_5_1():
+    """At (0, -1, 0, 0) in mode {0}: u = -x2 = 1 > 0 (order 0).  In the free mode from (0, 0, 0, 1):
+    y = x1 with y = y' = y'' = 0 and y''' = x4 = 1 > 0 (order 3)."""
+    p = Phase(CARTS.mode({0}), as_exact_vector([0, -1, 0, 0], 4), Policy())
+    assert [p.start_order(c) for c in p.constraints] == [(1, 0)]
+    p = Phase(CARTS.mode(set()), as_exact_vector([0, 0, 0, 1], 4), Policy())
+    assert [p.start_order(c) for c in p.constraints] == [(1, 3)]
+
+
+def test_event_state_centered_form():
+    """The first impact of section 7 from a state known only as a ball (e^{-A} of a rational
+    vector, projected): the centered enclosure contains x(1-) = (0, -1, -1, 0) and is at least as
+    tight as the plain one."""
+    x0 = expm_action(A_CARTS, -1, [0, -1, -1, 0])
+    z = L.reals.ProjectedVector(fmpq_mat([[int(i == j) for j in range(4)] for i in range(4)]), x0)
+    phase = Phase(CARTS.mode(set()), z, Policy())
+    root = L.flow.first_root(phase, phase.constraints[0], L.rational.to_fmpq(3), 128)
+    x = phase.event_state(root)
+    assert isinstance(x, EventState)
+    with workprec(200):
+        centered = x.arb(200)
+        plain = ExpVector._compute(x, 200)
+    for i, want in enumerate([0, -1, -1, 0]):
+        assert centered[i, 0].contains(want)
+        assert centered[i, 0].rad() <= plain[i, 0].rad()
+
+
+def test_simultaneous_roots_proven_by_proportionality():
+    """Symmetric impact of three masses on two relative contacts (q1 = q3 on the whole phase):
+    the two constraints reach zero together; their order is proven equal, not assumed."""
+    from lcs_exact.models import mechanical
+    lcs = mechanical([[1, 0, 0], [0, 1, 0], [0, 0, 1]], [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
+                     [[1, 0, 0], [0, 0, 1]])
+    tr = L.simulate(lcs, [1, 0, 1, 0, 0, 0], 3)
+    e = tr.events[0]
+    assert set(e.triggers) == {"y_0", "y_1"} and tr.certified
+    assert sp.simplify(e.time.closed_form - sp.pi / 2) == 0

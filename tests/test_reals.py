@@ -1,0 +1,88 @@
+"""Exact reals and vectors (lcs_exact.reals): anchored evaluation in a loop, structural signs,
+homogeneity, composition, closed forms derived on demand."""
+from __future__ import annotations
+
+import sys
+
+import mpmath as mp
+import pytest
+import sympy as sp
+from flint import arb, fmpq, fmpq_mat
+
+import lcs_exact as L
+from lcs_exact.reals import (RationalReal, RationalVector, ScaledVector, SumReal, as_real,
+                             expm_action, homogenized, linear_terms)
+
+A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
+
+
+def test_deep_definitions_evaluate_without_recursion():
+    """A sum of 20,000 terms (an event time after 20,000 events has this shape) evaluates, gives
+    its closed form and its rationality without exhausting the Python stack."""
+    assert sys.getrecursionlimit() < 20_000
+    t = RationalReal(0)
+    for k in range(1, 20_001):
+        t = t + as_real(sp.pi / k**2) if k % 5000 == 0 else t + RationalReal(fmpq(1, k * (k + 1)))
+    # sum 1/(k(k+1)) over k not divisible by 5000, plus pi (1/5000^2 + ... + 1/20000^2)
+    b = t.ball(30)
+    with mp.workdps(60):
+        want = sum(mp.mpf(1) / (k * (k + 1)) for k in range(1, 20_001) if k % 5000) + \
+            mp.pi * sum(mp.mpf(1) / k**2 for k in (5000, 10000, 15000, 20000))
+        assert abs(mp.mpf(b.mid().str(50, radius=False)) - want) < mp.mpf(10) ** -28
+    const, terms = linear_terms(t)
+    assert len(terms) == 4 and const == sum(fmpq(1, k * (k + 1)) for k in range(1, 20_001) if k % 5000)
+    assert t.closed_form is not None and t.rational() is None
+
+
+def test_expm_action_composes_and_collapses():
+    x0 = expm_action(A_CARTS, -1, [0, -1, -1, 0])
+    x1 = expm_action(A_CARTS, 1, x0)
+    assert isinstance(x1, RationalVector) and list(x1.known_rational().entries()) == [0, -1, -1, 0]
+
+
+def test_sign_of_form_structural_and_by_ball():
+    x0 = expm_action(A_CARTS, -1, [0, -1, -1, 0])   # approx (0.3202, -0.4335, 0.3716, -1.0915)
+    assert x0.sign_of_form(fmpq_mat([[1, 0, 0, 0]])) == 1
+    assert x0.sign_of_form(fmpq_mat([[0, 0, 0, 1]])) == -1
+    # the orbit of (1, 0, 0) under a rotation (+) growth block keeps x3 = 0 at every time, also
+    # at pi/7 where no ball could show it: a structural zero (Krylov left kernel)
+    x = expm_action([[0, 1, 0], [-1, 0, 0], [0, 0, 2]], sp.pi / 7, [1, 0, 0])
+    assert x.sign_of_form(fmpq_mat([[0, 0, 1]])) == 0 and x[2].rational() == 0
+    assert x.sign_of_form(fmpq_mat([[1, 0, 0]])) == 1 and x.sign_of_form(fmpq_mat([[0, 1, 0]])) == -1
+
+
+def test_homogeneity_decides_signs_exactly():
+    """P v with v = (sqrt 2, 0) and P = [[3, 0], [-1, 0]]: the relation x1 + 3 x2 = 0 is proven
+    (pulled back through P), so x = c q with q = (3, -1) and c = sqrt 2 > 0 certified; every sign
+    at x is then the sign at q: exact, even for forms that no single relation decides."""
+    v = L.reals.ComponentsVector([as_real(sp.sqrt(2)), as_real(0)])
+    x = L.reals.ProjectedVector(fmpq_mat([[3, 0], [-1, 0]]), v)
+    h = homogenized(x)
+    assert isinstance(h, ScaledVector) and h.v.known_rational() is not None
+    q = h.v.known_rational()
+    assert q[0, 0] * 1 + q[1, 0] * 3 == 0 and q[0, 0] > 0
+    assert h.sign_of_form(fmpq_mat([[1, 2]])) == 1      # 3 sqrt2 - 2 sqrt2 > 0
+    assert h.sign_of_form(fmpq_mat([[-1, -4]])) == 1    # -3 sqrt2 + 4 sqrt2 > 0
+    assert h.sign_of_form(fmpq_mat([[2, 6]])) == 0
+
+
+def test_rational_is_derived_through_closed_forms():
+    """x(1-) of section 7 is e^{A theta} e^{-A} v with theta the proven root 1: exactly v."""
+    tr = L.simulate(L.LCS(A_CARTS, [[0], [0], [1], [0]], [[1, 0, 0, 0]], [[0]]),
+                    expm_action(A_CARTS, -1, [0, -1, -1, 0]), 2)
+    x = tr.events[0].state_before
+    assert x.known_rational() is None  # lazy: nothing derived during the run
+    assert list(x.rational().entries()) == [0, -1, -1, 0]
+
+
+def test_decimal_strings():
+    assert RationalReal(fmpq(1, 3)).decimal(5) == "0.33333 +/- 3.37e-6"
+    assert RationalReal(5).decimal(3) == "5"
+    assert as_real(sp.pi).decimal(10).startswith("3.141592654 +/- ")
+
+
+def test_sum_of_roots_is_cheap_to_test_for_rationality():
+    s = SumReal(RationalReal(1), RationalReal(fmpq(1, 2)))
+    assert s.known_rational() == fmpq(3, 2) and s.sign() == 1 and (s - fmpq(3, 2)).sign() == 0
+    with pytest.raises(ZeroDivisionError):
+        s / 0

@@ -1,0 +1,142 @@
+"""Certified roots of exponential sums (lcs_exact.roots): enclosures, the first-crossing search and
+root refinement, on functions whose roots are derived by hand or by mpmath in the test."""
+from __future__ import annotations
+
+import time
+
+import mpmath as mp
+import pytest
+from flint import acb, arb, ctx, fmpq
+
+from lcs_exact.balls import Policy, workprec
+from lcs_exact.errors import UnresolvedSign
+from lcs_exact.roots import ExpSum, RootReal, first_crossing
+
+
+class Fn:
+    """A RootFunction from terms (lambda, weight, [c_0, c_1, ...]) with exact rational data."""
+
+    def __init__(self, terms, policy=None):
+        self.terms, self.policy = terms, policy or Policy()
+
+    def at(self, prec):
+        with workprec(prec + 16):
+            return ExpSum([(acb(lam), w, [acb(c) for c in cs]) for lam, w, cs in self.terms], prec)
+
+    def deps(self):
+        return ()
+
+    def describe(self):
+        return "f"
+
+
+def poly(*coeffs):
+    """A polynomial as an exponential sum with the single exponent 0."""
+    return Fn([(0, 1, list(coeffs))])
+
+
+def holds(ball: arb, value, digits: int = 100) -> bool:
+    """The ball contains ``value``, an mpf known to ``digits`` significant digits (taken as a ball
+    of that relative width): the reference must be more accurate than the ball tested."""
+    with ctx.workprec(4 * digits + 64):
+        ref = arb(mp.nstr(value, digits + 5), mp.nstr(mp.mpf(10) ** -digits * abs(value), 5))
+        return ball.contains(ref)
+
+
+def test_enclosures_contain_the_function():
+    """f(t) = e^{-t} cos(2t) (lambda = -1 + 2i, weight 2, c = 1/2): the Taylor enclosure of f and
+    f' on [lo, hi] contains mpmath's values at 30 points inside."""
+    f = Fn([(acb(-1, 2), 2, [fmpq(1, 2)])]).at(128)
+    lo, hi = fmpq(3, 10), fmpq(7, 10)
+    F0, F1 = f.enclose(lo, hi, 0), f.enclose(lo, hi, 1)
+    with mp.workdps(50):
+        for k in range(31):
+            t = mp.mpf(3) / 10 + mp.mpf(k) / 75
+            assert holds(F0, mp.exp(-t) * mp.cos(2 * t))
+            assert holds(F1, -mp.exp(-t) * (mp.cos(2 * t) + 2 * mp.sin(2 * t)))
+
+
+def test_stiff_term_decays_in_the_enclosure():
+    """f = e^{-10^6 t} + e^{-t} - 1/2: past the stiff transient the enclosure on [1/10, 1/5] is
+    as tight as the slow term allows (the stiff term's lambda^4 = 10^24 costs nothing there)."""
+    f = Fn([(-10**6, 1, [1]), (-1, 1, [1]), (0, 1, [fmpq(-1, 2)])]).at(128)
+    F = f.enclose(fmpq(1, 10), fmpq(1, 5))
+    # e^{-t} - 1/2 on [0.1, 0.2] is in [0.318, 0.405]; a bound through |lambda|^4 r^4 / 4! would
+    # be ~10^17 wide
+    assert F.rad() < 0.05 and F > 0
+
+
+def test_log2_root_refined_to_many_digits():
+    """e^{-t} - 1/2 = 0 at log 2: simple root, interval Newton to 300 digits."""
+    fn = Fn([(-1, 1, [1]), (0, 1, [fmpq(-1, 2)])])
+    br = first_crossing(fn, fmpq(0), fmpq(5), 128)
+    assert br is not None and br.lo < fmpq(7, 10) < br.hi
+    r = RootReal(fn, br)
+    with mp.workdps(330):
+        assert holds(r.ball(300), mp.log(2), 320)
+        assert r.ball(300).rad() < mp.mpf(10) ** -299
+
+
+def test_triple_root_is_a_crossing():
+    """(1 - t)^3 changes sign at exactly 1 (a triple root): bracketed, then refined by bisection."""
+    fn = poly(1, -3, 3, -1)
+    br = first_crossing(fn, fmpq(0), fmpq(3), 128)
+    r = RootReal(fn, br)
+    assert holds(r.ball(30), 1) and r.ball(30).rad() < 1e-30
+
+
+def test_near_triple_root_crosses_once():
+    """(1 - t)^3 + 10^-30 t crosses once, near 1 + 10^-10 (mpmath's root at 60 digits)."""
+    fn = poly(1, fmpq(-3) + fmpq(1, 10**30), 3, -1)
+    r = RootReal(fn, first_crossing(fn, fmpq(0), fmpq(3), 128))
+    with mp.workdps(60):
+        want = mp.findroot(lambda t: (1 - t) ** 3 + mp.mpf(10) ** -30 * t, mp.mpf("1.0000000001"))
+    assert holds(r.ball(30), want)
+
+
+def test_gap_of_1e_minus_30_at_the_start():
+    """10^-30 - sin t: the root is 10^-30 (to 1e-90), found without searching at that width."""
+    fn = Fn([(acb(0, 1), 2, [acb(0, fmpq(1, 2))]), (0, 1, [fmpq(1, 10**30)])])
+    t0 = time.perf_counter()
+    r = RootReal(fn, first_crossing(fn, fmpq(0), fmpq(3), 128))
+    b = r.ball(30)
+    assert time.perf_counter() - t0 < 5  # generous: it takes milliseconds
+    with mp.workdps(220):
+        assert holds(b, mp.asin(mp.mpf(10) ** -30), 200)
+
+
+def test_positive_function_has_no_crossing():
+    """2 + cos(3t) > 0 on [0, 10]: no crossing."""
+    assert first_crossing(Fn([(acb(0, 3), 2, [fmpq(1, 2)]), (0, 1, [2])]), fmpq(0), fmpq(10), 128) is None
+
+
+def test_touch_without_proof_is_refused_quickly_or_recorded():
+    """(1 - t)^2 touches 0 at 1: with no proof of the touch the search refuses (UnresolvedSign), in
+    well under a second; allowed, it records the assumption and finds no crossing."""
+    t0 = time.perf_counter()
+    with pytest.raises(UnresolvedSign, match="tangential touch"):
+        first_crossing(poly(1, -2, 1), fmpq(0), fmpq(3), 128)
+    assert time.perf_counter() - t0 < 5
+    fn = Fn([(0, 1, [1, -2, 1])], Policy(allow_unresolved=True))
+    assert first_crossing(fn, fmpq(0), fmpq(3), 128) is None and len(fn.policy.assumptions) == 1
+
+
+def test_touch_with_proof_is_not_an_event():
+    """The same touch with a prover that certifies it: no crossing, nothing assumed."""
+    calls = []
+
+    def touch(lo, hi):
+        calls.append((lo, hi))
+        return lo <= 1 <= hi  # the test knows the touch is at exactly 1
+
+    fn = poly(1, -2, 1)
+    assert first_crossing(fn, fmpq(0), fmpq(3), 128, touch=touch) is None and calls
+    assert not fn.policy.assumptions
+
+
+def test_first_of_two_close_roots():
+    """(t - 1)(t - 1 - 10^-20): + then - then +: the first crossing is exactly 1."""
+    e = fmpq(1, 10**20)
+    fn = poly(1 + e, -(2 + e), 1)
+    r = RootReal(fn, first_crossing(fn, fmpq(0), fmpq(3), 128))
+    assert holds(r.ball(40), 1)

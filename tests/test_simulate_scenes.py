@@ -1,0 +1,166 @@
+"""Scenes the exact core must survive (issue "the exact core, version 2"): long runs, decidable
+signs of tiny values, exact zeros that are not structural, near-coincident impacts, stiff
+circuits.  Every expected value is derived in the test (by hand or with mpmath)."""
+from __future__ import annotations
+
+import time
+from fractions import Fraction
+
+import mpmath as mp
+import pytest
+import sympy as sp
+
+import lcs_exact as L
+from lcs_exact.models import mechanical, two_carts_with_hook
+
+mp.mp.dps = 60
+
+
+def num(r, digits=40):
+    return mp.mpf(r.ball(digits).mid().str(digits + 5, radius=False))
+
+
+def close(a, b, tol=mp.mpf(10) ** -28):
+    return abs(a - b) <= tol * max(1, abs(b))
+
+
+# --------------------------------------------------------------------------------------------
+# a long run: two masses (m = 1, 2), wall springs 3 and 1, coupling 2, a stop on q1
+# --------------------------------------------------------------------------------------------
+LONG = ([[0, 0, 1, 0], [0, 0, 0, 1], [-5, 2, 0, 0], [1, "-3/2", 0, 0]], [[0], [0], [1], [0]],
+        [[1, 0, 0, 0]], [[0]])
+LONG_X0 = [1, Fraction(1, 3), 0, Fraction(1, 2)]
+
+
+def _first_impact_mpmath():
+    """The first time q1 reaches the stop from LONG_X0 (free flight, mpmath's expm + findroot)."""
+    A = mp.matrix([[0, 0, 1, 0], [0, 0, 0, 1], [-5, 2, 0, 0], [1, mp.mpf(-3) / 2, 0, 0]])
+    x0 = mp.matrix([1, mp.mpf(1) / 3, 0, mp.mpf(1) / 2])
+    q1 = lambda t: (mp.expm(A * t) * x0)[0]  # noqa: E731
+    ts = [k / 100 for k in range(1, 400)]
+    a = next(t for t, u in zip(ts, ts[1:]) if q1(t) > 0 > q1(u))
+    return mp.findroot(q1, (a, a + mp.mpf(1) / 100), solver="anderson")
+
+
+@pytest.mark.slow
+def test_thousand_events_run_flat_and_certified():
+    """1000 events end in LimitExceeded (max_events) with the partial trajectory - never a
+    RecursionError; times increase, the first one is mpmath's, every impact zeroes v1 (Moreau),
+    and the 1000th event time can be refined to 30 digits afterwards."""
+    with pytest.raises(L.LimitExceeded) as err:
+        L.simulate(L.LCS(*LONG), LONG_X0, 10**6, max_events=1000)
+    tr = err.value.trajectory
+    assert tr.partial and tr.status is L.trajectory.Status.EVENT_LIMIT and len(tr.events) == 1000
+    assert tr.certified
+    assert close(num(tr.events[0].time), _first_impact_mpmath())
+    times = [e.time.ball(20) for e in tr.events]
+    assert all(a < b for a, b in zip(times, times[1:]))
+    impacts = [e for e in tr.events if e.modes]
+    assert len(impacts) >= 300
+    assert all(e.state_after[2].ball(20).contains(0) and e.state_after[0].rational() == 0 for e in impacts[-5:])
+    last = tr.events[-1].time.ball(30)
+    assert last.rel_accuracy_bits() >= 100
+
+
+# --------------------------------------------------------------------------------------------
+# decidable signs of tiny values
+# --------------------------------------------------------------------------------------------
+
+def test_hook_gap_of_minus_5e_21_selects_the_hook():
+    """x0 = e^{A 10^-10}(1, 1, 0, 0) in Example 8.3: q1 - q2 = -t^2/2 + O(t^4) = -5e-21 < 0 (from
+    A(1,1,0,0) = (0,0,-1,0) and A^2 (1,1,0,0) = (-1,0,0,0) computed by hand): the hook must act."""
+    h = two_carts_with_hook()
+    x0 = L.expm_action(h.A, "1/10000000000", [1, 1, 0, 0])
+    gap = num(x0[0], 40) - num(x0[1], 40)
+    assert abs(gap + mp.mpf("5e-21")) < mp.mpf("1e-40")
+    assert h.select_modes(x0) == {frozenset({1})}
+
+
+# --------------------------------------------------------------------------------------------
+# exact zeros beyond structure: a return after exactly pi (free-mode frequencies 1 and 2)
+# --------------------------------------------------------------------------------------------
+
+def test_period_pi_return_from_an_irrational_release():
+    """M = diag(1, 1/2), K = [[2, -1], [-1, 3/2]]: M^-1 K = [[2, -1], [-2, 3]], eigenvalues 1 and
+    4 (eigenvectors (1, 1), (1, -2)).  From q = 0, v = (0, w), w = sqrt 2:
+    q(t) = (w/3) sin t (1, 1) - (w/6) sin 2t (1, -2), so q1 = (w/3) sin t (1 - cos t) >= 0 returns
+    to the stop at exactly pi with q2 = (w/3)(sin t + sin 2t) = 0, v = (-2w/3, w/3).  The impact
+    leaves (0, 0, 0, w/3) = (1/3) x0 (lift-off: q1''' = v2 > 0), so the events are k pi with
+    x(k pi+) = (0, 0, 0, w / 3^k); the returning coordinates are exactly 0 and the run is
+    certified."""
+    lcs = mechanical([[1, 0], [0, "1/2"]], [[2, -1], [-1, "3/2"]], [[1, 0]])
+    w = sp.sqrt(2)
+    tr = L.simulate(lcs, [0, 0, 0, w], 10)
+    assert tr.certified and len(tr.events) == 3
+    for k, e in enumerate(tr.events, 1):
+        assert sp.simplify(e.time.closed_form - k * sp.pi) == 0
+        assert e.modes == (frozenset({0}),) and e.mode_after == frozenset()
+        assert e.state_before[0].rational() == 0 and e.state_before[1].rational() == 0
+        assert e.state_after[1].rational() == 0 and e.state_after[2].rational() == 0
+        v = mp.sqrt(2) / 3 ** k
+        assert close(num(e.state_before[2]), -2 * v) and close(num(e.state_after[3]), v)
+
+
+# --------------------------------------------------------------------------------------------
+# near-coincident impacts: the chain of 16 carts
+# --------------------------------------------------------------------------------------------
+
+def chain16():
+    N = 16
+    K = [[0] * N for _ in range(N)]
+    for i in range(N):
+        K[i][i] = 2
+        if i:
+            K[i][i - 1] = -1
+        if i < N - 1:
+            K[i][i + 1] = -1
+    K[N - 1][N - 1] = 1
+    E = [[int(j == i) for j in range(N)] for i in range(0, N, 2)]
+    return mechanical([[int(i == j) for j in range(N)] for i in range(N)], K, E), K
+
+
+@pytest.mark.slow
+def test_chain_of_16_carts_to_t_10():
+    """q0 = (1, -1, 1, ...)/2, v0 = 0, stops on carts 0, 2, ..., 14: eight impacts (each stop
+    once), all but one within 2e-4 of pi/4 and some 1e-16 apart, certified, in well under a
+    second per event.  The first impact (cart 14) is checked against mpmath: q(t) = cos(sqrt(K) t)
+    q0 through the eigendecomposition of the symmetric K."""
+    lcs, K = chain16()
+    q0 = [Fraction((-1) ** i, 2) for i in range(16)]
+    t0 = time.perf_counter()
+    tr = L.simulate(lcs, q0 + [0] * 16, 10)
+    elapsed = time.perf_counter() - t0
+    assert tr.certified and not tr.partial
+    impacts = [e for e in tr.events if any(t.startswith("y_") for t in e.triggers)]
+    assert sorted(t for e in impacts for t in e.triggers) == sorted(f"y_{i}" for i in range(8))
+    assert elapsed < len(tr.events) * 1.0
+    Km = mp.matrix(K)
+    ev, V = mp.eigsy(Km)
+    c = V.T * mp.matrix([mp.mpf(q.numerator) / q.denominator for q in q0])
+    q14 = lambda t: sum(V[14, j] * mp.cos(mp.sqrt(ev[j]) * t) * c[j] for j in range(16))  # noqa: E731
+    want = mp.findroot(q14, mp.mpf("0.7725"))
+    assert close(num(tr.events[0].time), want, mp.mpf(10) ** -25)
+    assert tr.events[0].triggers == ("y_7",)
+    close_pairs = [b.time.ball(30) - a.time.ball(30) for a, b in zip(tr.events, tr.events[1:])]
+    assert any(d < mp.mpf("1e-15") for d in close_pairs)
+
+
+# --------------------------------------------------------------------------------------------
+# a stiff RC-diode circuit: time constants from 5e-7 to 0.5
+# --------------------------------------------------------------------------------------------
+
+def test_stiff_rc_diode_circuit_against_mpmath():
+    """Three nodes, capacitances 1, 1e-3, 1e-6, each with 1 ohm to ground and 1 ohm between
+    neighbours (v' = -C^-1 G v; eigenvalues ~ -2e6, -3e3, -2); an ideal diode from ground to node
+    2 (y = v2 >= 0, u its current).  From v = (-1, 1, 1) node 2 is pulled below 0 at mpmath's
+    root of v2(t) = (e^{At} v0)_2; the diode then conducts for good (u > 0: v1 < 0 decays)."""
+    A = [[-2, 1, 0], [1000, -3000, 1000], [0, 10**6, -2 * 10**6]]
+    lcs = L.LCS(A, [[0], [1000], [0]], [[0, 1, 0]], [[0]])
+    tr = L.simulate(lcs, [-1, 1, 1], 5)
+    assert tr.certified and len(tr.events) == 1 and tr.events[0].mode_after == frozenset({0})
+    Am, x0 = mp.matrix(A), mp.matrix([-1, 1, 1])
+    want = mp.findroot(lambda t: (mp.expm(Am * t) * x0)[1], (mp.mpf("0.0004"), mp.mpf("0.0006")),
+                       solver="anderson")
+    assert close(num(tr.events[0].time), want)
+    x5 = tr.state(5)
+    assert x5[1].rational() == 0  # clamped by the diode: structural
