@@ -22,11 +22,10 @@ from .errors import LCSError
 from .modes import format_mode
 from .phase import Constraint, Phase
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, Real, as_exact_vector, as_real
-from .roots import RootReal, dyadic_upper, first_crossing
+from .roots import RootReal, dyadic_lower, dyadic_upper, first_crossing
 
 __all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound"]
 
-_START_HALVINGS = 400
 #: precision at which roots are searched for (escalated when a decision needs more); the
 #: bracket found is then refined to the run's working precision by interval Newton alone
 SEARCH_PREC = 192
@@ -64,26 +63,42 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> RootRea
     fn = phase.function(c)
     a = fmpq(0)
     if order > 0:
-        # f(0) = ... = f^{(order-1)}(0) = 0 < f^{(order)}(0): f^{(order)} > 0 on [0, eps] => f > 0 on (0, eps]
-        eps = horizon
-        p = prec
-        for _ in range(_START_HALVINGS):
-            phase.policy.check_deadline(lambda: f" while starting {c.name}")
-            if fn.at(p).enclose(fmpq(0), eps, order) > 0:
-                break
-            eps = eps / 2
-            if eps < fmpq(1, 2 ** (p // 2)) and p < phase.policy.max_prec:
-                p, eps = min(2 * p, phase.policy.max_prec), horizon
-        else:
-            raise LCSError(f"could not certify the start of {c.name} (sign {sign}, order {order}) "
-                           f"in mode {format_mode(phase.mode.I)}")
-        if eps >= horizon:
+        a, prec = _start(phase, c, fn, order, horizon, prec)
+        if a >= horizon:
             return None
-        a, prec = eps, p
     br = first_crossing(fn, a, horizon, prec, touch=_Toucher(phase, c))
     if br is None:
         return None
     return RootReal(fn, br, _Finder(phase, c))
+
+
+def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int) -> tuple[fmpq, int]:
+    """(eps, prec) with f > 0 on (0, eps], when f(0) = ... = f^{(order-1)}(0) = 0 < f^{(order)}(0)
+    = a (Lemma 5.1).  Taylor: f(t) >= t^order / order! (a - M t / (order + 1)) with M a bound of
+    |f^{(order+1)}| on [0, h], so eps = min(h, (order + 1) a / M), computed in one step (a near
+    graze with a = 10^-54 and a crossing at 2e-53 costs no more than a plain start)."""
+    policy = phase.policy
+    while True:
+        policy.check_deadline(lambda: f" while starting {c.name}")
+        f = fn.at(prec)
+        lead = f.value(fmpq(0), order)
+        if lead > 0:
+            break
+        if prec >= policy.max_prec:  # the sign was certified exactly: this needs more bits only
+            raise LCSError(f"could not certify the start of {c.name} (sign 1, order {order}) in mode "
+                           f"{format_mode(phase.mode.I)} at {prec} bits")
+        prec = min(2 * prec, policy.max_prec)
+    a = dyadic_lower(lead)
+    h = horizon
+    for _ in range(3):  # a bound on a shorter interval gives a longer eps
+        M = dyadic_upper(abs(f.enclose(fmpq(0), h, order + 1)))
+        eps = h if M == 0 else min(h, (order + 1) * a / M)
+        if eps >= h or eps * 8 >= h:
+            break
+        h = eps * 8
+    with workprec(64):
+        eps = min(eps, dyadic_lower(arb(eps)))  # a short dyadic
+    return eps, prec
 
 
 def horizon_bound(H: Real) -> fmpq:
