@@ -25,10 +25,11 @@ from typing import Any
 
 from flint import arb
 
-from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits
+from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, workprec
 from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, ShapeError, UnresolvedSign,
                      ZenoDetected)
 from .flow import next_event
+from .roots import dyadic_lower
 from .phase import Phase
 from .rational import submatrix, vstack
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
@@ -157,7 +158,10 @@ class _Run:
             if H.sign() == 0:
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase))
                 return
-            hit = next_event(phase, H, prec)
+            try:
+                hit = next_event(phase, H, prec)
+            except (UnresolvedSign, LCSError) as e:
+                self.cascade_or_raise(e, t)
             if hit is None:
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase))
                 return
@@ -216,6 +220,28 @@ class _Run:
 
     def check_accumulation(self, t_now) -> None:
         check_accumulation(self.durations, t_now, self.T)
+
+    def cascade_or_raise(self, err: LCSError, t) -> None:
+        """A decision that fails right after events closer and closer together (each gap less
+        than half the previous, over the last three) is the mark of a right-accumulation of
+        impacts (Remark 4.11) whose law is not known: stop with :class:`ZenoDetected`, the
+        accumulation time enclosed below by the last event time (certified), instead of
+        reporting the undecidable sign that the shrinking gaps make inevitable."""
+        if isinstance(err, (ZenoDetected, LimitExceeded, Deadlock)) or len(self.durations) < 3:
+            raise err
+        with workprec(64):
+            d = [x.arb(64) for x in self.durations[-3:]]
+            shrinking = all(b < a / 2 for a, b in zip(d, d[1:])) and d[-1] >= 0
+            if not shrinking:
+                raise err
+            lower = dyadic_lower(t.arb(64))
+            estimate = float(t.arb(64).mid()) + float((d[-1] * d[-1] / (d[-2] - d[-1])).mid())
+        raise ZenoDetected(f"event times accumulate at t = {float(lower):.17g}+ (gaps "
+                           f"{', '.join(f'{float(x.mid()):.2g}' for x in d)}, estimated limit ~"
+                           f"{estimate:.17g}): a right-accumulation of events (Remark 4.11) whose law is "
+                           f"not proven, so the solution cannot be continued past it; certified: the "
+                           f"accumulation time is >= {float(lower):.17g} (the decision that failed: {err})",
+                           lower=lower, upper=None, estimate=estimate) from err
 
 
 def check_accumulation(durations: list, t_now, t_end) -> None:
