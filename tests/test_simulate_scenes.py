@@ -164,3 +164,35 @@ def test_stiff_rc_diode_circuit_against_mpmath():
     assert close(num(tr.events[0].time), want)
     x5 = tr.state(5)
     assert x5[1].rational() == 0  # clamped by the diode: structural
+
+
+# --------------------------------------------------------------------------------------------
+# an impact cascade near a corner (three contacts): a right-accumulation that is not crossed
+# --------------------------------------------------------------------------------------------
+
+def test_impact_cascade_stops_with_a_certified_lower_bound():
+    """M = diag(2, 3, 2), springs 2 between neighbours and 4 to the walls, contacts q0 >= 0,
+    q1 - q0 >= 0, q2 - q1 >= 0, from q = (1/4, 3/4, 7/8), v = (-3/4, -1/4, 0): impacts on the
+    first two contacts alternate with gaps shrinking like g^(5/2) near t ~ 1.3654.  No law is
+    proven, so the run stops with ZenoDetected: lower = the last event time (certified), the
+    partial trajectory kept.  The first impact (mass 0 at the wall, free flight) is checked
+    against mpmath."""
+    lcs = mechanical([[2, 0, 0], [0, 3, 0], [0, 0, 2]], [[6, -2, 0], [-2, 4, -2], [0, -2, 6]],
+                     [[1, 0, 0], [-1, 1, 0], [0, -1, 1]])
+    x0 = [Fraction(1, 4), Fraction(3, 4), Fraction(7, 8), Fraction(-3, 4), Fraction(-1, 4), 0]
+    with pytest.raises(L.ZenoDetected) as err:
+        L.simulate(lcs, x0, 12)
+    e = err.value
+    tr = e.trajectory
+    assert tr.partial and tr.status is L.trajectory.Status.ZENO and len(tr.events) >= 6
+    A = mp.matrix([[0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 1],
+                   [-3, 1, 0, 0, 0, 0], [mp.mpf(2) / 3, -mp.mpf(4) / 3, mp.mpf(2) / 3, 0, 0, 0],
+                   [0, 1, -3, 0, 0, 0]])  # -M^-1 K by hand
+    xm = mp.matrix([mp.mpf(1) / 4, mp.mpf(3) / 4, mp.mpf(7) / 8, -mp.mpf(3) / 4, -mp.mpf(1) / 4, 0])
+    t1 = mp.findroot(lambda t: (mp.expm(A * t) * xm)[0], (mp.mpf("0.3"), mp.mpf("0.4")), solver="anderson")
+    assert close(num(tr.events[0].time), t1) and tr.events[0].triggers == ("y_0",)
+    last = tr.events[-1].time.ball(30)
+    assert e.lower is not None and e.lower <= last.upper() and e.lower >= last.lower() - mp.mpf(10) ** -15
+    assert 1.3654 < float(e.lower) < 1.3655 and e.upper is None
+    gaps = [b.time.ball(30) - a.time.ball(30) for a, b in zip(tr.events[-4:], tr.events[-3:])]
+    assert all(b < a / 2 for a, b in zip(gaps, gaps[1:]))
