@@ -94,6 +94,11 @@ class Spectrum:
         self._eig_prec = 0
 
     @property
+    def nilpotent_only(self) -> bool:
+        """True when M is nilpotent (every eigenvalue 0): e^{Mt} is a polynomial in t."""
+        return self.r.degree() == 1 and self.r.coeffs()[0] == 0
+
+    @property
     def semisimple(self) -> bool:
         """True when M is diagonalizable over C (N = 0)."""
         return len(self.nilpotent) == 1

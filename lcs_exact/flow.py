@@ -69,7 +69,28 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> RootRea
     br = first_crossing(fn, a, horizon, prec, touch=_Toucher(phase, c))
     if br is None:
         return None
-    return RootReal(fn, br, _Finder(phase, c))
+    root = RootReal(fn, br, _Finder(phase, c))
+    exact = _rational_root(fn, br)
+    if exact is not None:
+        root.set_rational(exact)
+    return root
+
+
+def _rational_root(fn, br) -> fmpq | None:
+    """The root exactly when f is an exact polynomial (nilpotent A_I, rational start) with a
+    single root in the simple bracket that is rational (a linear factor over Q)."""
+    if not br.simple:
+        return None
+    p = fn.polynomial()
+    if p is None or p.degree() < 1:
+        return None
+    inside = []
+    for factor, _ in p.factor()[1]:
+        if factor.degree() == 1:
+            r = -factor.coeffs()[0] / factor.coeffs()[1]
+            if br.lo < r <= br.hi:
+                inside.append(r)
+    return inside[0] if len(inside) == 1 else None
 
 
 def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int) -> tuple[fmpq, int]:

@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from flint import acb_mat, arb, arb_mat, fmpq_mat
+from flint import acb_mat, arb, arb_mat, fmpq_mat, fmpq_poly
 
 from .balls import Policy, workprec
 from .reals import ExactVector, ExpVector, ScaledVector, as_real, orbit_start
@@ -63,6 +63,16 @@ class PhaseFunction:
 
     def deps(self) -> tuple:
         return (self.phase.base,)
+
+    def polynomial(self) -> fmpq_poly | None:
+        """f as an exact polynomial in t when A_I is nilpotent (a piecewise-constant or
+        piecewise-polynomial vector field, e.g. relays) and the start is rational: then
+        f(t) = sum_j g N^j z t^j / j! exactly; None otherwise."""
+        sp = self.phase.spectrum
+        q = self.phase.base.known_rational() if sp.nilpotent_only else None
+        if q is None:
+            return None
+        return fmpq_poly([(self.g * P * q)[0, 0] for P in sp.nilpotent])
 
     def describe(self) -> str:
         return self.name

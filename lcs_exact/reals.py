@@ -761,8 +761,18 @@ class ExpVector(ExactVector):
     def known_rational(self):
         if self._twin is not None:
             return self._twin.known_rational()
-        if self.t.known_rational() == 0:
+        tq = self.t.known_rational()
+        if tq == 0:
             return self.v.known_rational()
+        if tq is not None and self.spectrum.nilpotent_only:
+            q = self.v.known_rational()
+            if q is not None:  # e^{Nt} q = sum_j t^j N^j q / j!: exact for a nilpotent M
+                out, tp = self.spectrum.nilpotent[0] * q, fmpq(1)
+                for P in self.spectrum.nilpotent[1:]:
+                    tp *= tq
+                    out = out + P * q * tp
+                self._twin = RationalVector(out, policy=self.policy)
+                return out
         return None
 
     def _exact_rational(self, depth):

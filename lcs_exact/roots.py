@@ -292,6 +292,7 @@ class RootReal(Real):
         self.lo, self.hi, self.simple = bracket.lo, bracket.hi, bracket.simple
         self._finder = closed_form_finder
         self._proven = None  # (sympy expr, Calcium number) once proven
+        self._q = None  # the root as an exact rational, when proven so
 
     def _deps(self):
         return self.function.deps()
@@ -301,6 +302,8 @@ class RootReal(Real):
         return self.lo, self.hi
 
     def _compute(self, prec: int) -> arb:
+        if self._q is not None:
+            return arb(self._q)
         target = fmpq(1, 2 ** (prec + 2)) * max(1, abs(self.hi))
         f = self.function.at(prec)
         if self.simple:
@@ -363,11 +366,17 @@ class RootReal(Real):
 
     # --- closed forms -------------------------------------------------------------------------
     def _closed_form(self):
+        if self._q is not None:
+            import sympy
+            return sympy.Rational(int(self._q.p), int(self._q.q))
         if self._proven is None and self._finder is not None:
             self._proven = self._finder(self) or False
         return self._proven[0] if self._proven else None
 
     def to_ca(self):
+        if self._q is not None:
+            from . import calcium
+            return calcium.Ca(self._q) if calcium.available() else None
         self.closed_form
         if self._proven and self._proven[1] is None:
             from . import calcium
@@ -375,6 +384,8 @@ class RootReal(Real):
         return self._proven[1] if self._proven else None
 
     def known_rational(self):
+        if self._q is not None:
+            return self._q
         if self._proven:
             e = self._proven[0]
             if e.is_Rational:
@@ -386,6 +397,16 @@ class RootReal(Real):
         if state.get("_proven"):
             state["_proven"] = (state["_proven"][0], None)  # the Calcium number is rebuilt on demand
         return state
+
+    def set_rational(self, q: fmpq) -> None:
+        """Record that the root is exactly the rational q (proven by the caller, e.g. as the
+        root of an exact polynomial inside the bracket); no SymPy involved."""
+        if not self.lo <= q <= self.hi:
+            from .errors import LCSError
+            raise LCSError(f"internal inconsistency: the rational root {q} is outside its bracket")
+        self._q = q
+        self.lo = self.hi = q
+        self._ball, self._prec = None, 0  # recomputed as arb(q) at the precision asked
 
     def set_proven(self, expr, ca) -> None:
         """Record a closed form proven by the caller (an exact zero of f in the bracket)."""
