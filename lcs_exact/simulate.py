@@ -28,13 +28,14 @@ from flint import arb
 from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, workprec
 from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, ShapeError, UnresolvedSign,
                      ZenoDetected)
+from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
 from .flow import next_event
 from .roots import dyadic_lower
 from .phase import Phase
 from .rational import submatrix, vstack
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
 from .selection import rcp_data, select_modes
-from .trajectory import Event, PhaseRecord, Status, Trajectory
+from .trajectory import Event, PhaseRecord, Status, Trajectory, full_feedback
 
 __all__ = ["simulate", "check_accumulation"]
 
@@ -70,7 +71,8 @@ def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_p
 
 def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
              time_limit: float | None = None, allow_unresolved: bool = False,
-             closed_forms: Any = "lazy", max_prec: int | None = None) -> Trajectory:
+             closed_forms: Any = "lazy", zeno: str = "cross", branches: str = "unique",
+             max_prec: int | None = None) -> Trajectory:
     """Run Algorithm 7.1 from x0 on [0, t_end] and return the exact :class:`Trajectory`.
 
     Parameters
@@ -89,6 +91,12 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         ``traj.assumptions``, and the result is not ``certified``; otherwise UnresolvedSign.
     closed_forms : ``"lazy"`` (default: proven on first access of ``.closed_form``), True (proven
         at every event, as the run goes), False (never).
+    zeno : ``"cross"`` (default): a right-accumulation of events (Remark 4.11) whose geometric law
+        is proven exactly (:mod:`lcs_exact.accumulation`) is crossed: recorded in
+        ``traj.accumulations``, and the run continues from the limit state; an accumulation
+        without a proven law stops with :class:`ZenoDetected` (a certified lower bound of its
+        time).  ``"stop"``: every accumulation stops with ZenoDetected.
+    branches : ``"unique"`` (default): see :class:`IllPosed`.
 
     Examples
     --------
@@ -100,8 +108,13 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     T = _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec)
     policy = Policy(digits=digits, max_prec=max_prec or 0, allow_unresolved=allow_unresolved,
                     closed_forms=_CLOSED_FORMS[closed_forms], deadline=Deadline(time_limit))
+    if zeno not in ("cross", "stop"):
+        raise ShapeError(f"zeno must be 'cross' or 'stop', got {zeno!r}")
+    if branches not in ("unique", "all"):
+        raise ShapeError(f"branches must be 'unique' or 'all', got {branches!r}")
     z0 = as_exact_vector(x0, lcs.n)
     run = _Run(lcs, policy, T, max_events)
+    run.zeno = zeno
     started = _time.monotonic()
     try:
         run.execute(z0)
@@ -129,13 +142,16 @@ class _Run:
         self.lost = 0  # accuracy (bits) measured as lost by the anchors so far
         self.accuracy: int | None = None  # accuracy (bits) of the last anchored event state
         self.boost = 0  # extra precision added when the anchors ran out of accuracy
+        self.accumulations: list = []
+        self.symmetry = False  # the LCS's scaling symmetry, computed when first needed
+        self.zeno = "cross"
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
         if status is Status.EVENT_LIMIT and reason and "time_limit" in reason:
             status = Status.TIME_LIMIT
         return Trajectory(self.lcs, z0, self.T, digits, events=self.events, phases=self.phases,
                           status=status, stop_reason=reason, assumptions=self.policy.assumptions,
-                          elapsed=elapsed, policy=self.policy)
+                          accumulations=self.accumulations, elapsed=elapsed, policy=self.policy)
 
     def execute(self, z: ExactVector) -> None:
         lcs, policy = self.lcs, self.policy
@@ -151,6 +167,11 @@ class _Run:
                                         f"at t = {t.label()}")
                 self.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
                                          len(chain), impulse, triggers))
+                law = self.geometric_law(t, mode)
+                if law is not None:  # a proven right-accumulation at law.time <= t_end
+                    t, z = self.cross(law, t, mode)
+                    mode_before, triggers = None, ("accumulation",)
+                    continue
             policy.check_deadline(lambda: f" at t = {t.label()}")
             prec = self.working_prec()
             phase = Phase(mode, homogenized(z), policy)
@@ -173,6 +194,36 @@ class _Run:
             self.durations.append(theta)
             self.check_accumulation(t_new)
             mode_before, triggers, t = mode.index_set, tuple(c.name for c in cons), t_new
+
+    def geometric_law(self, t, mode):
+        """The proven geometric law of the last events when it accumulates before t_end
+        (:mod:`lcs_exact.accumulation`), else None; with ``zeno="stop"`` a proven law stops the
+        run with ZenoDetected at its exact time."""
+        if t.known_rational() is None or len(self.events) < 3:
+            return None
+        if self.symmetry is False:
+            self.symmetry = symmetry_exponents(self.lcs)
+        law = geometric_law(self.lcs, self.events, self.symmetry)
+        if law is None or (self.T - law.time).sign() < 0:
+            return None
+        if self.zeno == "stop":
+            raise ZenoDetected(f"event times accumulate at exactly t = {law.time} (a proven geometric law: "
+                               f"cycles of {law.period} events, each {law.ratio} times the previous; "
+                               f"Remark 4.11); zeno='stop'", lower=law.time, upper=law.time)
+        return law
+
+    def cross(self, law, t, mode):
+        """Cross a proven accumulation point: the motion on [t_k, T*) is the law's scaled cycles
+        (:class:`~lcs_exact.accumulation.ScaledCycle`), x(T*-) its exact limit; the run goes on
+        from there as Definition 4.10 prescribes (item 2: the limit state, then selection)."""
+        T_star = RationalReal(law.time, self.policy)
+        limit = RationalVector(law.limit, self.policy)
+        t_k = t.known_rational()
+        cycle = ScaledCycle(law, _ReferenceStates(self), t_k, mode, self.events[-1].state_after)
+        self.phases.append(PhaseRecord(t, T_star, mode.index_set, cycle))
+        self.accumulations.append(Accumulation(T_star, limit, law.period, law.ratio, law.start))
+        self.durations.clear()
+        return T_star, limit
 
     def anchor(self, theta, z: ExactVector, prec: int) -> None:
         """Anchor the event: its time and state get balls at the working precision.  The bits of
@@ -264,6 +315,33 @@ def check_accumulation(durations: list, t_now, t_end) -> None:
         raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically "
                            f"(ratio <= {float(rho.mid()):.3g}); accumulation point near t = "
                            f"{float(limit.mid()):.15g} < t_end (Remark 4.11)")
+
+
+class _ReferenceStates:
+    """x(t) on the part of a run computed so far (the reference cycle of a geometric law)."""
+
+    def __init__(self, run: _Run):
+        self.run = run
+
+    def __call__(self, t_ref, kind: str = "x"):
+        from .reals import as_real
+        t = as_real(t_ref)
+        phases = self.run.phases
+        for i, rec in enumerate(phases):
+            s = (t - rec.t1).sign()
+            if s > 0 and i + 1 < len(phases):
+                continue
+            if s == 0 and i + 1 < len(phases):  # x(t+) at an event time: the next phase's start
+                rec, t0 = phases[i + 1], phases[i + 1].t0
+            else:
+                t0 = rec.t0
+            x = rec.phase.state(t - t0)
+            if kind == "x":
+                return x
+            F = full_feedback(rec.phase.mode)
+            M = F if kind == "u" else self.run.lcs.C + self.run.lcs.D * F
+            return ProjectedVector(M, x)
+        raise LCSError("internal inconsistency: a reference time outside the computed run")
 
 
 def _accuracy(ball) -> int:

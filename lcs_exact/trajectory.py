@@ -163,12 +163,16 @@ class Trajectory:
         """u(t) on a continuous phase (u_I = F_I x, zero off I)."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
+        if hasattr(rec.phase, "output"):  # an accumulation window (accumulation.ScaledCycle)
+            return rec.phase.output(t - rec.t0, "u")
         return ProjectedVector(full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
 
     def y(self, t: Any) -> ExactVector:
         """y(t) = C x + D u on a continuous phase."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
+        if hasattr(rec.phase, "output"):  # an accumulation window (accumulation.ScaledCycle)
+            return rec.phase.output(t - rec.t0, "y")
         lcs = self.lcs
         return ProjectedVector(lcs.C + lcs.D * full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
 
@@ -205,6 +209,9 @@ class Trajectory:
         with workprec(prec):
             if at_start:  # the phase's start itself (t is its first time, exactly)
                 x = phase.z.arb(prec)
+                return [x[i, 0] for i in range(x.nrows())]
+            if not hasattr(phase, "spectrum"):  # an accumulation window: exact states
+                x = phase.state(tq - rec.t0.known_rational()).arb(prec)
                 return [x[i, 0] for i in range(x.nrows())]
             dt = arb(tq) - rec.t0.arb(prec)
             x = phase.spectrum.apply(dt, phase.base.arb(prec), prec, phase.modal(prec))

@@ -1,0 +1,260 @@
+"""Right-accumulation points of event times (Remark 4.11, Definition 4.10), proven by a symmetry.
+
+Definition 4.10 admits solutions whose event times accumulate from the left at a time T* (the
+relay spiral (4.12): infinitely many switches before the state reaches the origin at a finite
+time, after which it stays there).  Algorithm 7.1 cannot run through infinitely many events; this
+module proves such an accumulation *exactly* when it is forced by a scaling symmetry:
+
+* **The symmetry.** An LCS is invariant under t -> rho t, x_i -> rho^{e_i} x_i, u_j -> rho^{a_j}
+  u_j, y_i -> rho^{b_i} y_i (rho > 0) when every nonzero entry of A, B, C, D is balanced:
+  A_ij != 0 => e_j = e_i - 1, B_ij != 0 => a_j = e_i - 1, C_ij != 0 => b_i = e_j,
+  D_ij != 0 => b_i = a_j (:func:`symmetry_exponents`: difference constraints on a graph, solved
+  exactly, one free shift per connected component).  Positive scalings keep 0 <= y ⊥ u >= 0, so
+  the map sends solutions (impulsive-smooth ones included) to solutions and initial solutions to
+  initial solutions in the same modes: S(S_rho z) = S(z), theta(S_rho z, I) = rho theta(z, I),
+  and Algorithm 7.1 run from S_rho z is the time-scaled image of its run from z.  The relay
+  systems x' = Bw, w in Sgn(Cx) (with a constant state for the relay levels) have it: the vector
+  field is piecewise constant.
+* **The law.** If the last p events repeat the p before them (same modes, chains, triggers),
+  every duration of the cycle is rho times the previous cycle's (exact rationals, 0 < rho < 1)
+  and the state after the cycle is S_rho of the state after the previous one, with exponents of
+  the symmetry (exact check), then by induction every later cycle is the previous one scaled:
+  the event times accumulate at T* = t_k + rho T / (1 - rho) (T the last cycle's length), and
+  x(T*-) = lim S_{rho^m} z: components with e_i > 0 go to 0, those with e_i = 0 stay.
+
+Nothing here guesses: a cycle that does not satisfy every exact check is not a law, and
+accumulations without one are left to the caller (``ZenoDetected`` with a certified lower bound).
+"""
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+from flint import fmpq, fmpq_mat
+
+from .reals import ExactVector, RationalVector, Real
+
+__all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle"]
+
+
+def symmetry_exponents(lcs) -> dict | None:
+    """Exponents of the scaling symmetries of the LCS (see the module docstring):
+    ``{"x": [...], "u": [...], "y": [...], "component": {node: id}}`` with one solution per
+    connected component (add any integer to a whole component), or None when the nonzero pattern
+    admits none.
+
+    >>> from lcs_exact import LCS
+    >>> s = symmetry_exponents(LCS([[0, -1], [0, 0]], [[1], [0]], [[1, 0]], [[0]]))  # x' = u - c
+    >>> s["x"], s["u"], s["y"]          # up to a shift: x like t, c constant, u like c, y like x
+    ([0, -1], [-1], [0])
+    """
+    n, k = lcs.n, lcs.k
+    edges: dict = {}
+
+    def link(a, b, w):  # value(b) = value(a) + w
+        edges.setdefault(a, []).append((b, w))
+        edges.setdefault(b, []).append((a, -w))
+
+    for i in range(n):
+        for j in range(n):
+            if lcs.A[i, j] != 0:
+                link(("x", i), ("x", j), -1)
+        for j in range(k):
+            if lcs.B[i, j] != 0:
+                link(("x", i), ("u", j), -1)
+    for i in range(k):
+        for j in range(n):
+            if lcs.C[i, j] != 0:
+                link(("x", j), ("y", i), 0)
+        for j in range(k):
+            if lcs.D[i, j] != 0:
+                link(("u", j), ("y", i), 0)
+    nodes = [("x", i) for i in range(n)] + [("u", j) for j in range(k)] + [("y", i) for i in range(k)]
+    value: dict = {}
+    comp: dict = {}
+    for c, start in enumerate(nodes):
+        if start in value:
+            continue
+        value[start], comp[start] = 0, c
+        queue = deque([start])
+        while queue:
+            a = queue.popleft()
+            for b, w in edges.get(a, ()):
+                if b not in value:
+                    value[b], comp[b] = value[a] + w, c
+                    queue.append(b)
+                elif value[b] != value[a] + w:
+                    return None
+    return {"x": [value[("x", i)] for i in range(n)], "u": [value[("u", j)] for j in range(k)],
+            "y": [value[("y", i)] for i in range(k)], "component": comp}
+
+
+def _power(rho: fmpq, e: int) -> fmpq:
+    return rho ** e if e >= 0 else 1 / rho ** (-e)
+
+
+def _exponent(r: fmpq, rho: fmpq, limit: int = 16) -> int | None:
+    """The integer e with rho^e = r exactly (|e| <= limit), or None."""
+    for e in range(-limit, limit + 1):
+        if _power(rho, e) == r:
+            return e
+    return None
+
+
+def _signature(e) -> tuple:
+    return (e.mode_before, e.modes, e.mode_after, e.triggers)
+
+
+@dataclass(frozen=True)
+class GeometricLaw:
+    """A proven geometric law: cycles of ``period`` events, each ``ratio`` times shorter and with
+    states scaled by rho^{exponents} (see the module docstring)."""
+
+    period: int
+    ratio: fmpq
+    exponents: tuple
+    start: int  # index of the first event of the reference cycle (events start..start+period-1)
+    cycle_start: fmpq  # time of the event before the reference cycle
+    cycle_length: fmpq  # duration of the reference cycle
+    time: fmpq  # the accumulation time T*
+    limit: fmpq_mat  # the limit state x(T*-)
+    input_exponents: tuple = ()  # a_j of u_j (u scales by rho^a_j)
+    output_exponents: tuple = ()  # b_i of y_i
+
+
+def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int = 8) -> GeometricLaw | None:
+    """The geometric law that the last events satisfy, proven exactly, or None.
+
+    ``events`` are :class:`~lcs_exact.trajectory.Event` objects; their times and states must be
+    known exactly (rational) for a law to be proven."""
+    if symmetry is None:
+        return None
+    K = len(events) - 1
+    for p in range(1, max_period + 1):
+        if K - 2 * p < 0:
+            break
+        if any(_signature(events[K - j]) != _signature(events[K - p - j]) for j in range(p)):
+            continue
+        times = [events[K - 2 * p + j].time.known_rational() for j in range(2 * p + 1)]
+        if any(t is None for t in times):
+            continue
+        durs = [b - a for a, b in zip(times, times[1:])]
+        T1, T2 = sum(durs[:p], fmpq(0)), sum(durs[p:], fmpq(0))
+        if T1 <= 0 or T2 <= 0:
+            continue
+        rho = T2 / T1
+        if not 0 < rho < 1 or any(durs[p + j] != rho * durs[j] for j in range(p)):
+            continue
+        z1, z2 = events[K - p].state_after.known_rational(), events[K].state_after.known_rational()
+        if z1 is None or z2 is None:
+            continue
+        law = _exponents_of(lcs, symmetry, rho, z1, z2)
+        if law is None:
+            continue
+        exps, limit, ua, yb = law
+        return GeometricLaw(p, rho, tuple(exps), K - p + 1, times[p], T2, times[-1] + T2 * rho / (1 - rho),
+                            limit, tuple(ua), tuple(yb))
+    return None
+
+
+def _exponents_of(lcs, symmetry: dict, rho: fmpq, z1: fmpq_mat, z2: fmpq_mat):
+    """Exponents e (one shift per component of the symmetry) with z2 = S_rho z1, and the limit of
+    S_{rho^m} z2 (m -> oo); None when there are none or the limit does not exist."""
+    n = lcs.n
+    comp = symmetry["component"]
+    shift: dict = {}
+    for i in range(n):
+        a, b = z1[i, 0], z2[i, 0]
+        if a == 0 or b == 0:
+            if a != b:
+                return None
+            continue
+        e = _exponent(b / a, rho)
+        if e is None:
+            return None
+        c = comp[("x", i)]
+        s = e - symmetry["x"][i]
+        if shift.setdefault(c, s) != s:
+            return None
+    exps = []
+    limit = fmpq_mat(n, 1)
+    for i in range(n):
+        c = comp[("x", i)]
+        e = symmetry["x"][i] + shift.get(c, 0) if c in shift else None
+        if z2[i, 0] == 0:
+            exps.append(e if e is not None else 0)
+            continue
+        if e is None or e < 0:
+            return None  # a component that grows without bound: no limit state
+        exps.append(e)
+        limit[i, 0] = z2[i, 0] if e == 0 else 0
+    ua = [symmetry["u"][j] + shift.get(comp[("u", j)], 0) for j in range(lcs.k)]
+    yb = [symmetry["y"][i] + shift.get(comp[("y", i)], 0) for i in range(lcs.k)]
+    return exps, limit, ua, yb
+
+
+@dataclass(frozen=True)
+class Accumulation:
+    """A right-accumulation point crossed (Remark 4.11): the event times accumulate at ``time``,
+    the state tends to ``state`` (x(T*-)); ``events`` is the cycle length of the proven law,
+    ``ratio`` the scale factor of one cycle, ``first_event`` the index of the first event of the
+    law's reference cycle in ``traj.events``."""
+
+    time: Real
+    state: ExactVector
+    events: int
+    ratio: fmpq
+    first_event: int
+
+    def __repr__(self):
+        return (f"Accumulation(time={self.time.label()}, state={self.state!r}, cycle of {self.events} "
+                f"events, ratio {self.ratio})")
+
+
+class ScaledCycle:
+    """The continuous motion on [t_k, T*) of a proven geometric law, as a phase-like object: a time
+    in cycle m (the reference cycle scaled by rho^(m+1)) is mapped back into the reference cycle
+    and the reference trajectory is scaled there (x by rho^e, u by rho^a, y by rho^b)."""
+
+    def __init__(self, law: GeometricLaw, reference, t_k: fmpq, mode, z: ExactVector):
+        self.law, self.reference, self.t_k = law, reference, t_k
+        self.mode = mode  # the mode of the first phase after t_k (reprs only)
+        self.z = z  # the state at t_k (after the last computed event)
+
+    def _map(self, dt: Any) -> tuple[fmpq, fmpq]:
+        """(t_ref, scale) for a time t_k + dt of the window."""
+        from .reals import as_real
+        d = as_real(dt).rational()
+        if d is None:
+            from .errors import InvalidArgument
+            raise InvalidArgument("inside an accumulation window states are evaluated at rational times only")
+        law = self.law
+        rho, T = law.ratio, law.cycle_length
+        m, start, length = 0, fmpq(0), T * rho
+        while d >= start + length:  # cycle m covers [start, start + T rho^(m+1)) after t_k
+            start, length, m = start + length, length * rho, m + 1
+        scale = rho ** (m + 1)
+        return law.cycle_start + (d - start) / scale, scale
+
+    @staticmethod
+    def _scaled(v: fmpq_mat, scale: fmpq, exps: Sequence[int]) -> RationalVector:
+        return RationalVector(fmpq_mat(v.nrows(), 1, [v[i, 0] * _power(scale, exps[i]) for i in range(v.nrows())]))
+
+    def state(self, dt: Any) -> ExactVector:
+        t_ref, scale = self._map(dt)
+        return self._scaled(_exact(self.reference(t_ref, "x")), scale, self.law.exponents)
+
+    def output(self, dt: Any, kind: str) -> ExactVector:
+        """u (``kind`` "u") or y ("y") at t_k + dt, scaled from the reference cycle."""
+        t_ref, scale = self._map(dt)
+        exps = self.law.input_exponents if kind == "u" else self.law.output_exponents
+        return self._scaled(_exact(self.reference(t_ref, kind)), scale, exps)
+
+
+def _exact(v: ExactVector) -> fmpq_mat:
+    q = v.rational()
+    if q is None:
+        from .errors import LCSError
+        raise LCSError("internal inconsistency: a reference value of a proven law is not rational")
+    return q

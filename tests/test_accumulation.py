@@ -1,0 +1,109 @@
+"""Right-accumulations proven by a scaling symmetry (lcs_exact.accumulation): the symmetry of the
+LCS data, the geometric law of the relay spiral (4.12) derived by hand, the scaled cycles."""
+from __future__ import annotations
+
+from fractions import Fraction
+
+from flint import fmpq, fmpq_mat
+
+import lcs_exact as L
+from lcs_exact.accumulation import ScaledCycle, geometric_law, symmetry_exponents
+from lcs_exact.reals import RationalReal, RationalVector
+from lcs_exact.trajectory import Event
+
+
+def relay_lcs(B, C):
+    """x' = B w, w in Sgn(C x) (A = 0) with a constant state c = 1: per relay j, inputs
+    (u1, u2) >= 0, w_j = u1 - c, y1 = -C_j x + u2, y2 = 2c - u1 (written out by hand here)."""
+    m, r = len(B), len(C)
+    n, k = m + 1, 2 * r
+    A = [[0] * n for _ in range(n)]
+    Bt = [[0] * k for _ in range(n)]
+    for i in range(m):
+        A[i][m] = -sum(B[i][j] for j in range(r))
+        for j in range(r):
+            Bt[i][2 * j] = B[i][j]
+    Ct = [[0] * n for _ in range(k)]
+    Dt = [[0] * k for _ in range(k)]
+    for j in range(r):
+        for i in range(m):
+            Ct[2 * j][i] = -C[j][i]
+        Dt[2 * j][2 * j + 1] = 1
+        Ct[2 * j + 1][m] = 2
+        Dt[2 * j + 1][2 * j] = -1
+    return L.LCS(A, Bt, Ct, Dt)
+
+
+SPIRAL = relay_lcs([[-1, 2], [-2, -1]], [[1, 0], [0, 1]])  # (4.12)
+
+
+def test_symmetry_of_the_relay_spiral():
+    """States x scale like t (exponent 1), the constant state not at all (0); u1 (1 + w) does not
+    scale, u2 (the positive part of z) scales like x; y1 like x, y2 not."""
+    s = symmetry_exponents(SPIRAL)
+    shift = -s["x"][2]  # one component: normalise the constant state's exponent to 0
+    assert [e + shift for e in s["x"]] == [1, 1, 0]
+    assert [e + shift for e in s["u"]] == [0, 1, 0, 1] and [e + shift for e in s["y"]] == [1, 0, 1, 0]
+
+
+def test_no_symmetry_for_springs():
+    """q' = v, v' = -q forces e_v = e_q - 1 and e_q = e_v - 1: no scaling symmetry."""
+    assert symmetry_exponents(L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])) is None
+
+
+def spiral_events():
+    """(4.12) from (1, 2), by hand: the field is (1, -3), (-3, -1), (-1, 3), (3, 1) in quadrants
+    I, IV, III, II; each switch lands on an axis at 1/3 of the previous distance:
+    t_k = 3/2 - (5/2) 3^-k, states (5/3, 0), (0, -5/9), (-5/27, 0), (0, 5/81), ..."""
+    events, x = [], [Fraction(1), Fraction(2)]
+    fields = [(1, -3), (-3, -1), (-1, 3), (3, 1)]
+    t = Fraction(0)
+    for k in range(1, 10):
+        f = fields[(k - 1) % 4]
+        dt = -x[1] / f[1] if (k - 1) % 2 == 0 else -x[0] / f[0]
+        t += dt
+        x = [x[0] + f[0] * dt, x[1] + f[1] * dt]
+        assert t == Fraction(3, 2) - Fraction(5, 2) / 3 ** k
+        state = RationalVector(fmpq_mat([[fmpq(x[0].numerator, x[0].denominator)],
+                                         [fmpq(x[1].numerator, x[1].denominator)], [1]]))
+        q = (k - 1) % 4
+        events.append(Event(RationalReal(fmpq(t.numerator, t.denominator)), frozenset({q}), (),
+                            frozenset({(q + 1) % 4}), state, state, 0, {}, (f"y_{q}",)))
+    return events
+
+
+def test_geometric_law_of_the_spiral():
+    events = spiral_events()
+    assert geometric_law(SPIRAL, events[:7], symmetry_exponents(SPIRAL)) is None  # < 2 cycles
+    law = geometric_law(SPIRAL, events, symmetry_exponents(SPIRAL))
+    assert law is not None and law.period == 4 and law.ratio == fmpq(1, 81)
+    assert law.time == fmpq(3, 2)  # sum of the geometric series, exactly
+    assert list(law.limit.entries()) == [0, 0, 1] and law.exponents == (1, 1, 0)
+
+
+def test_scaled_cycle_reproduces_the_hand_derived_motion():
+    """Inside the window after the last event, the state at t is the reference cycle's scaled:
+    check against the hand-derived spiral (the switch at t_10 = 3/2 - (5/2) 3^-10 lands on
+    (0, -5/3^10))."""
+    events = spiral_events()
+    law = geometric_law(SPIRAL, events, symmetry_exponents(SPIRAL))
+
+    def reference(t, kind="x"):  # the spiral between the events, by hand (linear in each phase)
+        ts = [Fraction(0)] + [Fraction(3, 2) - Fraction(5, 2) / 3 ** k for k in range(1, 10)]
+        xs = [(Fraction(1), Fraction(2))] + [(Fraction(int(e.state_after.q[0, 0].p), int(e.state_after.q[0, 0].q)),
+                                              Fraction(int(e.state_after.q[1, 0].p), int(e.state_after.q[1, 0].q)))
+                                             for e in events]
+        tf = Fraction(int(t.p), int(t.q))
+        i = max(j for j in range(len(ts)) if ts[j] <= tf)
+        a, b = xs[i], xs[min(i + 1, len(xs) - 1)]
+        s = (tf - ts[i]) / (ts[i + 1] - ts[i]) if i + 1 < len(ts) else Fraction(0)
+        x = [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])]
+        return RationalVector(fmpq_mat([[fmpq(x[0].numerator, x[0].denominator)],
+                                        [fmpq(x[1].numerator, x[1].denominator)], [1]]))
+
+    t9 = events[-1].time.known_rational()
+    cyc = ScaledCycle(law, reference, t9, None, events[-1].state_after)
+    t10 = fmpq(3, 2) - fmpq(5, 2) / 3 ** 10
+    x = cyc.state(t10 - t9).rational()
+    # event 10 is the second of a cycle (quadrant IV lands on x1 = 0) at 5/3^10 from the origin
+    assert list(x.entries()) == [0, -fmpq(5, 3 ** 10), 1]
