@@ -13,12 +13,13 @@ from .reals import ExactVector, Real, expm_action
 from .simulate import simulate
 from .sweep import SweepResult, param_sweep, sweep
 from .system import LCS, WellPosedness
-from .trajectory import Event, Trajectory
+from .accumulation import Accumulation
+from .trajectory import Branches, Event, Status, Trajectory
 from .modemap import ModeMap, Region
 from . import examples, models  # lcs_exact.examples, lcs_exact.models as attributes
 
 __all__ = [
-    "LCS", "Mode", "simulate", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
+    "LCS", "Mode", "simulate", "Branches", "Accumulation", "Status", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",

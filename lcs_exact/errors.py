@@ -34,7 +34,14 @@ class NotAutonomous(LCSError, ValueError):
 
 
 class IllPosed(LCSError, ValueError):
-    """The conditions of Theorem 6.3 / 6.9 fail where a computation requires them."""
+    """The conditions of Theorem 6.3 / 6.9 fail where a computation requires them, or S(z) leaves
+    a choice between initial solutions that changes the trajectory (non-uniqueness).  In the
+    latter case ``alternatives`` lists (mode, initial solution) for each distinct initial
+    solution, and ``trajectory`` holds the run up to the choice."""
+
+    def __init__(self, message: str, *, trajectory=None, alternatives=()):
+        super().__init__(message, trajectory=trajectory)
+        self.alternatives = tuple(alternatives)
 
 
 class Deadlock(LCSError):

@@ -90,10 +90,10 @@ def _row_series(m: RationalMatrix, i: int) -> _RowSeries:
 def rcp_data(mode) -> dict:
     """W_I(s), Z_I(s), their Laurent forms and the impulse matrices of mode I (cached on the mode):
     ``{"W", "Z", "u", "y", "impulse"}``, impulse[p] the k x n forms of u^{-p} (3.6)."""
-    return mode.memo("rcp", lambda: _buildrcp_data(mode))
+    return mode.memo("rcp", lambda: _build_rcp_data(mode))
 
 
-def _buildrcp_data(mode) -> dict:
+def _build_rcp_data(mode) -> dict:
     mode.require_autonomous()
     lcs = mode.lcs
     G, R = lcs.G(), lcs.R()
@@ -482,3 +482,52 @@ def _fmt_state(x) -> str:
         return "(" + ", ".join(str(x[i, 0]) for i in range(x.nrows())) + ")"
     return repr(x)
 
+
+
+# ---------------------------------------------------------------------------------------------
+# non-uniqueness: which admissible modes carry the same initial solution (Remark 4.8)
+# ---------------------------------------------------------------------------------------------
+
+
+def _full_rcp_rows(mode) -> RationalMatrix:
+    """[u(s); y(s)] of mode I as a 2k x n matrix over Q(s): rows W_I on I, Z_I on I^c, zero
+    elsewhere (u_{I^c} = 0, y_I = 0), so that the initial solution's transforms are this times x0."""
+    def build():
+        lcs, data = mode.lcs, rcp_data(mode)
+        zero = [0] * lcs.n
+        rows = [list(zero) for _ in range(2 * lcs.k)]
+        for r, i in enumerate(mode.I):
+            rows[i] = [data["W"][r, c] for c in range(lcs.n)]
+        for r, i in enumerate(mode.Ic):
+            rows[lcs.k + i] = [data["Z"][r, c] for c in range(lcs.n)]
+        return RationalMatrix(rows)
+    return mode.memo("rcp-full", build)
+
+
+def same_initial_solution(lcs, x0: Any, I, J) -> bool:
+    """True when the admissible modes I and J of S(x0) carry the same initial solution: the same
+    u(s) and y(s) (Remark 4.8: the modes of one solution differ on its undetermined set only).
+    Decided exactly: every Laurent numerator coefficient of the difference vanishes at x0
+    (forms in x0; for an exact-real x0 through its certified signs)."""
+    x = as_state(lcs, x0)
+    D = _full_rcp_rows(lcs.mode(I)) - _full_rcp_rows(lcs.mode(J))
+    for r in range(2 * lcs.k):
+        coeffs, _ = D.row_forms(r)
+        if any(sign_of_form(c, x) != 0 for c in coeffs):
+            return False
+    return True
+
+
+def initial_solution_groups(lcs, x0: Any, modes) -> list[list[frozenset]]:
+    """The modes of S(x0) grouped by initial solution (smallest modes first): one group means the
+    continuation is unique whatever mode is chosen; several groups mean S(x0) leaves a choice that
+    changes the trajectory (outside Theorem 6.3)."""
+    groups: list[list[frozenset]] = []
+    for I in sorted(modes, key=lambda m: (len(m), sorted(m))):
+        for g in groups:
+            if same_initial_solution(lcs, x0, g[0], I):
+                g.append(I)
+                break
+        else:
+            groups.append([I])
+    return groups

@@ -34,8 +34,9 @@ from .roots import dyadic_lower
 from .phase import Phase
 from .rational import submatrix, vstack
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
-from .selection import rcp_data, select_modes
-from .trajectory import Event, PhaseRecord, Status, Trajectory, full_feedback
+from .selection import initial_solution, initial_solution_groups, rcp_data, select_modes
+from .modes import format_mode
+from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory, full_feedback
 
 __all__ = ["simulate", "check_accumulation"]
 
@@ -96,7 +97,12 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         ``traj.accumulations``, and the run continues from the limit state; an accumulation
         without a proven law stops with :class:`ZenoDetected` (a certified lower bound of its
         time).  ``"stop"``: every accumulation stops with ZenoDetected.
-    branches : ``"unique"`` (default): see :class:`IllPosed`.
+    branches : ``"unique"`` (default): where S(z) holds several initial solutions that give
+        different trajectories (outside Theorem 6.3), raise :class:`IllPosed` with
+        ``.alternatives`` (each mode with its initial solution) and the partial trajectory.
+        ``"all"``: follow every branch (at most MAX_BRANCHES, within ``max_events`` and
+        ``time_limit`` each) and return :class:`~lcs_exact.trajectory.Branches`, each trajectory
+        with its ``.choices`` (never ``certified``: none is *the* solution).
 
     Examples
     --------
@@ -113,8 +119,25 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     if branches not in ("unique", "all"):
         raise ShapeError(f"branches must be 'unique' or 'all', got {branches!r}")
     z0 = as_exact_vector(x0, lcs.n)
+    if branches == "all":
+        return _all_branches(lcs, z0, T, digits, max_events, policy, zeno)
+    try:
+        return _run(lcs, z0, T, digits, max_events, policy, zeno, "unique", [])
+    finally:
+        policy.deadline.disarm()
+
+
+class _Fork(Exception):
+    """A branch reached a choice it has no instruction for (``branches="all"``)."""
+
+    def __init__(self, count: int):
+        super().__init__(count)
+        self.count = count
+
+
+def _run(lcs, z0, T, digits, max_events, policy, zeno, branches, forced) -> Trajectory:
     run = _Run(lcs, policy, T, max_events)
-    run.zeno = zeno
+    run.zeno, run.branches, run.forced = zeno, branches, list(forced)
     started = _time.monotonic()
     try:
         run.execute(z0)
@@ -122,9 +145,35 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         status = _STATUS.get(type(e), Status.FAILED)
         e.trajectory = run.result(z0, digits, status, f"{type(e).__name__}: {e}", _time.monotonic() - started)
         raise
+    return run.result(z0, digits, Status.COMPLETE, None, _time.monotonic() - started)
+
+
+MAX_BRANCHES = 64
+
+
+def _all_branches(lcs, z0, T, digits, max_events, policy, zeno) -> Branches:
+    """Every solution: a depth-first enumeration of the choices (each branch re-run from the
+    start with its list of choices), at most MAX_BRANCHES of them, under the run's deadline.  A
+    branch stopped by an error keeps its partial trajectory (with its status)."""
+    done: list = []
+    pending: list = [[]]
+    try:
+        while pending:
+            forced = pending.pop()
+            if len(done) + len(pending) >= MAX_BRANCHES:
+                raise LimitExceeded(f"more than {MAX_BRANCHES} branches: the solution set is too large "
+                                    "to enumerate", trajectory=done[0] if done else None)
+            try:
+                done.append(_run(lcs, z0, T, digits, max_events, policy, zeno, "all", forced))
+            except _Fork as f:
+                pending.extend(forced + [c] for c in reversed(range(f.count)))
+            except LCSError as e:
+                if isinstance(e, LimitExceeded) and "time_limit" in str(e):
+                    raise
+                done.append(e.trajectory)
     finally:
         policy.deadline.disarm()
-    return run.result(z0, digits, Status.COMPLETE, None, _time.monotonic() - started)
+    return Branches(done)
 
 
 _STATUS = {LimitExceeded: Status.EVENT_LIMIT, Deadlock: Status.DEADLOCK, ZenoDetected: Status.ZENO,
@@ -145,13 +194,18 @@ class _Run:
         self.accumulations: list = []
         self.symmetry = False  # the LCS's scaling symmetry, computed when first needed
         self.zeno = "cross"
+        self.branches = "unique"
+        self.forced: list = []  # the choices this branch must take (indices into the groups)
+        self.choices: list = []  # (time, mode) of the choices taken
+        self.unique_by_theorem = bool(lcs.well_posedness())  # Theorem 6.3: one initial solution
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
         if status is Status.EVENT_LIMIT and reason and "time_limit" in reason:
             status = Status.TIME_LIMIT
         return Trajectory(self.lcs, z0, self.T, digits, events=self.events, phases=self.phases,
                           status=status, stop_reason=reason, assumptions=self.policy.assumptions,
-                          accumulations=self.accumulations, elapsed=elapsed, policy=self.policy)
+                          accumulations=self.accumulations, elapsed=elapsed, policy=self.policy,
+                          choices=self.choices)
 
     def execute(self, z: ExactVector) -> None:
         lcs, policy = self.lcs, self.policy
@@ -258,7 +312,7 @@ class _Run:
             S = select_modes(lcs, q if q is not None else z)
             if not S:
                 raise Deadlock(f"deadlock at t = {t.label()}: S(z) is empty at z = {z!r} (Remark 7.2)")
-            I = min(S, key=lambda m: (len(m), sorted(m)))
+            I = self.choose(S, z, t)
             mode = lcs.mode(I)
             if _in_consistent_subspace(mode, z):
                 return mode, chain, z, impulse
@@ -268,6 +322,33 @@ class _Run:
             chain.append(I)
         raise ZenoDetected(f"re-initialization at t = {t.label()} did not end after {cap} jumps "
                            "(infinite multiplicity, Remark 7.2 (2))")
+
+    def choose(self, S: set, z: ExactVector, t) -> frozenset:
+        """The mode to continue in: the smallest of S(z) (Remark 4.8) when all of S(z) carries one
+        initial solution; otherwise a choice that changes the trajectory (outside Theorem 6.3):
+        ``branches="unique"`` raises IllPosed with the alternatives, ``"all"`` takes the forced
+        choice of this branch or forks."""
+        smallest = min(S, key=lambda m: (len(m), sorted(m)))
+        if len(S) == 1 or self.unique_by_theorem:
+            return smallest
+        q = z.known_rational()
+        groups = initial_solution_groups(self.lcs, q if q is not None else z, S)
+        if len(groups) == 1:
+            return smallest
+        i = len(self.choices)
+        if i < len(self.forced):
+            mode = groups[self.forced[i]][0]
+            self.choices.append((t, mode))
+            return mode
+        if self.branches == "all":
+            raise _Fork(len(groups))
+        alternatives = [(g[0], initial_solution(self.lcs, q if q is not None else z, g[0])) for g in groups]
+        raise IllPosed(f"non-unique continuation at t = {t.label()}: S(z) = "
+                       f"{{{', '.join(format_mode(m) for m in sorted(S, key=lambda m: (len(m), sorted(m))))}}} "
+                       f"holds {len(groups)} different initial solutions (modes "
+                       f"{', '.join(format_mode(g[0]) for g in groups)}); Theorem 6.3 does not hold, so the "
+                       "solution is not unique: see .alternatives, or simulate(..., branches='all')",
+                       alternatives=alternatives)
 
     def check_accumulation(self, t_now) -> None:
         check_accumulation(self.durations, t_now, self.T)

@@ -19,7 +19,7 @@ from .errors import InvalidArgument, LCSError
 from .modes import format_mode
 from .reals import ExactVector, ProjectedVector, Real, as_real
 
-__all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA"]
+__all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA", "Branches"]
 
 SCHEMA = "lcs-exact/trajectory/1"
 
@@ -88,16 +88,19 @@ class Trajectory:
     """The solution of an LCS on [0, t_end] produced by Algorithm 7.1 (immutable).
 
     ``events``, ``phases``, ``accumulations``, ``assumptions`` are tuples; ``status`` a
-    :class:`Status`; ``partial`` is True unless the run covered [0, t_end].
+    :class:`Status`; ``partial`` is True unless the run covered [0, t_end].  ``choices`` lists
+    (time, mode) for every point where S(z) left a choice between different initial solutions
+    (``simulate(..., branches="all")``): such a trajectory is *a* solution, not *the* solution,
+    and is never ``certified``.
     """
 
-    __slots__ = ("lcs", "x0", "t_end", "digits", "events", "phases", "status", "stop_reason",
+    __slots__ = ("lcs", "x0", "t_end", "digits", "events", "phases", "status", "stop_reason", "choices",
                  "assumptions", "accumulations", "elapsed", "policy", "_frozen")
 
     def __init__(self, lcs, x0: ExactVector, t_end: Real, digits: int, *, events: Sequence = (),
                  phases: Sequence = (), status: Status = Status.COMPLETE, stop_reason: str | None = None,
                  assumptions: Sequence = (), accumulations: Sequence = (), elapsed: float = 0.0,
-                 policy: Policy | None = None):
+                 policy: Policy | None = None, choices: Sequence = ()):
         self.lcs, self.x0, self.t_end, self.digits = lcs, x0, t_end, digits
         self.events = tuple(events)
         self.phases = tuple(phases)
@@ -105,6 +108,7 @@ class Trajectory:
         self.stop_reason = stop_reason
         self.assumptions = tuple(assumptions)
         self.accumulations = tuple(accumulations)
+        self.choices = tuple(choices)
         self.elapsed = elapsed
         self.policy = policy or DEFAULT_POLICY
         self._frozen = True
@@ -121,8 +125,10 @@ class Trajectory:
 
     @property
     def certified(self) -> bool:
-        """True iff no unresolved zero was assumed (every sign decision is proven)."""
-        return not self.assumptions
+        """True iff every sign decision is proven (no unresolved zero assumed) and the trajectory
+        is the solution (no choice between different initial solutions was made, and the run was
+        not stopped by a non-unique continuation)."""
+        return not self.assumptions and not self.choices and self.status is not Status.ILL_POSED
 
     @property
     def t_last(self) -> Real:
@@ -231,15 +237,20 @@ class Trajectory:
         return plot_trajectory(self, **kw)
 
     # --- display ------------------------------------------------------------------------------
+    def __str__(self):
+        return "\n".join([repr(self)] + [f"  {e!r}" for e in self.events])
+
     def __repr__(self):
-        status = "certified" if self.certified else f"NOT certified ({len(self.assumptions)} assumptions)"
+        if self.certified:
+            status = "certified"
+        elif self.choices:
+            status = f"one of several solutions ({len(self.choices)} choices)"
+        else:
+            status = f"NOT certified ({len(self.assumptions)} assumptions)"
         head = f"<Trajectory on [0, {self.t_end.label()}]: {len(self.events)} events, {status}"
         if self.partial:
             head += f", PARTIAL ({self.status.value}): {self.stop_reason}"
         return head + ">"
-
-    def __str__(self):
-        return "\n".join([repr(self)] + [f"  {e!r}" for e in self.events])
 
     def _repr_latex_(self):
         rows = []
@@ -275,3 +286,33 @@ def full_feedback(mode) -> fmpq_mat:
             out[i, j] = F[r, j]
     return out
 
+
+
+class Branches:
+    """The solutions of a non-unique problem (``simulate(..., branches="all")``): one
+    :class:`Trajectory` per sequence of choices between initial solutions, each recording its
+    ``choices``; none is ``certified`` (none is *the* solution)."""
+
+    __slots__ = ("trajectories",)
+
+    def __init__(self, trajectories: Sequence[Trajectory]):
+        object.__setattr__(self, "trajectories", tuple(trajectories))
+
+    def __setattr__(self, name, value):
+        raise AttributeError("Branches is immutable")
+
+    def __len__(self):
+        return len(self.trajectories)
+
+    def __iter__(self):
+        return iter(self.trajectories)
+
+    def __getitem__(self, i):
+        return self.trajectories[i]
+
+    def __repr__(self):
+        lines = [f"<Branches: {len(self.trajectories)} solutions>"]
+        for tr in self.trajectories:
+            picks = ", ".join(f"t = {t.label()}: {format_mode(m)}" for t, m in tr.choices)
+            lines.append(f"  [{picks}] {tr!r}")
+        return "\n".join(lines)
