@@ -223,7 +223,19 @@ class EventState(ExpVector):
             return plain  # an exact start: no correlation to keep
         sp = self.spectrum
         zc = arb_mat([[Z[i, 0].mid()] for i in range(n)])
-        Theta = self.t.arb(prec)
+        # Theta must hold theta(z) for EVERY z in Z (the mean value form integrates J over the
+        # segment from z_c to z): certified here on the root's rational bracket with the
+        # function's ball over Z: f(lo) > 0 > f(hi) and f' < 0 on [lo, hi]
+        self.t.arb(prec)
+        lo, hi = self.t.interval() if hasattr(self.t, "interval") else (None, None)
+        if lo is None:
+            return plain
+        fZ = self.t.function.at(prec)
+        if lo == hi:  # an exact rational root (a polynomial phase with a rational start)
+            return plain
+        if not (fZ.value(lo) > 0 and fZ.value(hi) < 0 and fZ.enclose(lo, hi, 1) < 0):
+            return plain
+        Theta = arb(lo).union(arb(hi))
         # the root for the center z_c, inside Theta (which holds theta(z) for every z in Z)
         fc = ExpSum([(lam, w, [(acb_mat(self.g) * v)[0, 0] for v in ws])
                      for lam, w, ws in sp.modal(zc, prec)], prec)
