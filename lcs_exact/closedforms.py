@@ -90,6 +90,20 @@ def candidates(theta: arb, M: fmpq_mat) -> list:
     return uniq
 
 
+def _shifted_candidates(b: arb, spectrum: Spectrum, v: Any):
+    """Candidates near the ball b; when the start is v = e^{Ms} w with a closed-form s (e.g.
+    x0 = e^{-sqrt2 M} w), also c - s for the candidates c of the time measured on w's orbit
+    (a touch at sqrt 2 is pi-free on the orbit of w: its candidate is c - s)."""
+    yield from candidates(b, spectrum.M)
+    inner, shift = orbit_start(v, spectrum.M)
+    sc = shift.closed_form if shift is not None else None
+    if sc is not None and sc != 0:
+        with workprec(200):
+            bs = b + closed_form_arb(sc)
+        for c in candidates(bs, spectrum.M):
+            yield c - sc
+
+
 def _inside(cand, lo: fmpq, hi: fmpq) -> bool:
     """The candidate lies in [lo, hi] (certified at a precision well above the bracket's width)."""
     bits = 64
@@ -180,7 +194,7 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
     ``root`` is a :class:`~lcs_exact.roots.RootReal` of f = g e^{Mt} v."""
     b = root.arb(200)
     lo, hi = root.interval()
-    for cand in candidates(b, spectrum.M):
+    for cand in _shifted_candidates(b, spectrum, v):
         if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
             return cand, (calcium.from_sympy(cand) if calcium.available() else None)
     sym = function_closed_form(spectrum, g, v)
@@ -200,7 +214,7 @@ def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, dea
         mid = arb(lo).union(arb(hi))
 
     def stream():
-        yield from candidates(mid, spectrum.M)
+        yield from _shifted_candidates(mid, spectrum, v)
         sym = function_closed_form(spectrum, g * spectrum.M, v)  # f': t* is one of its roots
         if sym is not None:
             yield from exp_candidates(sym, mid)

@@ -82,3 +82,12 @@ def test_free_masses_spring_stop():
     after = [num(c) for c in e.state_after]
     assert after[0] == 0 and after[2] == 0
     assert close(after[1], q2) and close(after[3], v2)
+
+
+def test_touch_at_sqrt2_from_a_shifted_start_is_proven():
+    """y = q + c with q'' = -q, c' = 0 from x0 = e^{-sqrt2 A}(-1, 0, 1): y(t) = 1 - cos(t - sqrt 2)
+    touches 0 at exactly sqrt 2 (y' = 0, y'' = 1 > 0) and is positive elsewhere on [0, 3]: no
+    event, certified (the candidate sqrt 2 comes from the orbit of (-1, 0, 1) shifted back)."""
+    graze = L.LCS([[0, 1, 0], [-1, 0, 0], [0, 0, 0]], [[0], [1], [0]], [[1, 0, 1]], [[0]])
+    tr = L.simulate(graze, L.expm_action(graze.A, -sp.sqrt(2), [-1, 0, 1]), 3)
+    assert tr.events == () and tr.certified
