@@ -3,13 +3,12 @@ and states derived by hand (closed forms) and checked against simulate to 28 dig
 from __future__ import annotations
 
 import mpmath as mp
-import pytest
 import sympy as sp
 from flint import fmpq_mat
 
 import lcs_exact as L
 from helpers import A_CARTS, close, mpmath_digits, num
-from lcs_exact import LCSError, examples, models
+from lcs_exact import examples, models
 
 _mp = mpmath_digits(60)
 

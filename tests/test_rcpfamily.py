@@ -2,13 +2,16 @@
 over Q(s), checked on systems solved by hand, against the autonomous path, and on exact-real states."""
 from __future__ import annotations
 
+from itertools import combinations
+
+import mpmath as mp
 import pytest
 from flint import fmpq_mat
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import lcs_exact as L
-from helpers import modes
+from helpers import close, modes, num
 from lcs_exact import RationalFunction, RationalMatrix
 from lcs_exact import rcpfamily
 from lcs_exact.errors import LCSError, NotAutonomous, UnresolvedSign, Unsupported
@@ -191,3 +194,24 @@ def test_solutions_of_singular_modes_solve_rcp(case):
         assert sol.unique == lcs.mode(sol.mode).is_autonomous
     S = lcs.select_modes(x, "rcp", nonautonomous="include")
     assert S == {sol.mode for sol in lcs.rcp(x)}
+
+
+def test_ideal_diode_bridge_runs_past_its_singular_modes():
+    """The full-wave bridge without series resistances and ground resistors (notebook 04) has two
+    modes that are not autonomous; away from rest they are proven inadmissible and the run goes on.
+    By hand: in either half-wave the tank (C = L = 1) sees the load R = 1, so C v' = -i_L - v,
+    L i_L' = v, v'' + v' + v = 0.  From v = 0, i_L = -1: v'(0) = 1, v = (2/sqrt 3) e^{-t/2}
+    sin(sqrt(3) t / 2), zero again at T = 2 pi/sqrt(3), where i_L = -v'(T) = e^{-T/2}: the k-th
+    event is at k T with i_L = (-1)^(k+1) e^{-k pi/sqrt(3)}."""
+    ideal = L.models.circuit("C1 a b 1\nL1 a b 1\nD1 a p\nD2 b p\nD3 0 a\nD4 0 b\nR1 p 0 1")
+    singular = {frozenset(c) for r in range(5) for c in combinations(range(4), r)
+                if not ideal.mode(c).is_autonomous}
+    assert singular == modes([0], [1, 2, 3])
+    tr = L.simulate(ideal, [0, -1], 8)
+    assert tr.certified and len(tr.events) == 2
+    root3 = mp.sqrt(3)
+    for k, e in enumerate(tr.events, 1):
+        assert close(num(e.time), k * 2 * mp.pi / root3)
+        assert close(num(e.state_after[1]), (-1) ** (k + 1) * mp.exp(-k * mp.pi / root3))
+    with pytest.raises(NotAutonomous, match=r"mode \{0\}"):  # at rest: RCP has a family in mode {0}
+        ideal.select_modes([0, 0])
