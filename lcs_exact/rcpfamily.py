@@ -70,7 +70,13 @@ class RowSeries:
 
 def row_series(m: RationalMatrix, i: int) -> RowSeries:
     """The Laurent forms of row i of m(s) (as many as decide it: a numerator of degree <= a
-    vanishes iff its a + 1 leading Laurent coefficients do, since N = f d)."""
+    vanishes iff its a + 1 leading Laurent coefficients do, since N = f d).
+
+    >>> s = RationalFunction.s()
+    >>> r = row_series(RationalMatrix([[1 / s, 1 / s**2]]), 0)   # x0 . (1/s, 1/s^2) = x_0/s + x_1/s^2
+    >>> r.start, [str(f) for f in r.forms], r.sign(fmpq_mat([[0], [-1]]))
+    (1, ['[1, 0]', '[0, 1]'], -1)
+    """
     coeffs, d = m.row_forms(i)
     a, b = len(coeffs) - 1, d.degree()
     forms = laurent_coefficients(coeffs, d.coeffs(), a + 1)
@@ -358,5 +364,14 @@ def _all_hold(conditions, x) -> bool:
 
 def family(mode) -> RCPFamily:
     """The :class:`RCPFamily` of mode I (any mode; for an autonomous one it has no free input),
-    computed once and cached on the mode."""
+    computed once and cached on the mode.
+
+    >>> from lcs_exact import LCS
+    >>> twins = LCS([[0]], [[1, 1]], [[1], [1]], [[0, 0], [0, 0]])   # y0 = y1 = x, x' = u0 + u1
+    >>> fam = family(twins.mode({0, 1}))       # u0 + u1 = -x0: one free input, u1 = v >= 0
+    >>> fam.rank, fam.free, fam.conditions()   # Fourier-Motzkin leaves -x0 >= 0
+    (1, (1,), ((), (([-1],),)))
+    >>> fam.solution(fmpq_mat([[-2]]))
+    ([RationalFunction('2'), RationalFunction('0')], [])
+    """
     return mode.memo("family", lambda: RCPFamily(mode))
