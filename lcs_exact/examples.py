@@ -2,7 +2,7 @@
 
 * :func:`two_carts` - section 2, (2.1); :func:`two_carts_with_hook` - Example 8.3, (8.12);
 * :func:`half_wave_rectifier`, :func:`diode_bridge` - LC tanks rectified by ideal diodes;
-* :func:`filippov_spiral` - (4.12): needs the relay builder (issue 8), raises Unsupported.
+* :func:`filippov_spiral` - (4.12), a relay system (:func:`lcs_exact.relays.relay`).
 
 Indices are 0-based (the paper's x_1 and mode {1} are ``x_0`` and ``{0}`` here).  Mechanical
 examples name their states q_0, q_1, q_0', q_1' (positions, velocities): the paper's x1..x4.
@@ -12,9 +12,9 @@ from __future__ import annotations
 from typing import Any
 
 from .circuits import circuit
-from .errors import Unsupported
 from .mechanics import mechanical
 from .rational import to_fmpq
+from .relays import relay
 from .system import LCS
 
 __all__ = ["two_carts", "two_carts_with_hook", "half_wave_rectifier", "diode_bridge", "filippov_spiral"]
@@ -109,18 +109,19 @@ def diode_bridge(L: Any = 1, C: Any = 1, R: Any = "7/6", r: Any = "1/3", R_groun
 def filippov_spiral() -> LCS:
     """The paper's right-Zeno example (4.12): x1' = -sgn(x1) + 2 sgn(x2), x2' = -2 sgn(x1) - sgn(x2).
 
-    Not available yet: it is a relay system (x' = A x + B w, w in Sgn(C x)), which becomes an
-    LCS only through the relay builder ``models.relay`` with a constant state for the relay
-    levels, and some of that LCS's modes are not autonomous, so mode selection needs the
-    extension planned in issue 8 ("Hard scenes"), together with the crossing of its
-    accumulation point at t = 3/2 from x0 = (1, 2) (switching times 3/2 - (5/2) 3^-k).
-    Raises :class:`~lcs_exact.errors.Unsupported` until then.
+    Built with :func:`lcs_exact.relays.relay`: A = 0, B = [[-1, 2], [-2, -1]], C = I.  State
+    (x_0, x_1, c) (the paper's x1, x2 and the constant relay level c = 1: start from
+    ``lcs.embed([x1, x2])``); pairs ``w0-, w0+, w1-, w1+``.  In the open quadrant with signs
+    (sgn x1, sgn x2) the mode is {0, 1} for x1 > 0 (none of them for x1 < 0) united with {2, 3}
+    for x2 > 0; at the origin both relays slide (w = 0, mode {0, 2}).  From (1, 2) the switching
+    times are 3/2 - (5/2) 3^-k (2/3, 11/9, 38/27, ...), accumulating at 3/2 where the state
+    reaches 0 (Remark 4.11).
 
-    >>> filippov_spiral()
-    Traceback (most recent call last):
-    ...
-    lcs_exact.errors.Unsupported: filippov_spiral() (4.12) needs the relay builder models.relay and mode selection with non-autonomous modes (issue 8, "Hard scenes"); notebooks/03_zeno_spiral.ipynb shows its exact switching times derived by hand
+    >>> spiral = filippov_spiral()
+    >>> spiral.select_modes(spiral.embed([1, 2])) == {frozenset({0, 1, 2, 3})}
+    True
+    >>> spiral.select_modes(spiral.embed([0, 0])) == {frozenset({0, 2})}
+    True
     """
-    raise Unsupported("filippov_spiral() (4.12) needs the relay builder models.relay and mode selection "
-                      "with non-autonomous modes (issue 8, \"Hard scenes\"); notebooks/03_zeno_spiral.ipynb "
-                      "shows its exact switching times derived by hand")
+    return relay([[0, 0], [0, 0]], [[-1, 2], [-2, -1]], [[1, 0], [0, 1]],
+                 name="Filippov's spiral (4.12)", state_names=("x_0", "x_1"))

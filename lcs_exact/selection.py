@@ -12,6 +12,15 @@ exact-real states).  The same holds for LDCP_kappa: the unique solution of Theor
 built as forms by a sequence of LCPs on Schur complements of N, each solved by Murty's method
 on forms.
 
+Modes that are not autonomous (Assumption 4.1 fails, Lemma 3.3: G_II(s) singular) are decided
+exactly as well: RCP(x0) in such a mode is an affine family of u_I(s) over Q(s), and
+:mod:`lcs_exact.rcpfamily` decides whether some member satisfies the sign conditions (consistency
+of G_II u_I = -R_I x0, then Fourier-Motzkin over the ordered field Q(s)).  A mode that is never
+admissible (the relay LCS of :mod:`lcs_exact.relays`) no longer blocks selection.  When such a
+mode *is* admissible, its initial solution is not unique and the paper's continuation (P_I, F_I,
+Definitions 4.2 and 4.10) is not defined there: :func:`select_modes` raises
+:class:`~lcs_exact.errors.NotAutonomous` unless asked to ``include`` it.
+
 Results: :func:`rcp` -> list of :class:`RCPSolution`; :func:`ldcp` -> :class:`LDCPSolution`;
 :func:`select_modes` -> S(x0), a set of frozensets; :func:`initial_solution` ->
 :class:`InitialSolution` (impulse u^{-i} and x(0+) = x0 + sum A^i B u^{-i} (3.8), checked equal
@@ -25,15 +34,19 @@ from typing import Any
 
 from flint import fmpq_mat
 
-from .errors import InvalidArgument, IllPosed, LCSError
+from .errors import InvalidArgument, IllPosed, LCSError, NotAutonomous
 from .lcp import murty
 from .modes import LATEX_MAX_N, format_mode, latex_mode
-from .rational import (RationalFunction, RationalMatrix, is_rational_vector, is_zero, laurent_coefficients,
-                       lex_sign, sign_of_form, submatrix, to_vector, zeros)
+from .rcpfamily import family, row_series
+from .rational import (RationalFunction, RationalMatrix, is_rational_vector, is_zero, lex_sign, sign_of_form,
+                       submatrix, to_vector, zeros)
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "LDCPSolution", "select_modes",
            "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data",
-           "admissibility_forms"]
+           "admissibility_forms", "admissibility_conditions", "NONAUTONOMOUS"]
+
+#: what :func:`select_modes` may do when a mode that is not autonomous is admissible at x0
+NONAUTONOMOUS = ("raise", "include")
 
 
 def as_state(lcs, x0: Any):
@@ -68,25 +81,6 @@ def _apply(P: fmpq_mat, x):
 # ---------------------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class _RowSeries:
-    """Laurent coefficients (forms) of one row of W_I or Z_I: f_start, f_start+1, ..."""
-
-    start: int
-    forms: tuple
-
-    def sign(self, x) -> int:
-        return lex_sign(self.forms, x)
-
-
-def _row_series(m: RationalMatrix, i: int) -> _RowSeries:
-    coeffs, d = m.row_forms(i)
-    a, b = len(coeffs) - 1, d.degree()
-    # a + 1 coefficients decide whether a numerator of degree <= a vanishes (N = f d)
-    forms = laurent_coefficients(coeffs, d.coeffs(), a + 1)
-    return _RowSeries(b - a, tuple(forms))
-
-
 def rcp_data(mode) -> dict:
     """W_I(s), Z_I(s), their Laurent forms and the impulse matrices of mode I (cached on the mode):
     ``{"W", "Z", "u", "y", "impulse"}``, impulse[p] the k x n forms of u^{-p} (3.6)."""
@@ -104,8 +98,8 @@ def _build_rcp_data(mode) -> dict:
     else:
         W = RationalMatrix([])
         Z = R
-    u_rows = [_row_series(W, r) for r in range(len(I))]
-    y_rows = [_row_series(Z, r) for r in range(len(Ic))]
+    u_rows = [row_series(W, r) for r in range(len(I))]
+    y_rows = [row_series(Z, r) for r in range(len(Ic))]
     # impulse u^{-p} (coefficient of s^p in u(s)) as k x n forms, p = 0..n-1
     imp = [zeros(lcs.k, n) for _ in range(n)]
     for r, i in enumerate(I):
@@ -120,7 +114,20 @@ def _build_rcp_data(mode) -> dict:
 
 
 def mode_admissible(mode, x) -> bool:
-    """I in S_RCP(x): u_I(s) >= 0 and y_Ic(s) >= 0 for all large s (5.4), by lexicographic signs."""
+    """I in S_RCP(x0) (5.5): u_I(s) >= 0 and y_Ic(s) >= 0 for all large s (5.4), exactly.
+
+    An autonomous mode: the lexicographic signs of the unique u_I(s) = W_I(s) x0 and
+    y_Ic(s) = Z_I(s) x0.  A mode that is not autonomous: some member of the affine family of
+    solutions of G_II(s) u_I = -R_I.(s) x0 satisfies the signs (:mod:`lcs_exact.rcpfamily`: the
+    equations must be consistent at x0, then Fourier-Motzkin over Q(s) ordered at s = +oo).
+
+    >>> from lcs_exact import LCS
+    >>> lazy = LCS([[0]], [[1]], [[0]], [[0]])     # x' = u, y = 0: mode {0} is not autonomous
+    >>> mode_admissible(lazy.mode({0}), to_vector([1], 1))   # any u >= 0 solves RCP(x0)
+    True
+    """
+    if not mode.is_autonomous:
+        return family(mode).admissible(x)
     data = rcp_data(mode)
     return all(r.sign(x) >= 0 for r in data["u"]) and all(r.sign(x) >= 0 for r in data["y"])
 
@@ -144,13 +151,37 @@ def admissibility_forms(mode) -> tuple:
     return tuple(r.forms for r in data["u"]) + tuple(r.forms for r in data["y"])
 
 
+def admissibility_conditions(mode) -> tuple[tuple, tuple]:
+    """(equalities, inequalities) in x0 with I in S_RCP(x0) iff both hold, for any mode.
+
+    Each equality is a tuple of 1 x n forms that must all vanish at x0 (consistency of
+    G_II(s) u_I = -R_I.(s) x0; none for an autonomous mode); each inequality is a tuple of
+    Laurent forms (f_1, f_2, ...) that must be lexicographically nonnegative at x0: for an
+    autonomous mode the rows of :func:`admissibility_forms`, otherwise the rows left by
+    Fourier-Motzkin elimination of the free inputs (:mod:`lcs_exact.rcpfamily`).
+
+    >>> from lcs_exact import LCS
+    >>> lazy = LCS([[0]], [[1]], [[0]], [[0]])
+    >>> admissibility_conditions(lazy.mode({0}))     # G_II = 0 and R_I = 0: always admissible
+    ((), ())
+    """
+    if mode.is_autonomous:
+        return (), admissibility_forms(mode)
+    return family(mode).conditions()
+
+
 @dataclass(frozen=True)
 class RCPSolution:
-    """A solution (u(s), y(s)) of RCP(x0) in mode I (u_Ic = 0, y_I = 0), for a rational x0."""
+    """A solution (u(s), y(s)) of RCP(x0) in mode I (u_Ic = 0, y_I = 0), for a rational x0.
+
+    ``unique`` is False for a mode that is not autonomous: (u, y) is then one member of an
+    affine family of solutions (:meth:`lcs_exact.rcpfamily.RCPFamily.solution`).
+    """
 
     mode: frozenset
     u: tuple  # k RationalFunction
     y: tuple  # k RationalFunction
+    unique: bool = True
 
     @property
     def is_strictly_proper(self) -> bool:
@@ -160,7 +191,8 @@ class RCPSolution:
     def __repr__(self):
         us = ", ".join(str(f) for f in self.u)
         ys = ", ".join(str(f) for f in self.y)
-        return f"RCPSolution(mode={format_mode(self.mode)}, u(s)=({us}), y(s)=({ys}))"
+        extra = "" if self.unique else ", unique=False"
+        return f"RCPSolution(mode={format_mode(self.mode)}, u(s)=({us}), y(s)=({ys}){extra})"
 
     def _repr_latex_(self):
         import sympy
@@ -181,7 +213,13 @@ def _all_modes(k: int):
 def rcp(lcs, x0: Any) -> list[RCPSolution]:
     """All solutions of RCP(x0), one per admissible mode (5.3)-(5.5), for a rational x0.
 
-    Enumerates the 2^k modes (each must be autonomous, Assumption 4.1); for small k.
+    Enumerates the 2^k modes; for small k.  In an autonomous mode the solution is unique; in an
+    admissible mode that is not autonomous one member of the family is shown, with
+    ``unique=False``.
+
+    >>> from lcs_exact import LCS
+    >>> LCS([[0]], [[1]], [[1]], [[-1]]).rcp([1])     # x' = u, y = x - u
+    [RCPSolution(mode=∅, u(s)=(0), y(s)=(1/s)), RCPSolution(mode={0}, u(s)=(1/(s - 1)), y(s)=(0))]
     """
     x = as_state(lcs, x0)
     if not is_rational_vector(x):
@@ -190,15 +228,18 @@ def rcp(lcs, x0: Any) -> list[RCPSolution]:
     for I in _all_modes(lcs.k):
         mode = lcs.mode(I)
         if mode_admissible(mode, x):
-            data = rcp_data(mode)
-            uI, yIc = data["W"].apply(x), data["Z"].apply(x)
+            if mode.is_autonomous:
+                data = rcp_data(mode)
+                uI, yIc = data["W"].apply(x), data["Z"].apply(x)
+            else:
+                uI, yIc = family(mode).solution(x)
             u = [RationalFunction(0)] * lcs.k
             y = [RationalFunction(0)] * lcs.k
             for r, i in enumerate(mode.I):
                 u[i] = uI[r]
             for r, i in enumerate(mode.Ic):
                 y[i] = yIc[r]
-            out.append(RCPSolution(I, tuple(u), tuple(y)))
+            out.append(RCPSolution(I, tuple(u), tuple(y), mode.is_autonomous))
     return out
 
 
@@ -372,13 +413,23 @@ def _stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_
 # ---------------------------------------------------------------------------------------------
 
 
-def select_modes(lcs, x0: Any, method: str = "auto") -> set:
+def select_modes(lcs, x0: Any, method: str = "auto", *, nonautonomous: str = "raise") -> set:
     """S(x0) = S_RCP(x0) = S_LDCP^oo(x0) (Theorem 5.2), a set of frozensets (0-based).
 
     ``"ldcp"``: LDCP_n(x0) by the LCP sequence (Theorem 6.10; needs N to be a P-matrix): the
     unique initial solution evolves in mode I, and S(x0) = {I ∪ K' : K' ⊆ K} with K the indices
     whose u and y vanish (Remarks 4.8, 6.11).  ``"rcp"``: every mode I is tested by the
-    lexicographic signs of u_I(s), y_Ic(s) (5.4).  ``"auto"``: LDCP when N is a P-matrix.
+    lexicographic signs of u_I(s), y_Ic(s) (5.4), :func:`mode_admissible`.  ``"auto"``: LDCP
+    when N is a P-matrix (then every mode is autonomous, Lemma 6.6), RCP otherwise.
+
+    Modes that are not autonomous are decided exactly by RCP (S_RCP(x0) of (5.5) does not need
+    Assumption 4.1), so one that is never admissible does not block selection.  If one is
+    admissible at x0, RCP(x0) has a family of solutions in it (u_I is determined only up to
+    Ker G_II(s)), the initial solution is not unique (Definition 3.2), and the continuation of
+    Definitions 4.2 and 4.10 (theta, P_I, F_I) is not defined in it; Theorem 5.2 and the rest
+    of the paper assume Assumption 4.1.  ``nonautonomous="raise"`` (default) then raises
+    :class:`~lcs_exact.errors.NotAutonomous` naming the mode and x0; ``"include"`` returns
+    S_RCP(x0) with such modes in it (the caller must not continue in them).
 
     >>> from lcs_exact import LCS
     >>> carts = LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]], [[0], [0], [1], [0]],
@@ -388,10 +439,22 @@ def select_modes(lcs, x0: Any, method: str = "auto") -> set:
     """
     if method not in ("auto", "rcp", "ldcp"):
         raise InvalidArgument(f"method must be 'auto', 'rcp' or 'ldcp', got {method!r}")
+    if nonautonomous not in NONAUTONOMOUS:
+        raise InvalidArgument(f"nonautonomous must be 'raise' or 'include', got {nonautonomous!r}")
     x = as_state(lcs, x0)
     if method == "ldcp" or (method == "auto" and lcs.well_posedness().N_is_P):
         return ldcp(lcs, x, lcs.n).modes
-    return {I for I in _all_modes(lcs.k) if mode_admissible(lcs.mode(I), x)}
+    S = {I for I in _all_modes(lcs.k) if mode_admissible(lcs.mode(I), x)}
+    bad = sorted((I for I in S if not lcs.mode(I).is_autonomous), key=lambda m: (len(m), sorted(m)))
+    if bad and nonautonomous == "raise":
+        m = lcs.mode(bad[0])
+        raise NotAutonomous(
+            f"mode {format_mode(bad[0])} is not autonomous ({m.autonomy_reason}) and RCP(x0) has "
+            f"solutions in it at x0 = {_fmt_state(x)}: u_I(s) is determined only up to Ker G_II(s), "
+            f"so the initial solution is not unique (Definition 3.2) and the continuation (P_I, F_I; "
+            f"Definitions 4.2, 4.10, Assumption 4.1) is not defined; S_RCP(x0) = "
+            f"{sorted(format_mode(I) for I in S)} (select_modes(x0, nonautonomous='include'))")
+    return S
 
 
 @dataclass(frozen=True)

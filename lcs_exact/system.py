@@ -20,7 +20,7 @@ from flint import fmpq_mat, fmpq_poly
 from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
 from .rational import (RationalFunction, RationalMatrix, adjugate_coefficients, mat_rows,
-                       matrix_to_sympy, submatrix, to_matrix)
+                       matrix_to_sympy, submatrix, to_matrix, to_vector)
 
 __all__ = ["LCS", "WellPosedness"]
 
@@ -75,6 +75,11 @@ class LCS:
         so that plots label the pairs u_0, y_0, ...; a name such as ``"stop"`` labels them
         u (stop), y (stop).
 
+    embedding : callable, optional
+        Set by builders that append states (:func:`lcs_exact.models.relay` appends the constant
+        relay level c): maps a state of the modelled system to the full initial state, see
+        :meth:`embed`.  Default: none (``embed`` reads x as it is).
+
     Names must be distinct nonempty strings; they are stored as tuples.
 
     Examples
@@ -92,7 +97,7 @@ class LCS:
     """
 
     def __init__(self, A: Any, B: Any, C: Any, D: Any, *, name: str | None = None,
-                 state_names: Any = None, constraint_names: Any = None):
+                 state_names: Any = None, constraint_names: Any = None, embedding: Any = None):
         self.A = to_matrix(A, "A")
         n = self.A.nrows()
         if n == 0 or self.A.ncols() != n:
@@ -111,6 +116,9 @@ class LCS:
         self.name = name
         self.state_names = _names(state_names, n, "state_names", "x_")
         self.constraint_names = _names(constraint_names, k, "constraint_names", "")
+        if embedding is not None and not callable(embedding):
+            raise InvalidArgument(f"embedding must be callable, got {type(embedding).__name__}")
+        self.embedding = embedding
         self._markov: list[fmpq_mat] = [self.D]
         self._apow_b: list[fmpq_mat] = [self.B]  # A^i B
         self._modes: dict[frozenset, Any] = {}
@@ -226,6 +234,20 @@ class LCS:
             self._cache["wp"] = WellPosedness.of(self)
         return self._cache["wp"]
 
+    def embed(self, x: Any) -> fmpq_mat:
+        """The full initial state (n x 1) for a state x of the modelled system.
+
+        Builders that append states set the embedding: for a relay LCS (x, c) with the constant
+        relay level c, ``embed(x)`` is (x, 1).  Without one, x itself (read as a rational vector
+        of length n).
+
+        >>> LCS([[0]], [[1]], [[1]], [[0]]).embed(["1/2"])
+        [1/2]
+        """
+        if self.embedding is None:
+            return to_vector(x, self.n, "x")
+        return self.embedding(x)
+
     # --- modes and selection (delegated) -----------------------------------------------------
     def _index_set(self, I: Iterable[int]) -> frozenset:
         try:
@@ -246,15 +268,18 @@ class LCS:
             m = self._modes[key] = Mode(self, key)
         return m
 
-    def select_modes(self, x0: Any, method: str = "auto") -> set:
+    def select_modes(self, x0: Any, method: str = "auto", *, nonautonomous: str = "raise") -> set:
         """S(x0) as a set of frozensets (Theorem 5.2: S = S_RCP = S_LDCP^oo).
 
-        ``method``: ``"rcp"`` solves RCP(x0) exactly for every mode; ``"ldcp"`` solves LDCP_n by
-        the LCP sequence of Theorems 6.9-6.10 (needs N to be a P-matrix); ``"auto"`` uses LDCP_n
-        when N is a P-matrix and RCP otherwise.  See :func:`lcs_exact.selection.select_modes`.
+        ``method``: ``"rcp"`` solves RCP(x0) exactly for every mode (a mode that is not
+        autonomous is decided exactly too); ``"ldcp"`` solves LDCP_n by the LCP sequence of
+        Theorems 6.9-6.10 (needs N to be a P-matrix); ``"auto"`` uses LDCP_n when N is a P-matrix
+        and RCP otherwise.  ``nonautonomous``: ``"raise"`` (NotAutonomous when a mode that is not
+        autonomous is admissible at x0) or ``"include"``.  See
+        :func:`lcs_exact.selection.select_modes`.
         """
         from .selection import select_modes
-        return select_modes(self, x0, method=method)
+        return select_modes(self, x0, method=method, nonautonomous=nonautonomous)
 
     def rcp(self, x0: Any):
         """All solutions of RCP(x0) (5.3)-(5.4), one per admissible mode; see selection.rcp."""

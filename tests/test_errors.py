@@ -135,9 +135,13 @@ def test_non_autonomous_mode_V_and_T_intersect():
     with pytest.raises(NotAutonomous, match="not autonomous"):
         m.feedback()
     assert lcs.mode(set()).is_autonomous is True
-    # mode selection needs every mode to be autonomous (Assumption 4.1)
-    with pytest.raises(NotAutonomous, match=r"mode \{0\} is not autonomous"):
+    # mode {0} is admissible at x0 = 1 (any u >= 0 keeps y = 0): RCP(x0) has a family of solutions
+    # there, the initial solution is not unique, and selection refuses (Assumption 4.1) ...
+    with pytest.raises(NotAutonomous, match=r"mode \{0\} is not autonomous") as ei:
         lcs.select_modes([1])
+    assert "not unique" in str(ei.value) and "nonautonomous='include'" in str(ei.value)
+    # ... unless asked for S_RCP(x0) itself (5.5): y(s) = 0 in mode ∅, u(s) = any v >= 0 in {0}
+    assert lcs.select_modes([1], nonautonomous="include") == modes([], [0])
 
 
 def test_non_autonomous_mode_input_not_determined():

@@ -3,14 +3,12 @@ and states derived by hand (closed forms) and checked against simulate to 28 dig
 from __future__ import annotations
 
 import mpmath as mp
-import pytest
 import sympy as sp
 from flint import fmpq_mat
 
 import lcs_exact as L
 from helpers import A_CARTS, close, mpmath_digits, num
-from lcs_exact import LCSError, examples, models
-from lcs_exact.errors import Unsupported
+from lcs_exact import examples, models
 
 _mp = mpmath_digits(60)
 
@@ -35,11 +33,15 @@ def test_models_keeps_the_old_names():
     assert L.models is models and L.examples is examples
 
 
-def test_filippov_spiral_says_what_it_needs():
-    with pytest.raises(Unsupported, match="relay builder") as err:
-        examples.filippov_spiral()
-    assert isinstance(err.value, NotImplementedError) and isinstance(err.value, LCSError)
-    assert "issue 8" in str(err.value)
+def test_filippov_spiral_is_the_relay_system_4_12():
+    # (4.12) as x' = B w, w in Sgn(x): B = [[-1, 2], [-2, -1]] read off the right-hand sides;
+    # the LCS data themselves are derived by hand in tests/test_relays.py
+    sp_ = examples.filippov_spiral()
+    assert models.filippov_spiral is examples.filippov_spiral
+    assert (sp_.n, sp_.k) == (3, 4) and sp_.state_names == ("x_0", "x_1", "c")
+    assert sp_.constraint_names == ("w0-", "w0+", "w1-", "w1+")
+    assert sp_.B == fmpq_mat([[-1, 0, 2, 0], [-2, 0, -1, 0], [0, 0, 0, 0]])
+    assert sp_.embed([1, 2]) == fmpq_mat([[1], [2], [1]])
 
 
 # --- half-wave rectifier ----------------------------------------------------------------------
