@@ -51,14 +51,14 @@ class Deadlock(LCSError):
 class ZenoDetected(LCSError):
     """Event times accumulate, or re-initializations do not terminate (Remark 7.2 (2), (3)).
 
-    ``lower`` and ``upper`` (rationals, or None) enclose the accumulation time as tightly as the
-    evidence allows: ``lower`` is at or after the last event computed (certified); ``upper`` is
+    ``time`` is the accumulation time as an exact real when a geometric law proves it; ``lower``
+    and ``upper`` (rationals, or None) enclose it as tightly as the evidence allows: ``lower`` is at or after the last event computed (certified); ``upper`` is
     None when nothing bounds the accumulation time from above but t_end.  ``estimate`` is an
     uncertified guess from the shrinking gaps (a float, for the message only)."""
 
-    def __init__(self, message: str, *, trajectory=None, lower=None, upper=None, estimate=None):
+    def __init__(self, message: str, *, trajectory=None, lower=None, upper=None, estimate=None, time=None):
         super().__init__(message, trajectory=trajectory)
-        self.lower, self.upper, self.estimate = lower, upper, estimate
+        self.lower, self.upper, self.estimate, self.time = lower, upper, estimate, time
 
 
 class UnresolvedSign(LCSError, ArithmeticError):

@@ -571,7 +571,10 @@ class ExactVector(_Node):
         """form . x == 0 by an exact proof: True, False (proven nonzero), None (unknown).
 
         Tries the Calcium closed form of the vector; when every component is rational there,
-        the vector gets an exact twin (a rational vector) used from then on."""
+        the vector gets an exact twin (a rational vector) used from then on.  Never with
+        ``closed_forms=False``."""
+        if self.policy.closed_forms == "off":
+            return None
         xs = self.to_ca()
         if xs is None:
             return None

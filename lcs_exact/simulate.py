@@ -263,7 +263,8 @@ class _Run:
         if self.zeno == "stop":
             raise ZenoDetected(f"event times accumulate at exactly t = {law.time} (a proven geometric law: "
                                f"cycles of {law.period} events, each {law.ratio} times the previous; "
-                               f"Remark 4.11); zeno='stop'", lower=law.time, upper=law.time)
+                               f"Remark 4.11); zeno='stop'", lower=law.time, upper=law.time,
+                               time=RationalReal(law.time, self.policy))
         return law
 
     def cross(self, law, t, mode):

@@ -245,10 +245,11 @@ def test_spiral_stops_before_the_accumulation():
         assert b.overlaps(arb(3) / 2 - arb(5) / 2 / arb(3) ** k), k
 
 
-@pytest.mark.xfail(strict=True, reason="accumulation crossing: lead's part of issue 8")
 def test_spiral_crosses_the_accumulation_at_three_halves_and_rests():
     """Definition 4.10 / Remark 4.11: the event times accumulate at exactly 3/2 where x = 0, and the
-    solution stays at the origin (both relays sliding, mode {0, 2}) afterwards."""
+    solution stays at the origin (both relays sliding, mode {0, 2}) afterwards; inside the window
+    the state follows the law (|x1| + |x2| decreases at rate 2: 2 (3/2 - t) at t = 1499/1000);
+    with zeno="stop" the run stops at exactly 3/2."""
     lcs = filippov_spiral()
     tr = L.simulate(lcs, lcs.embed([1, 2]), 2)
     assert tr.certified
@@ -258,6 +259,11 @@ def test_spiral_crosses_the_accumulation_at_three_halves_and_rests():
     assert rat(tr.state(Fr(7, 4))) == (0, 0, 1) and rat(tr.state(2)) == (0, 0, 1)
     assert all(qtime(e.time) is None or qtime(e.time) <= Fr(3, 2) for e in tr.events)
     assert lcs.select_modes(lcs.embed([0, 0])) == {frozenset({0, 2})}
+    x = rat(tr.state(Fr(1499, 1000)))
+    assert abs(x[0]) + abs(x[1]) == 2 * (Fr(3, 2) - Fr(1499, 1000)) and x[2] == 1
+    with pytest.raises(L.ZenoDetected) as err:
+        L.simulate(lcs, lcs.embed([1, 2]), 2, zeno="stop")
+    assert qtime(err.value.lower) == qtime(err.value.upper) == Fr(3, 2) == qtime(err.value.time)
 
 
 # ---------------------------------------------------------------------------------------------

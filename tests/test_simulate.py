@@ -171,12 +171,17 @@ def test_clear_miss_is_not_an_event():
 
 
 def test_unprovable_touch_is_reported_not_guessed():
-    # the same exact touch, but from a transcendental state e^{M} v: no closed form is available
-    x0 = L.expm_action(GRAZE.A, 1, [-1, 0, 1])  # y(t) = 1 - cos(t + 1): touch at 2 pi - 1
+    # the same exact touch from a transcendental state e^{M} v: y(t) = 1 - cos(t + 1) touches 0 at
+    # 2 pi - 1.  With closed forms the touch is proven (the candidate 2 pi on the orbit of v,
+    # shifted back by 1); without them (closed_forms=False) nothing can prove it: it is reported,
+    # never guessed, and with allow_unresolved it is recorded and the result is not certified.
+    x0 = L.expm_action(GRAZE.A, 1, [-1, 0, 1])
+    tr = L.simulate(GRAZE, x0, 6, max_prec=512)
+    assert tr.certified and tr.events == ()
     with pytest.raises(L.UnresolvedSign, match="tangential touch") as err:
-        L.simulate(GRAZE, x0, 6, max_prec=512)
+        L.simulate(GRAZE, x0, 6, max_prec=512, closed_forms=False)
     assert err.value.trajectory.partial
-    tr = L.simulate(GRAZE, x0, 6, allow_unresolved=True, max_prec=512)
+    tr = L.simulate(GRAZE, x0, 6, allow_unresolved=True, max_prec=512, closed_forms=False)
     assert not tr.certified and tr.events == ()
     assert any("tangential touch" in a for a in tr.assumptions)
 
