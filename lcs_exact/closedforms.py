@@ -193,6 +193,10 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
 
     ``root`` is a :class:`~lcs_exact.roots.RootReal` of f = g e^{Mt} v."""
     b = root.arb(200)
+    if not root.simple:
+        # a bracket that may hold several roots (a multiple root, a cluster): a zero of f inside
+        # it need not be the first crossing, so no candidate can be accepted
+        return None
     lo, hi = root.interval()
     for cand in _shifted_candidates(b, spectrum, v):
         if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:

@@ -304,7 +304,9 @@ class RootReal(Real):
     def _compute(self, prec: int) -> arb:
         if self._q is not None:
             return arb(self._q)
-        target = fmpq(1, 2 ** (prec + 2)) * max(1, abs(self.hi))
+        # relative to the root's size, read off the end of the bracket nearer to 0 (a bracket
+        # (0, 10^98] must be refined to the root near 1.57, not to 10^98 * 2^-prec)
+        target = fmpq(1, 2 ** (prec + 2)) * max(1, min(abs(self.lo), abs(self.hi)))
         f = self.function.at(prec)
         if self.simple:
             self._newton(f, prec, target)
