@@ -82,6 +82,14 @@ def _check_strings(v: Any, where: str) -> None:
             _check_strings(e, f"{where}[{i}]")
 
 
+_NONE = object()
+
+
+def _is_scalar(v: Any) -> bool:
+    """A number or a string (a rational "p/q"); booleans, null, lists and objects are not."""
+    return isinstance(v, (int, float, Fraction, str)) and not isinstance(v, bool)
+
+
 def _kind(v: Any) -> str:
     return {type(None): "null", bool: "a boolean", dict: "an object", list: "a list", str: "a string"}.get(
         type(v), "a number")
@@ -90,7 +98,10 @@ def _kind(v: Any) -> str:
 def read_model(path: str) -> dict:
     """The model file's data, checked: an object with A, B, C, D and only the known keys."""
     p = Path(path)
-    text = p.read_text(encoding="utf-8")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except UnicodeDecodeError as e:
+        raise FormatError(f"model file {path} is not UTF-8 text (JSON or TOML): byte {e.start}") from None
     try:
         if p.suffix.lower() == ".toml":
             import tomllib
@@ -105,6 +116,9 @@ def read_model(path: str) -> dict:
         raise FormatError(f"model file {path}: {e}") from None
     if not isinstance(data, dict):
         raise FormatError(f"model file {path} must hold an object with keys A, B, C, D, got {_kind(data)}")
+    if isinstance(data.get("schema"), str) and data["schema"].startswith("lcs-exact/"):
+        raise FormatError(f"{path} is a fixture ({data['schema']}), not a model file: "
+                          f"use `lcs-exact compare {path} SOLUTION.csv`")
     unknown = [k for k in data if k not in MODEL_KEYS]
     if unknown:
         raise FormatError(f"model file {path}: unknown key {unknown[0][:40]!r} (allowed: {', '.join(MODEL_KEYS)})")
@@ -117,6 +131,15 @@ def read_model(path: str) -> dict:
             raise FormatError(f"model file {path}: {key} must be a list of rows (lists of numbers), got {_kind(v)}")
     if "x0" in data and not isinstance(data["x0"], list):
         raise FormatError(f"model file {path}: x0 must be a list of numbers, got {_kind(data['x0'])}")
+    for key in "ABCD":
+        for i, row in enumerate(data[key]):
+            bad = next((v for v in row if not _is_scalar(v)), _NONE)
+            if bad is not _NONE:
+                raise FormatError(f"model file {path}: {key}[{i}] holds {_kind(bad)}; entries are numbers "
+                                  f"or rational strings")
+    bad = next((v for v in data.get("x0", ()) if not _is_scalar(v)), _NONE)
+    if bad is not _NONE:
+        raise FormatError(f"model file {path}: x0 holds {_kind(bad)}; entries are numbers or rational strings")
     if "t_end" in data and (isinstance(data["t_end"], (bool, list, dict)) or data["t_end"] is None):
         raise FormatError(f"model file {path}: t_end must be a number, got {_kind(data['t_end'])}")
     if "name" in data and not isinstance(data["name"], str):
@@ -131,12 +154,26 @@ def read_model(path: str) -> dict:
 
 
 def load_model(path: str) -> tuple[LCS, dict]:
-    """Read a model file (TOML or JSON) into an LCS and its checked data (see :func:`read_model`)."""
+    """Read a model file (TOML or JSON) into an LCS and its checked data (see :func:`read_model`).
+
+    ``states`` and ``inputs`` become the LCS's ``state_names`` and ``constraint_names`` (shown by
+    ``check``, ``select`` and ``simulate``); an error in the data names the file.
+
+    >>> import json, os, tempfile
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+    ...     json.dump({"A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[0]],
+    ...                "states": ["x", "v"], "inputs": ["wall"]}, f)
+    >>> lcs, data = load_model(f.name); os.unlink(f.name)
+    >>> lcs.state_names, lcs.constraint_names
+    (('x', 'v'), ('wall',))
+    """
     data = read_model(path)
-    lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"))
-    for key, size, what in (("states", lcs.n, "n"), ("inputs", lcs.k, "k")):
-        if key in data and len(data[key]) != size:
-            raise FormatError(f"model file {path}: {key} has {len(data[key])} names, expected {what} = {size}")
+    try:
+        lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"),
+                  state_names=data.get("states"), constraint_names=data.get("inputs"))
+    except LCSError as e:  # shapes, entries, names: in the file's words
+        msg = str(e).replace("state_names", "states").replace("constraint_names", "inputs")
+        raise type(e)(f"model file {path}: {msg}") from None
     if "x0" in data and len(data["x0"]) != lcs.n:
         raise FormatError(f"model file {path}: x0 has length {len(data['x0'])}, expected {lcs.n} (n)")
     return lcs, data
@@ -186,16 +223,26 @@ def print_events(traj, digits: int, out=print) -> None:
     for e in traj.events:
         closed = e.time.closed_form  # first: a proven rational time then prints exactly
         t = e.time.decimal(digits)
-        cf = f"  = {closed}" if closed is not None else ""
+        cf = f" = {closed}" if closed is not None and str(closed) != t else ""
         mb = "start" if e.mode_before is None else format_mode(e.mode_before)
         jumps = " -> ".join(format_mode(m) for m in e.modes) or "none"
+        triggers = ", ".join(_trigger_label(traj.lcs, tr) for tr in e.triggers) or "-"
         out(f"event t = {t}{cf}")
         out(f"    mode {mb} => {format_mode(e.mode_after)}; re-initialization chain: {jumps} "
-            f"(multiplicity {e.multiplicity}); triggered by {', '.join(e.triggers) or '-'}")
+            f"(multiplicity {e.multiplicity}); triggered by {triggers}")
         out(f"    x(t-) = {_fmt_exact(e.state_before, digits)}")
         out(f"    x(t+) = {_fmt_exact(e.state_after, digits)}")
     status = "certified" if traj.certified else f"NOT certified: {traj.assumptions}"
     out(f"{len(traj.events)} events, {status}, {traj.elapsed:.3f} s")
+
+
+def _trigger_label(lcs, trigger: str) -> str:
+    """``y_0`` -> ``y_0 (stop)`` when the pairs have names."""
+    m = re.fullmatch(r"([uy])_(\d+)", trigger)
+    names = getattr(lcs, "constraint_names", ())
+    if m is None or int(m.group(2)) >= len(names) or names == tuple(str(i) for i in range(len(names))):
+        return trigger
+    return f"{trigger} ({names[int(m.group(2))]})"
 
 
 def _fmt_exact(v, digits: int) -> str:
@@ -381,7 +428,7 @@ def _simulate(args) -> int:
               + (f" (partial fixture written to {args.output})" if args.output else ""), file=sys.stderr)
         return 3
     print_events(traj, args.digits)
-    names = data.get("states") or [f"x{i + 1}" for i in range(lcs.n)]
+    names = list(lcs.state_names)
     x_end = traj.state(traj.t_end)
     print(f"x({_fmt_t(traj.t_end)}) = {_fmt_exact(x_end, args.digits)}   [{', '.join(names)}]")
     if args.output:

@@ -137,8 +137,46 @@ def _component(v, i: int) -> tuple[float, bool]:
     return float(c), not c.ball(20).contains(0)
 
 
+def _pair_values(lcs, mode, x):
+    """(u, y) of the phase of ``mode`` at the exact state x, as exact vectors: u_I = F_I x, zero
+    off I (section 4.1), y = C x + D u.  None for an unknown mode."""
+    from flint import fmpq_mat
+
+    from .reals import ProjectedVector
+    if mode is None:
+        return None
+    Fu = fmpq_mat(lcs.k, lcs.n)
+    if mode:
+        F = lcs.mode(mode).feedback()  # rows follow the indices of I in increasing order
+        for r, i in enumerate(sorted(mode)):
+            for j in range(lcs.n):
+                Fu[i, j] = F[r, j]
+    return ProjectedVector(Fu, x), ProjectedVector(lcs.C + lcs.D * Fu, x)
+
+
+#: line styles after the 10 colours of the default cycle are used up (q_0 and q_10 must differ)
+_STYLES = ("-", "--", ":", "-.")
+
+
+def _label_levels(xs: list[float], widths: list[float], max_levels: int = 4) -> list[int | None]:
+    """Stack labels (left ends ``xs``, estimated ``widths``, both in axes fractions, sorted by
+    x) on lines above the axes, greedily in the lowest line where they do not overlap the label
+    before them; None when all ``max_levels`` lines are taken there (the event stays marked)."""
+    ends: list[float] = []
+    out: list[int | None] = []
+    for x, w in zip(xs, widths):
+        level = next((i for i, e in enumerate(ends) if e < x), None)
+        if level is None and len(ends) < max_levels:
+            level = len(ends)
+            ends.append(-1.0)
+        if level is not None:
+            ends[level] = x + w
+        out.append(level)
+    return out
+
+
 def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: Sequence[Any] | None = None,
-                    panels: Sequence[str] = ("x", "u", "y"), points: int = 200, label_events: int = 24,
+                    panels: Sequence[str] = ("x", "u", "y"), points: int = 800, label_events: int = 24,
                     figsize: tuple | None = None, title: str | None = None, components=None):
     """Plot a trajectory: states, u and y on separate axes sharing t.  Returns the Figure.
 
@@ -153,10 +191,17 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     panels : subset of ("x", "u", "y")
     points : int
         Approximate number of sample times in total (spread over the phases by length, at least
-        six per phase); each sample is a certified evaluation, so keep it modest.
+        six per phase); each is a certified evaluation (``traj.sample``: 800 points take a
+        fraction of a second).
     label_events : int
         Events beyond this number are marked but not labelled.
     figsize, title : optional
+
+    What is drawn: each continuous phase is its own line (no segment joins x(τ-) to x(τ+));
+    where a state, u or y jumps, an open circle marks the left limit and a filled one the right
+    limit (drawn only when the two are certainly different); an impulse u^0 δ (3.6) is a dotted
+    arrow labelled with its weight; events are dashed lines labelled with the mode change
+    (``∅→{0}``; ``start→{1}`` for a jump at t = 0); each phase is shaded with its mode's colour.
 
     Examples
     --------
@@ -180,56 +225,72 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     panels = [p for p in ("x", "u", "y") if p in panels]
     if not panels:
         raise InvalidArgument("panels must contain at least one of 'x', 'u', 'y'")
+    if isinstance(points, bool) or not isinstance(points, int) or points < 1:
+        raise InvalidArgument(f"points must be a positive integer, got {points!r}")
     phases = phase_intervals(traj)
     fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
                              figsize=figsize or (9, 2.4 * len(panels) + 0.8), layout="constrained")
     axes = list(axes[:, 0])
     ax_of = dict(zip(panels, axes))
     total = sum(float(p.end) - float(p.start) for p in phases) or 1.0
-    colors: dict = {}
     palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     cyc = [palette[i % len(palette)] for i in range(max(lcs.n, lcs.k))]
+    sty = [_STYLES[(i // len(palette)) % len(_STYLES)] for i in range(max(lcs.n, lcs.k))]
 
     # one colour per mode, the same whatever the order of the phases: the free mode grey
     ordered = sorted({ph.mode for ph in phases if ph.mode}, key=lambda m: (len(m), sorted(m)))
     colors = {m: _MODE_COLORS[i % len(_MODE_COLORS)] for i, m in enumerate(ordered)}
     colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
+    pair_ends = []  # per phase: (u, y) at its start and at its end, exact, for the jump markers
     for ph in phases:
         fa, fb = float(ph.start), float(ph.end)
         for ax in axes:
             ax.axvspan(fa, fb, color=colors[ph.mode], alpha=0.10, lw=0)
         npts = max(6, int(points * (fb - fa) / total))
         ts = [_frac(fa + (fb - fa) * (j + 0.5) / npts) for j in range(npts)]  # inside the phase
+        tt = [fa] + [float(t) for t in ts] + [fb]
+        first = ph.start_event.state_after if ph.start_event is not None else traj.x0
+        last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
         if "x" in ax_of:
-            first = ph.start_event.state_after if ph.start_event is not None else traj.x0
-            last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
             rows = [[float(c) for c in row] for row in traj.sample(ts, 10)]
-            tt = [fa] + [float(t) for t in ts] + [fb]
             for pos, i in enumerate(sidx):
                 vals = [float(first[i])] + [r[i] for r in rows] + [float(last[i])]
-                ax_of["x"].plot(tt, vals, color=cyc[pos], lw=1.6)
-        for which in ("u", "y"):
+                ax_of["x"].plot(tt, vals, color=cyc[pos], ls=sty[pos], lw=1.6)
+        ends = (_pair_values(lcs, ph.mode, first), _pair_values(lcs, ph.mode, last))
+        pair_ends.append(ends)
+        for w, which in enumerate(("u", "y")):
             if which in ax_of:
                 f = traj.u if which == "u" else traj.y
-                # u and y are continuous inside a phase: sample up to (nearly) its ends
-                tq = [_frac(fa + (fb - fa) * 1e-9)] + ts + [_frac(fb - (fb - fa) * 1e-9)]
-                vals = [[float(c) for c in f(t)] for t in tq]
+                inner = [[float(c) for c in f(t)] for t in ts]
+                if ends[0] is not None:  # the exact ends: u(τ+) of the start, u(τ-) of the end
+                    vals = [[float(c) for c in ends[0][w]]] + inner + [[float(c) for c in ends[1][w]]]
+                    xs = tt
+                else:
+                    vals, xs = inner, tt[1:-1]
                 for pos, i in enumerate(cidx):
-                    ax_of[which].plot([float(t) for t in tq], [v[i] for v in vals], color=cyc[pos], lw=1.6)
+                    ax_of[which].plot(xs, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
 
     evs = sorted(traj.events, key=lambda e: float(e.time))
     any_jump = False
+    any_impulse = False
     t_hi = float(phases[-1].end) if phases else float(traj.t_end)
     t_hi = t_hi if t_hi > 0 else 1.0
+    # event labels: horizontal, on up to four lines above the first panel, never on top of
+    # each other (widths estimated from the text: ~4.7 pt per character at 8 pt)
+    texts = [f"{'start' if e.mode_before is None else format_mode(e.mode_before)}→{format_mode(e.mode_after)}"
+             for e in evs[:label_events]]
+    axes_pt = fig.get_figwidth() * 72 * 0.78
+    x_lo, x_span = -0.015 * t_hi, 1.03 * t_hi
+    levels = _label_levels([(float(e.time) - x_lo) / x_span for e in evs[:label_events]],
+                           [(4.7 * len(tx) + 6) / axes_pt for tx in texts])
     for num, e in enumerate(evs):
         te = float(e.time)
         for ax in axes:
             ax.axvline(te, color="0.35", lw=0.8, ls="--", zorder=1)
-        if num < label_events:
-            before = "—" if e.mode_before is None else format_mode(e.mode_before)
-            axes[0].annotate(f"{before}→{format_mode(e.mode_after)}", xy=(te, 1.0),
-                             xycoords=("data", "axes fraction"), xytext=(0, 3), textcoords="offset points",
-                             rotation=45, fontsize=8, ha="left", va="bottom", color="0.2")
+        if num < label_events and levels[num] is not None:
+            axes[0].annotate(texts[num], xy=(te, 1.0), xycoords=("data", "axes fraction"),
+                             xytext=(1, 2 + 10 * levels[num]), textcoords="offset points", fontsize=8,
+                             ha="left", va="bottom", color="0.2")
         if "x" in ax_of:
             for pos, i in enumerate(sidx):
                 xb, xa = e.state_before[i], e.state_after[i]
@@ -243,14 +304,31 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
             for pos, i in enumerate(cidx):
                 v, nonzero = _component(u0, i)
                 if nonzero:  # an impulse u^0 δ at the event (3.6): an arrow, not a value
+                    any_impulse = True
                     dx = 0.004 * t_hi * shown  # side by side when several constraints act at once
                     ax_of["u"].annotate("", xy=(te + dx, 0.97), xycoords=("data", "axes fraction"),
                                         xytext=(te + dx, 0.03), textcoords=("data", "axes fraction"),
-                                        arrowprops=dict(arrowstyle="-|>", color=cyc[pos], lw=1.4))
-                    ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, 0.88 - 0.1 * shown),
+                                        arrowprops=dict(arrowstyle="-|>", color=cyc[pos], lw=1.2,
+                                                        ls=":", alpha=0.8), zorder=4)
+                    level = (levels[num] or 0) if num < label_events else 0
+                    ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, 0.6 - 0.1 * (shown + level)),
                                         xycoords=("data", "axes fraction"), xytext=(4, 0),
                                         textcoords="offset points", fontsize=8, color=cyc[pos])
                     shown += 1
+    # u and y jump wherever the mode changes: open/closed markers as for the state
+    for (prev, ends), ph in zip(zip(pair_ends, pair_ends[1:]), phases[1:]):
+        if prev[1] is None or ends[0] is None:
+            continue
+        te = float(ph.start)
+        for w, which in enumerate(("u", "y")):
+            if which not in ax_of:
+                continue
+            for pos, i in enumerate(cidx):
+                left, right = prev[1][w][i], ends[0][w][i]
+                if _certainly_different(left, right):
+                    any_jump = True
+                    ax_of[which].plot([te], [float(left)], "o", mfc="white", mec=cyc[pos], ms=5, zorder=5)
+                    ax_of[which].plot([te], [float(right)], "o", color=cyc[pos], ms=4, zorder=6)
 
     for ax in axes:
         ax.set_xlim(-0.015 * t_hi, 1.015 * t_hi)
@@ -259,16 +337,23 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     for p, ax in ax_of.items():
         ax.set_ylabel({"x": "state"}.get(p, p))
         if p == "x":
-            handles = [Line2D([], [], color=cyc[pos], lw=1.6, label=_state_label(lcs, i)) for pos, i in enumerate(sidx)]
-            if any_jump:
-                handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="x(τ−)"),
-                            Line2D([], [], ls="", marker="o", color="0.3", label="x(τ+)")]
+            handles = [Line2D([], [], color=cyc[pos], ls=sty[pos], lw=1.6, label=_state_label(lcs, i))
+                       for pos, i in enumerate(sidx)]
         else:
-            handles = [Line2D([], [], color=cyc[pos], lw=1.6, label=_pair_label(lcs, p, i)) for pos, i in enumerate(cidx)]
+            handles = [Line2D([], [], color=cyc[pos], ls=sty[pos], lw=1.6, label=_pair_label(lcs, p, i))
+                       for pos, i in enumerate(cidx)]
+            if p == "u" and any_impulse:
+                handles.append(Line2D([], [], color="0.3", ls=":", marker="^", ms=5, label="impulse (weight·δ)"))
         if ax is axes[0]:
+            if any_jump:
+                handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="left limit (τ−)"),
+                            Line2D([], [], ls="", marker="o", color="0.3", label="right limit (τ+)")]
             handles += [Patch(color=colors[m], alpha=0.3, label=f"mode {format_mode(m) if m is not None else '?'}")
                         for m in sorted(colors, key=lambda m: (m is None, len(m or ()), sorted(m or ())))]
-        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+        # a long legend in columns: it must not be taller than its panel
+        ncol = 1 + (len(handles) - 1) // 12
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False,
+                  ncol=ncol)
     name = title if title is not None else (getattr(lcs, "name", None) or "LCS trajectory")
     if getattr(traj, "partial", False):
         name += " (partial)"
