@@ -82,9 +82,6 @@ def _check_strings(v: Any, where: str) -> None:
             _check_strings(e, f"{where}[{i}]")
 
 
-_NONE = object()
-
-
 def _is_scalar(v: Any) -> bool:
     """A number or a string (a rational "p/q"); booleans, null, lists and objects are not."""
     return isinstance(v, (int, float, Fraction, str)) and not isinstance(v, bool)
@@ -131,15 +128,16 @@ def read_model(path: str) -> dict:
             raise FormatError(f"model file {path}: {key} must be a list of rows (lists of numbers), got {_kind(v)}")
     if "x0" in data and not isinstance(data["x0"], list):
         raise FormatError(f"model file {path}: x0 must be a list of numbers, got {_kind(data['x0'])}")
-    for key in "ABCD":
+    for key in "ABCD":  # entries are scalars: [[1], 0] is not read as 1
         for i, row in enumerate(data[key]):
-            bad = next((v for v in row if not _is_scalar(v)), _NONE)
-            if bad is not _NONE:
-                raise FormatError(f"model file {path}: {key}[{i}] holds {_kind(bad)}; entries are numbers "
-                                  f"or rational strings")
-    bad = next((v for v in data.get("x0", ()) if not _is_scalar(v)), _NONE)
-    if bad is not _NONE:
-        raise FormatError(f"model file {path}: x0 holds {_kind(bad)}; entries are numbers or rational strings")
+            j = next((j for j, v in enumerate(row) if not _is_scalar(v)), None)
+            if j is not None:
+                raise FormatError(f"model file {path}: {key}[{i}, {j}] is {_kind(row[j])}, not a number "
+                                  f"or a rational string")
+    j = next((j for j, v in enumerate(data.get("x0", ())) if not _is_scalar(v)), None)
+    if j is not None:
+        raise FormatError(f"model file {path}: x0[{j}] is {_kind(data['x0'][j])}, not a number or a "
+                          f"rational string")
     if "t_end" in data and (isinstance(data["t_end"], (bool, list, dict)) or data["t_end"] is None):
         raise FormatError(f"model file {path}: t_end must be a number, got {_kind(data['t_end'])}")
     if "name" in data and not isinstance(data["name"], str):
@@ -169,11 +167,19 @@ def load_model(path: str) -> tuple[LCS, dict]:
     """
     data = read_model(path)
     try:
-        lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"),
-                  state_names=data.get("states"), constraint_names=data.get("inputs"))
-    except LCSError as e:  # shapes, entries, names: in the file's words
-        msg = str(e).replace("state_names", "states").replace("constraint_names", "inputs")
-        raise type(e)(f"model file {path}: {msg}") from None
+        lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"))
+    except LCSError as e:  # shapes and entries, naming the file
+        raise type(e)(f"model file {path}: {e}") from None
+    for key, size, what in (("states", lcs.n, "n"), ("inputs", lcs.k, "k")):
+        if key in data and len(data[key]) != size:
+            raise FormatError(f"model file {path}: {key} has {len(data[key])} names, expected {what} = {size}")
+    if "states" in data or "inputs" in data:
+        try:
+            lcs = LCS(lcs.A, lcs.B, lcs.C, lcs.D, name=lcs.name, state_names=data.get("states"),
+                      constraint_names=data.get("inputs"))
+        except LCSError as e:  # empty or repeated names, in the file's words
+            msg = str(e).replace("state_names", "states").replace("constraint_names", "inputs")
+            raise type(e)(f"model file {path}: {msg}") from None
     if "x0" in data and len(data["x0"]) != lcs.n:
         raise FormatError(f"model file {path}: x0 has length {len(data['x0'])}, expected {lcs.n} (n)")
     return lcs, data
