@@ -91,8 +91,9 @@ def phase_intervals(traj) -> list[PhaseInterval]:
 
     A phase ending at an event (time > 0) runs in that event's ``mode_before``; the last phase
     runs in the last event's ``mode_after``; with no event at all, in the smallest mode of
-    S(x0) (Remark 4.8).  Phases of zero length are dropped; a partial trajectory stops at its
-    last event.
+    S(x0) (Remark 4.8).  Phases of zero length are dropped; a partial trajectory ends at its
+    ``t_last``, the last time it covers (the phase after its last event was computed too, up to
+    where the run stopped).
 
     >>> from lcs_exact import simulate
     >>> from lcs_exact.examples import two_carts
@@ -106,10 +107,13 @@ def phase_intervals(traj) -> list[PhaseInterval]:
     end: Any = traj.t_end
     end_event = None
     if getattr(traj, "partial", False):
-        if not inner:
+        if getattr(traj, "t_last", None) is not None:
+            end = traj.t_last
+        elif not inner:
             return []
-        end, end_event = inner[-1].time, inner[-1]
-        inner = inner[:-1]
+        else:  # a trajectory-like object without t_last: up to its last event
+            end, end_event = inner[-1].time, inner[-1]
+            inner = inner[:-1]
     out = []
     start, start_event = 0, (at_zero[-1] if at_zero else None)
     for e in inner:
@@ -356,7 +360,14 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
                   ncol=ncol)
     name = title if title is not None else (getattr(lcs, "name", None) or "LCS trajectory")
     if getattr(traj, "partial", False):
-        name += " (partial)"
+        status = getattr(getattr(traj, "status", None), "value", None)
+        name += f" (partial: {status})" if status else " (partial)"
+        if phases:  # where the run stopped
+            for ax in axes:
+                ax.axvline(float(phases[-1].end), color="#c44e52", lw=1.2, ls=":", zorder=2)
+            axes[0].annotate("run stopped", xy=(float(phases[-1].end), 1.0), xycoords=("data", "axes fraction"),
+                             xytext=(-2, 2), textcoords="offset points", ha="right", va="bottom", fontsize=8,
+                             color="#c44e52")
     fig.suptitle(name, fontsize=11)
     return fig
 

@@ -136,6 +136,32 @@ def test_close_events_get_separate_label_lines():
     assert legend.get_window_extent().height <= fig.axes[0].get_window_extent().height
 
 
+def test_partial_trajectory_is_drawn_up_to_where_it_stopped():
+    """A run stopped by max_events covers up to its t_last (the next event's time): the phase
+    after its last event is drawn (it was dropped), and a run stopped before any event is drawn
+    at all (it was an empty figure)."""
+    c = two_carts()
+    with pytest.raises(L.LimitExceeded) as err:
+        L.simulate(c, L.expm_action(c.A, -1, [0, -1, -1, 0]), 3, max_events=1)
+    tr = err.value.trajectory
+    ph = phase_intervals(tr)
+    lift = 1 + 3.141592653589793 / 2
+    assert [(float(p.start), round(float(p.end), 12), p.mode) for p in ph] == [
+        (0.0, 1.0, frozenset()), (1.0, round(lift, 12), frozenset({0}))]
+    fig = tr.plot(points=50)
+    ax = fig.axes[0]
+    assert max(max(ln.get_xdata()) for ln in state_lines(ax)) == pytest.approx(lift, abs=1e-12)
+    assert "partial: event limit" in fig.get_suptitle()
+    assert any(t.get_text() == "run stopped" for t in ax.texts)
+    osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
+    with pytest.raises(L.LimitExceeded) as err:
+        L.simulate(osc, [1, 0], 4, max_events=0)
+    ph = phase_intervals(err.value.trajectory)
+    assert [(float(p.start), round(float(p.end), 12), p.mode) for p in ph] == [(0.0, round(lift - 1, 12), frozenset())]
+    fig = err.value.trajectory.plot(points=30)
+    assert len(state_lines(fig.axes[0])) == 2  # x and v on [0, pi/2]
+
+
 def test_trajectory_selection_and_defaults():
     tr = L.simulate(L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[1]]), [1, 0], 4)
     fig = plot_trajectory(tr, states=[1], panels=("x", "y"), points=30)
