@@ -31,8 +31,11 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from flint import fmpz
+
 from .errors import FormatError, LCSError
 from .modes import format_mode
+from .rational import to_vector
 from .system import LCS
 
 __all__ = ["main", "load_model", "read_model", "MAX_DIGITS", "MODEL_KEYS"]
@@ -65,6 +68,11 @@ def _exact_number(text: str) -> Fraction:
         return Fraction(text.replace("_", ""))
     except (ValueError, ZeroDivisionError):
         raise FormatError(f"{text[:30]!r} is not a finite number") from None
+
+
+def _exact_int(text: str) -> int:
+    """A JSON integer literal of any length (Python's int(str) stops at 4300 digits)."""
+    return int(text) if len(text) < 4000 else int(fmpz(text))
 
 
 def _reject_constant(name: str):
@@ -104,12 +112,16 @@ def read_model(path: str) -> dict:
             import tomllib
             data = tomllib.loads(text, parse_float=_exact_number)
         else:
-            data = json.loads(text, parse_float=_exact_number, parse_constant=_reject_constant)
+            data = json.loads(text, parse_float=_exact_number, parse_int=_exact_int,
+                              parse_constant=_reject_constant)
     except RecursionError:
         raise FormatError(f"model file {path}: nested too deeply") from None
     except FormatError as e:
         raise FormatError(f"model file {path}: {e}") from None
     except ValueError as e:  # JSONDecodeError, TOMLDecodeError, integers beyond Python's digit limit
+        if "integer string conversion" in str(e):  # TOML's integers go through int(str)
+            raise FormatError(f"model file {path}: an integer has more than 4300 digits; write it as a "
+                              f"string (\"123...\") or use a JSON model file") from None
         raise FormatError(f"model file {path}: {e}") from None
     if not isinstance(data, dict):
         raise FormatError(f"model file {path} must hold an object with keys A, B, C, D, got {_kind(data)}")
@@ -212,7 +224,7 @@ def _fmt_mat(m) -> str:
 def report_selection(lcs: LCS, x0, out=print) -> None:
     """Print S(x0), the RCP solutions (k <= 4) and the re-initialized state."""
     modes = lcs.select_modes(x0)
-    out(f"x0 = ({', '.join(str(v) for v in x0)}):  S(x0) = "
+    out(f"x0 = {_fmt_vec(to_vector(x0, lcs.n, 'x0'))}:  S(x0) = "
         f"{{{', '.join(sorted(format_mode(m) for m in modes))}}}")
     if lcs.k <= 4:
         for sol in lcs.rcp(x0):

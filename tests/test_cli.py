@@ -194,6 +194,24 @@ def test_json_and_toml_decimals_are_exact_rationals(tmp_path):
     assert data["x0"] == [Fraction(2001, 2)] and data["t_end"] == Fraction(3, 10)
 
 
+def test_integers_beyond_pythons_digit_limit(tmp_path, capsys):
+    """A 5001-digit JSON integer is read exactly (Python's int(str) stops at 4300 digits); TOML
+    cannot, and says how to write it instead."""
+    big = 10 ** 5000
+    path = write(tmp_path, '{"A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[0]], "x0": [1'
+                 + "0" * 5000 + ', "1/3"]}')
+    lcs, data = load_model(path)
+    assert L.rational.to_fmpq(data["x0"][0]) == fmpq(big)
+    assert main(["select", path]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("x0 = (1" + "0" * 5000 + ", 1/3):  S(x0) = {∅}")
+    toml = tmp_path / "big.toml"
+    toml.write_text("A = [[1" + "0" * 5000 + "]]\nB = [[1]]\nC = [[1]]\nD = [[0]]\n")
+    assert main(["check", str(toml)]) == 2
+    err = capsys.readouterr().err
+    assert one_line_error(err) and "more than 4300 digits" in err and "set_int_max_str_digits" not in err
+
+
 # ---------------------------------------------------------------------------------------------
 # every bad input: one line on stderr, exit 2, no traceback
 # ---------------------------------------------------------------------------------------------
