@@ -141,12 +141,10 @@ def _component(v, i: int) -> tuple[float, bool]:
     return float(c), not c.ball(20).contains(0)
 
 
-def _pair_values(lcs, mode, x):
-    """(u, y) of the phase of ``mode`` at the exact state x, as exact vectors: u_I = F_I x, zero
-    off I (section 4.1), y = C x + D u.  None for an unknown mode."""
+def _pair_maps(lcs, mode):
+    """(F_u, F_y) with u = F_u x, y = F_y x on a phase of ``mode``: u_I = F_I x, zero off I
+    (section 4.1), y = C x + D u.  None for an unknown mode (a deadlock at the start)."""
     from flint import fmpq_mat
-
-    from .reals import ProjectedVector
     if mode is None:
         return None
     Fu = fmpq_mat(lcs.k, lcs.n)
@@ -155,7 +153,26 @@ def _pair_values(lcs, mode, x):
         for r, i in enumerate(sorted(mode)):
             for j in range(lcs.n):
                 Fu[i, j] = F[r, j]
-    return ProjectedVector(Fu, x), ProjectedVector(lcs.C + lcs.D * Fu, x)
+    return Fu, lcs.C + lcs.D * Fu
+
+
+def _shown(b) -> float:
+    """The float drawn for a certified ball: 0 when the ball contains 0 (any point of the ball is
+    a correct picture; this one keeps a quantity that is identically zero flat), else its midpoint."""
+    return 0.0 if b.contains(0) else float(b.mid())
+
+
+def _apply(F, rows: list) -> list[list[float]]:
+    """F x for every sampled state x (a row of balls), in ball arithmetic, as floats to draw."""
+    from flint import arb, ctx
+    m, n = F.nrows(), F.ncols()
+    coef = [[(j, arb(F[i, j])) for j in range(n) if F[i, j] != 0] for i in range(m)]
+    out = []
+    with ctx.workprec(128):
+        for x in rows:
+            out.append([_shown(sum((c * x[j] for j, c in coef[i]), arb(0))) if coef[i] else 0.0
+                        for i in range(m)])
+    return out
 
 
 #: line styles after the 10 colours of the default cycle are used up (q_0 and q_10 must differ)
@@ -221,6 +238,8 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
+    from .reals import ProjectedVector
+
     lcs = traj.lcs
     if components is not None and states is None:
         states = components
@@ -255,24 +274,26 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
         tt = [fa] + [float(t) for t in ts] + [fb]
         first = ph.start_event.state_after if ph.start_event is not None else traj.x0
         last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
+        balls = traj.sample(ts, 10)  # certified, one exponential sum per point
         if "x" in ax_of:
-            rows = [[float(c) for c in row] for row in traj.sample(ts, 10)]
+            rows = [[_shown(b) for b in row] for row in balls]
             for pos, i in enumerate(sidx):
                 vals = [float(first[i])] + [r[i] for r in rows] + [float(last[i])]
                 ax_of["x"].plot(tt, vals, color=cyc[pos], ls=sty[pos], lw=1.6)
-        ends = (_pair_values(lcs, ph.mode, first), _pair_values(lcs, ph.mode, last))
+        maps = _pair_maps(lcs, ph.mode)
+        if maps is None:  # no mode: u and y are not defined there
+            pair_ends.append((None, None))
+            continue
+        # u and y are linear in x on the phase: from the same balls, and exactly at the two ends
+        # (u(τ+) at the start, u(τ-) at the end: the values the jump markers compare)
+        ends = tuple((ProjectedVector(maps[0], z), ProjectedVector(maps[1], z)) for z in (first, last))
         pair_ends.append(ends)
         for w, which in enumerate(("u", "y")):
             if which in ax_of:
-                f = traj.u if which == "u" else traj.y
-                inner = [[float(c) for c in f(t)] for t in ts]
-                if ends[0] is not None:  # the exact ends: u(τ+) of the start, u(τ-) of the end
-                    vals = [[float(c) for c in ends[0][w]]] + inner + [[float(c) for c in ends[1][w]]]
-                    xs = tt
-                else:
-                    vals, xs = inner, tt[1:-1]
+                vals = ([[float(c) for c in ends[0][w]]] + _apply(maps[w], balls)
+                        + [[float(c) for c in ends[1][w]]])
                 for pos, i in enumerate(cidx):
-                    ax_of[which].plot(xs, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
+                    ax_of[which].plot(tt, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
 
     evs = sorted(traj.events, key=lambda e: float(e.time))
     any_jump = False
@@ -287,10 +308,23 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     x_lo, x_span = -0.015 * t_hi, 1.03 * t_hi
     levels = _label_levels([(float(e.time) - x_lo) / x_span for e in evs[:label_events]],
                            [(4.7 * len(tx) + 6) / axes_pt for tx in texts])
+    many = len(evs) > 2 * label_events  # a dense run: thin light event lines, not a hatching
+    impulses: dict = {}  # event number -> [(position, pair, weight of u^0)]
+    for num, e in enumerate(evs):
+        u0 = (getattr(e, "impulse", None) or {}).get(0)
+        if u0 is not None:
+            for pos, i in enumerate(cidx):
+                v, nonzero = _component(u0, i)
+                if nonzero:
+                    impulses.setdefault(num, []).append((pos, i, v))
+    w_max = max((abs(v) for lst in impulses.values() for _, _, v in lst), default=1.0) or 1.0
+    # weights are written next to their arrows when there are few (else the arrows' heights and
+    # the event table tell them)
+    label_weights = sum(len(lst) for lst in impulses.values()) <= 12
     for num, e in enumerate(evs):
         te = float(e.time)
         for ax in axes:
-            ax.axvline(te, color="0.35", lw=0.8, ls="--", zorder=1)
+            ax.axvline(te, color="0.35", lw=0.4 if many else 0.8, ls="--", alpha=0.35 if many else 1.0, zorder=1)
         if num < label_events and levels[num] is not None:
             axes[0].annotate(texts[num], xy=(te, 1.0), xycoords=("data", "axes fraction"),
                              xytext=(1, 2 + 10 * levels[num]), textcoords="offset points", fontsize=8,
@@ -302,23 +336,23 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
                     any_jump = True
                     ax_of["x"].plot([te], [float(xb)], "o", mfc="white", mec=cyc[pos], ms=6, zorder=5)
                     ax_of["x"].plot([te], [float(xa)], "o", color=cyc[pos], ms=5, zorder=6)
-        u0 = (getattr(e, "impulse", None) or {}).get(0)
-        if "u" in ax_of and u0 is not None:
+        if "u" in ax_of:
             shown = 0
-            for pos, i in enumerate(cidx):
-                v, nonzero = _component(u0, i)
-                if nonzero:  # an impulse u^0 δ at the event (3.6): an arrow, not a value
-                    any_impulse = True
-                    dx = 0.004 * t_hi * shown  # side by side when several constraints act at once
-                    ax_of["u"].annotate("", xy=(te + dx, 0.97), xycoords=("data", "axes fraction"),
-                                        xytext=(te + dx, 0.03), textcoords=("data", "axes fraction"),
-                                        arrowprops=dict(arrowstyle="-|>", color=cyc[pos], lw=1.2,
-                                                        ls=":", alpha=0.8), zorder=4)
-                    level = (levels[num] or 0) if num < label_events else 0
-                    ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, 0.6 - 0.1 * (shown + level)),
+            for pos, i, v in impulses.get(num, ()):
+                # an impulse u^0 δ at the event (3.6): a dotted arrow whose height grows with the
+                # weight (the largest reaches the top), not a value of u
+                any_impulse = True
+                dx = 0.004 * t_hi * shown  # side by side when several constraints act at once
+                top = 0.03 + 0.94 * (0.15 + 0.85 * abs(v) / w_max)
+                ax_of["u"].annotate("", xy=(te + dx, top), xycoords=("data", "axes fraction"),
+                                    xytext=(te + dx, 0.03), textcoords=("data", "axes fraction"),
+                                    arrowprops=dict(arrowstyle="-|>", color=cyc[pos], lw=1.2, ls=":", alpha=0.8),
+                                    zorder=4)
+                if label_weights:
+                    ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, min(0.6, top - 0.05) - 0.1 * (shown + (levels[num] or 0))),
                                         xycoords=("data", "axes fraction"), xytext=(4, 0),
                                         textcoords="offset points", fontsize=8, color=cyc[pos])
-                    shown += 1
+                shown += 1
     # u and y jump wherever the mode changes: open/closed markers as for the state
     for (prev, ends), ph in zip(zip(pair_ends, pair_ends[1:]), phases[1:]):
         if prev[1] is None or ends[0] is None:

@@ -108,6 +108,24 @@ def test_default_resolution_and_exact_phase_ends(impact):
     assert (xs[0], ys[0]) == (1.0, 1.0) and abs(xs[-1] - t2) < 1e-15 and abs(ys[-1]) < 1e-15
     with pytest.raises(L.InvalidArgument, match="points"):
         impact.plot(points=0)
+    # y = q_0 is identically 0 while the stop holds: drawn flat at exactly 0 (no rounding noise)
+    ax_y = fig.axes[2]
+    held = [ln for ln in state_lines(ax_y) if abs(ln.get_xdata()[0] - 1) < 1e-12][0]
+    assert set(held.get_ydata()) == {0.0}
+
+
+def test_impulse_arrows_scale_with_their_weights():
+    """Example 8.3 from (1/10, 1/10, -2, 1): the hook's impulse 3/2 at t = 0, then the stop's
+    impulse at the second impact, smaller: arrow heights in proportion, weights written."""
+    tr = L.simulate(two_carts_with_hook(), ["1/10", "1/10", -2, 1], 1)
+    w = [float(e.impulse[0][i, 0]) if hasattr(e.impulse[0], "nrows") else float(e.impulse[0][i])
+         for e in tr.events for i in range(2) if e.impulse]
+    w = [v for v in w if v]
+    assert w[0] == 1.5 and 0 < w[1] < 1.5
+    ax_u = tr.plot(points=40).axes[1]
+    tops = [t.xy[1] for t in ax_u.texts if t.arrow_patch is not None]
+    assert tops[0] == pytest.approx(0.97) and tops[1] == pytest.approx(0.03 + 0.94 * (0.15 + 0.85 * w[1] / 1.5))
+    assert [t.get_text() for t in ax_u.texts if t.arrow_patch is None] == [f"{w[0]:.4g}·δ", f"{w[1]:.4g}·δ"]
 
 
 def test_close_events_get_separate_label_lines():
