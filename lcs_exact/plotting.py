@@ -12,11 +12,18 @@ What a reader needs to see, and how it is drawn:
 * jumps are discontinuities: each continuous phase is its own line (no segment joins x(τ-) to
   x(τ+)); at a jump an open circle marks x(τ-) and a filled one x(τ+) (the trajectory is
   right-continuous); a component is drawn as jumping only when its two values are certainly
-  different (disjoint balls);
-* events are dashed vertical lines labelled with the mode change (``∅ → {0}``); each phase is
-  shaded with the colour of its mode (the mode of a phase is read from the events: the
-  ``mode_before`` of the event that ends it, else the last ``mode_after``);
-* names come from ``lcs.state_names`` / ``lcs.constraint_names``; legends sit outside the data.
+  different (disjoint balls); the same for u and y, which jump where the mode changes (their
+  values at the phase ends are exact: u = F_I x, y = C x + D u with the phase's F_I);
+* an impulse u^0 δ (3.6) is a dotted arrow whose height grows with its weight (written next to
+  it when there are few), never a segment that reads as part of u;
+* events are dashed vertical lines labelled with the mode change (``∅→{0}``, ``start→{1}`` at
+  t = 0, ``∅→∅ via {0}`` for an impact with immediate lift-off), on up to four lines so that
+  close events do not overwrite each other; each phase is shaded with the colour of its mode
+  (read from the events: the ``mode_before`` of the event that ends it, else the last
+  ``mode_after``);
+* names come from ``lcs.state_names`` / ``lcs.constraint_names``; legends sit outside the data
+  (in columns when long); a partial run is drawn up to where it stopped, marked;
+* sampling is cheap (``traj.sample``: one exponential sum per point), so 800 points by default.
 
 Numbers are evaluated exactly (certified balls) and only then rounded to floats for drawing.
 """
@@ -156,27 +163,33 @@ def _pair_maps(lcs, mode):
     return Fu, lcs.C + lcs.D * Fu
 
 
-def _shown(b) -> float:
-    """The float drawn for a certified ball: 0 when the ball contains 0 (any point of the ball is
-    a correct picture; this one keeps a quantity that is identically zero flat), else its midpoint."""
-    return 0.0 if b.contains(0) else float(b.mid())
-
-
-def _apply(F, rows: list) -> list[list[float]]:
-    """F x for every sampled state x (a row of balls), in ball arithmetic, as floats to draw."""
+def _apply(F, rows: list, zero: Sequence[int] = ()) -> list[list[float]]:
+    """F x for every sampled state x (a row of balls), in ball arithmetic, as floats to draw;
+    the entries in ``zero`` are exactly 0 (y_i for i in the phase's mode: y_I = 0 there, (4.2))."""
     from flint import arb, ctx
     m, n = F.nrows(), F.ncols()
-    coef = [[(j, arb(F[i, j])) for j in range(n) if F[i, j] != 0] for i in range(m)]
+    coef = [[(j, arb(F[i, j])) for j in range(n) if F[i, j] != 0] if i not in zero else [] for i in range(m)]
     out = []
     with ctx.workprec(128):
         for x in rows:
-            out.append([_shown(sum((c * x[j] for j, c in coef[i]), arb(0))) if coef[i] else 0.0
+            out.append([float(sum((c * x[j] for j, c in coef[i]), arb(0)).mid()) if coef[i] else 0.0
                         for i in range(m)])
     return out
 
 
 #: line styles after the 10 colours of the default cycle are used up (q_0 and q_10 must differ)
 _STYLES = ("-", "--", ":", "-.")
+
+
+def _event_text(e) -> str:
+    """``∅→{0}``; ``start→{1}`` at t = 0; ``∅→∅ via {0}`` when the state jumped through modes
+    other than the one entered (an impact followed by lift-off, a chain (4.9))."""
+    before = "start" if e.mode_before is None else format_mode(e.mode_before)
+    text = f"{before}→{format_mode(e.mode_after)}"
+    chain = tuple(getattr(e, "modes", ()) or ())
+    if chain and (len(chain) > 1 or chain[-1] != e.mode_after):
+        text += " via " + ", ".join(format_mode(m) for m in chain)
+    return text
 
 
 def _label_levels(xs: list[float], widths: list[float], max_levels: int = 4) -> list[int | None]:
@@ -222,7 +235,9 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     where a state, u or y jumps, an open circle marks the left limit and a filled one the right
     limit (drawn only when the two are certainly different); an impulse u^0 δ (3.6) is a dotted
     arrow labelled with its weight; events are dashed lines labelled with the mode change
-    (``∅→{0}``; ``start→{1}`` for a jump at t = 0); each phase is shaded with its mode's colour.
+    (``∅→{0}``; ``start→{1}`` for a jump at t = 0; ``∅→∅ via {0}`` for an impact followed by
+    lift-off: the re-initialization chain when it differs from the mode entered); each phase is
+    shaded with its mode's colour.
 
     Examples
     --------
@@ -276,7 +291,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
         last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
         balls = traj.sample(ts, 10)  # certified, one exponential sum per point
         if "x" in ax_of:
-            rows = [[_shown(b) for b in row] for row in balls]
+            rows = [[float(b.mid()) for b in row] for row in balls]
             for pos, i in enumerate(sidx):
                 vals = [float(first[i])] + [r[i] for r in rows] + [float(last[i])]
                 ax_of["x"].plot(tt, vals, color=cyc[pos], ls=sty[pos], lw=1.6)
@@ -290,7 +305,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
         pair_ends.append(ends)
         for w, which in enumerate(("u", "y")):
             if which in ax_of:
-                vals = ([[float(c) for c in ends[0][w]]] + _apply(maps[w], balls)
+                vals = ([[float(c) for c in ends[0][w]]] + _apply(maps[w], balls, ph.mode if w else ())
                         + [[float(c) for c in ends[1][w]]])
                 for pos, i in enumerate(cidx):
                     ax_of[which].plot(tt, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
@@ -302,8 +317,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     t_hi = t_hi if t_hi > 0 else 1.0
     # event labels: horizontal, on up to four lines above the first panel, never on top of
     # each other (widths estimated from the text: ~4.7 pt per character at 8 pt)
-    texts = [f"{'start' if e.mode_before is None else format_mode(e.mode_before)}→{format_mode(e.mode_after)}"
-             for e in evs[:label_events]]
+    texts = [_event_text(e) for e in evs[:label_events]]
     axes_pt = fig.get_figwidth() * 72 * 0.78
     x_lo, x_span = -0.015 * t_hi, 1.03 * t_hi
     levels = _label_levels([(float(e.time) - x_lo) / x_span for e in evs[:label_events]],

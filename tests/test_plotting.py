@@ -154,6 +154,15 @@ def test_close_events_get_separate_label_lines():
     assert legend.get_window_extent().height <= fig.axes[0].get_window_extent().height
 
 
+def test_impact_with_lift_off_is_labelled_with_its_chain():
+    """The oscillator from (1, 0) hits the stop at pi/2 and rests (mode ∅ after, via the
+    projection of {0}); the two carts from (0, 1, -1, 0) jump at t = 0 through {0} into ∅."""
+    osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
+    assert [t.get_text() for t in L.simulate(osc, [1, 0], 3).plot(points=20).axes[0].texts] == ["∅→∅ via {0}"]
+    tr = L.simulate(two_carts(), [0, 1, -1, 0], 2)
+    assert [t.get_text() for t in tr.plot(points=20).axes[0].texts] == ["start→∅ via {0}"]
+
+
 def test_partial_trajectory_is_drawn_up_to_where_it_stopped():
     """A run stopped by max_events covers up to its t_last (the next event's time): the phase
     after its last event is drawn (it was dropped), and a run stopped before any event is drawn
