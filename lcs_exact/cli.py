@@ -31,8 +31,11 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from flint import fmpz
+
 from .errors import FormatError, LCSError
 from .modes import format_mode
+from .rational import to_vector
 from .system import LCS
 
 __all__ = ["main", "load_model", "read_model", "MAX_DIGITS", "MODEL_KEYS"]
@@ -67,6 +70,11 @@ def _exact_number(text: str) -> Fraction:
         raise FormatError(f"{text[:30]!r} is not a finite number") from None
 
 
+def _exact_int(text: str) -> int:
+    """A JSON integer literal of any length (Python's int(str) stops at 4300 digits)."""
+    return int(text) if len(text) < 4000 else int(fmpz(text))
+
+
 def _reject_constant(name: str):
     raise FormatError(f"{name} is not a finite number")
 
@@ -82,6 +90,11 @@ def _check_strings(v: Any, where: str) -> None:
             _check_strings(e, f"{where}[{i}]")
 
 
+def _is_scalar(v: Any) -> bool:
+    """A number or a string (a rational "p/q"); booleans, null, lists and objects are not."""
+    return isinstance(v, (int, float, Fraction, str)) and not isinstance(v, bool)
+
+
 def _kind(v: Any) -> str:
     return {type(None): "null", bool: "a boolean", dict: "an object", list: "a list", str: "a string"}.get(
         type(v), "a number")
@@ -90,21 +103,31 @@ def _kind(v: Any) -> str:
 def read_model(path: str) -> dict:
     """The model file's data, checked: an object with A, B, C, D and only the known keys."""
     p = Path(path)
-    text = p.read_text(encoding="utf-8")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except UnicodeDecodeError as e:
+        raise FormatError(f"model file {path} is not UTF-8 text (JSON or TOML): byte {e.start}") from None
     try:
         if p.suffix.lower() == ".toml":
             import tomllib
             data = tomllib.loads(text, parse_float=_exact_number)
         else:
-            data = json.loads(text, parse_float=_exact_number, parse_constant=_reject_constant)
+            data = json.loads(text, parse_float=_exact_number, parse_int=_exact_int,
+                              parse_constant=_reject_constant)
     except RecursionError:
         raise FormatError(f"model file {path}: nested too deeply") from None
     except FormatError as e:
         raise FormatError(f"model file {path}: {e}") from None
     except ValueError as e:  # JSONDecodeError, TOMLDecodeError, integers beyond Python's digit limit
+        if "integer string conversion" in str(e):  # TOML's integers go through int(str)
+            raise FormatError(f"model file {path}: an integer has more than 4300 digits; write it as a "
+                              f"string (\"123...\") or use a JSON model file") from None
         raise FormatError(f"model file {path}: {e}") from None
     if not isinstance(data, dict):
         raise FormatError(f"model file {path} must hold an object with keys A, B, C, D, got {_kind(data)}")
+    if isinstance(data.get("schema"), str) and data["schema"].startswith("lcs-exact/"):
+        raise FormatError(f"{path} is a fixture ({data['schema']}), not a model file: "
+                          f"use `lcs-exact compare {path} SOLUTION.csv`")
     unknown = [k for k in data if k not in MODEL_KEYS]
     if unknown:
         raise FormatError(f"model file {path}: unknown key {unknown[0][:40]!r} (allowed: {', '.join(MODEL_KEYS)})")
@@ -117,6 +140,16 @@ def read_model(path: str) -> dict:
             raise FormatError(f"model file {path}: {key} must be a list of rows (lists of numbers), got {_kind(v)}")
     if "x0" in data and not isinstance(data["x0"], list):
         raise FormatError(f"model file {path}: x0 must be a list of numbers, got {_kind(data['x0'])}")
+    for key in "ABCD":  # entries are scalars: [[1], 0] is not read as 1
+        for i, row in enumerate(data[key]):
+            j = next((j for j, v in enumerate(row) if not _is_scalar(v)), None)
+            if j is not None:
+                raise FormatError(f"model file {path}: {key}[{i}, {j}] is {_kind(row[j])}, not a number "
+                                  f"or a rational string")
+    j = next((j for j, v in enumerate(data.get("x0", ())) if not _is_scalar(v)), None)
+    if j is not None:
+        raise FormatError(f"model file {path}: x0[{j}] is {_kind(data['x0'][j])}, not a number or a "
+                          f"rational string")
     if "t_end" in data and (isinstance(data["t_end"], (bool, list, dict)) or data["t_end"] is None):
         raise FormatError(f"model file {path}: t_end must be a number, got {_kind(data['t_end'])}")
     if "name" in data and not isinstance(data["name"], str):
@@ -131,12 +164,34 @@ def read_model(path: str) -> dict:
 
 
 def load_model(path: str) -> tuple[LCS, dict]:
-    """Read a model file (TOML or JSON) into an LCS and its checked data (see :func:`read_model`)."""
+    """Read a model file (TOML or JSON) into an LCS and its checked data (see :func:`read_model`).
+
+    ``states`` and ``inputs`` become the LCS's ``state_names`` and ``constraint_names`` (shown by
+    ``check``, ``select`` and ``simulate``); an error in the data names the file.
+
+    >>> import json, os, tempfile
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+    ...     json.dump({"A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[0]],
+    ...                "states": ["x", "v"], "inputs": ["wall"]}, f)
+    >>> lcs, data = load_model(f.name); os.unlink(f.name)
+    >>> lcs.state_names, lcs.constraint_names
+    (('x', 'v'), ('wall',))
+    """
     data = read_model(path)
-    lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"))
+    try:
+        lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"))
+    except LCSError as e:  # shapes and entries, naming the file
+        raise type(e)(f"model file {path}: {e}") from None
     for key, size, what in (("states", lcs.n, "n"), ("inputs", lcs.k, "k")):
         if key in data and len(data[key]) != size:
             raise FormatError(f"model file {path}: {key} has {len(data[key])} names, expected {what} = {size}")
+    if "states" in data or "inputs" in data:
+        try:
+            lcs = LCS(lcs.A, lcs.B, lcs.C, lcs.D, name=lcs.name, state_names=data.get("states"),
+                      constraint_names=data.get("inputs"))
+        except LCSError as e:  # empty or repeated names, in the file's words
+            msg = str(e).replace("state_names", "states").replace("constraint_names", "inputs")
+            raise type(e)(f"model file {path}: {msg}") from None
     if "x0" in data and len(data["x0"]) != lcs.n:
         raise FormatError(f"model file {path}: x0 has length {len(data['x0'])}, expected {lcs.n} (n)")
     return lcs, data
@@ -169,7 +224,7 @@ def _fmt_mat(m) -> str:
 def report_selection(lcs: LCS, x0, out=print) -> None:
     """Print S(x0), the RCP solutions (k <= 4) and the re-initialized state."""
     modes = lcs.select_modes(x0)
-    out(f"x0 = ({', '.join(str(v) for v in x0)}):  S(x0) = "
+    out(f"x0 = {_fmt_vec(to_vector(x0, lcs.n, 'x0'))}:  S(x0) = "
         f"{{{', '.join(sorted(format_mode(m) for m in modes))}}}")
     if lcs.k <= 4:
         for sol in lcs.rcp(x0):
@@ -186,16 +241,26 @@ def print_events(traj, digits: int, out=print) -> None:
     for e in traj.events:
         closed = e.time.closed_form  # first: a proven rational time then prints exactly
         t = e.time.decimal(digits)
-        cf = f"  = {closed}" if closed is not None else ""
+        cf = f" = {closed}" if closed is not None and str(closed) != t else ""
         mb = "start" if e.mode_before is None else format_mode(e.mode_before)
         jumps = " -> ".join(format_mode(m) for m in e.modes) or "none"
+        triggers = ", ".join(_trigger_label(traj.lcs, tr) for tr in e.triggers) or "-"
         out(f"event t = {t}{cf}")
         out(f"    mode {mb} => {format_mode(e.mode_after)}; re-initialization chain: {jumps} "
-            f"(multiplicity {e.multiplicity}); triggered by {', '.join(e.triggers) or '-'}")
+            f"(multiplicity {e.multiplicity}); triggered by {triggers}")
         out(f"    x(t-) = {_fmt_exact(e.state_before, digits)}")
         out(f"    x(t+) = {_fmt_exact(e.state_after, digits)}")
     status = "certified" if traj.certified else f"NOT certified: {traj.assumptions}"
     out(f"{len(traj.events)} events, {status}, {traj.elapsed:.3f} s")
+
+
+def _trigger_label(lcs, trigger: str) -> str:
+    """``y_0`` -> ``y_0 (stop)`` when the pairs have names."""
+    m = re.fullmatch(r"([uy])_(\d+)", trigger)
+    names = getattr(lcs, "constraint_names", ())
+    if m is None or int(m.group(2)) >= len(names) or names == tuple(str(i) for i in range(len(names))):
+        return trigger
+    return f"{trigger} ({names[int(m.group(2))]})"
 
 
 def _fmt_exact(v, digits: int) -> str:
@@ -381,7 +446,7 @@ def _simulate(args) -> int:
               + (f" (partial fixture written to {args.output})" if args.output else ""), file=sys.stderr)
         return 3
     print_events(traj, args.digits)
-    names = data.get("states") or [f"x{i + 1}" for i in range(lcs.n)]
+    names = list(lcs.state_names)
     x_end = traj.state(traj.t_end)
     print(f"x({_fmt_t(traj.t_end)}) = {_fmt_exact(x_end, args.digits)}   [{', '.join(names)}]")
     if args.output:

@@ -86,6 +86,13 @@ class FixtureEvent:
     multiplicity: int
     triggers: tuple = ()
 
+    def __repr__(self):
+        mb = "start" if self.mode_before is None else _fmt_modes(self.mode_before)
+        chain = " -> ".join(_fmt_modes(m) for m in self.modes) or "no jump"
+        t = _show(self.time) + (f" = {self.time_exact}" if self.time_exact and not self.time.is_exact() else "")
+        return (f"FixtureEvent(t={t}, {mb} => {_fmt_modes(self.mode_after)}, jumps: {chain}, "
+                f"x- = {_show_vec(self.state_before)}, x+ = {_show_vec(self.state_after)})")
+
 
 @dataclass(frozen=True)
 class Sample:
@@ -93,6 +100,29 @@ class Sample:
 
     t: Fraction
     x: tuple
+
+    def __repr__(self):
+        return f"Sample(t={self.t}, x={_show_vec(self.x)})"
+
+
+def _show(b: arb, cap: int = 20) -> str:
+    """A ball with the digits its radius supports (at most ``cap``), not flint's default 15: a
+    30-digit fixture number should not print as [... +/- 1e-15].
+
+    >>> with ctx.workprec(200):
+    ...     b = arb(fmpq(1, 3), fmpq(1, 10**25))
+    >>> _show(b), _show(arb(fmpq(3, 4)))
+    ('0.33333333333333333333 +/- 3.34e-21', '3/4')
+    """
+    if b.is_exact():
+        return str(b.fmpq())
+    digits = max(1, min(cap, int(b.rel_accuracy_bits() * 0.30103)))
+    text = b.str(digits, radius=True)
+    return text[1:-1] if text.startswith("[") else text
+
+
+def _show_vec(v: tuple) -> str:
+    return "(" + ", ".join(_show(c) for c in v) + ")"
 
 
 class FixtureTrajectory:
@@ -385,6 +415,8 @@ class ComparisonReport:
     certified: bool
     time_mismatch: float = 0.0
     names: tuple = field(default=())
+    n_beyond: int = 0  # solver times after the last time the reference knows (t_end, or a partial run's end)
+    last_time: arb | None = None
 
     def _name(self, i: int) -> str:
         return self.names[i] if i < len(self.names) else f"x{i + 1}"
@@ -398,7 +430,8 @@ class ComparisonReport:
                 "max_error_time": self.max_error_time, "max_error_component": self.max_error_component,
                 "component_errors": [ball_number(b, 6) for b in self.component_errors],
                 "events": [e.to_dict() for e in self.events], "certified": self.certified,
-                "time_mismatch": self.time_mismatch}
+                "time_mismatch": self.time_mismatch, "beyond_last_time": self.n_beyond,
+                "last_time": None if self.last_time is None else ball_number(self.last_time, 17)}
 
     def __repr__(self):
         return (f"<ComparisonReport {self.label!r}: max error {_sci(self.max_error)} over "
@@ -409,7 +442,9 @@ class ComparisonReport:
         lines = [f"{self.label}: against {ref}" + ("" if self.certified else " (fixture NOT certified)"),
                  f"  {self.n_points} points, largest step {self.step:.6g}; {self.n_compared} compared, "
                  f"{self.n_in_windows} in event windows |t - τ| <= {self.window:.3g} ({self.window_rule})"
-                 + (f", {self.n_unmatched} not on the sample grid" if self.n_unmatched else "")]
+                 + (f", {self.n_unmatched} not on the sample grid" if self.n_unmatched else "")
+                 + (f", {self.n_beyond} after the reference's last time {_short(self.last_time)} (left out)"
+                    if self.n_beyond else "")]
         if self.max_error_time is not None:
             lines.append(f"  max state error {_sci(self.max_error)} at t = {self.max_error_time:.6g} "
                          f"in {self._name(self.max_error_component)}")
@@ -465,7 +500,9 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     The reference at each time is the fixture's sample when the time is on the sample grid (to
     within 1e-9 of the grid step: solvers accumulate t in floating point), else the exact
     recomputation when x0 is rational (or the Trajectory itself); other times are left out and
-    counted as ``n_unmatched``.  Error balls are certified against the solver's numbers as given.
+    counted as ``n_unmatched``.  Times after the last time the reference covers (``t_end``, or
+    where a partial run stopped) are left out and counted as ``n_beyond``.  Error balls are
+    certified against the solver's numbers as given.
 
     Examples
     --------
@@ -505,9 +542,14 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     events = [_event_data(e, live) for e in ref.events]
     taus = [float(ev[0].mid()) for ev in events]
     inside = [any(abs(ti - tau) <= window for tau in taus) for ti in tf]
+    # the reference is known on [0, last] only (t_end, or the end of a partial run): later times
+    # (and times too close to last to tell) are left out and counted
+    last = ref.t_last.ball(30) if live else ref.final_time
+    with ctx.workprec(_PREC):
+        known = [bool(arb(fmpq(t.numerator, t.denominator)) <= last) for t in tq]
 
     # references at the compared times
-    todo = [i for i in range(len(tq)) if not inside[i]]
+    todo = [i for i in range(len(tq)) if not inside[i] and known[i]]
     refs, kind, mismatch, unmatched = _references(ref, live, [tq[i] for i in todo])
     comp_err = [arb(0)] * n
     best = (None, None, None, arb(0))  # (index, component, mid, ball)
@@ -529,10 +571,12 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     ev_cmp = tuple(_compare_event(j, ev, ref.lcs, tf, Xf, window) for j, ev in enumerate(events))
     return ComparisonReport(
         label=label, reference=kind, n_points=len(tq), n_compared=compared,
-        n_in_windows=sum(inside), n_unmatched=unmatched, step=step, window=window, window_rule=rule,
+        n_in_windows=sum(1 for i, w in enumerate(inside) if w and known[i]), n_unmatched=unmatched,
+        step=step, window=window, window_rule=rule,
         max_error=overall, max_error_time=None if best[0] is None else tf[best[0]],
         max_error_component=best[1], component_errors=tuple(comp_err), events=ev_cmp,
-        certified=bool(ref.certified), time_mismatch=mismatch, names=tuple(names))
+        certified=bool(ref.certified), time_mismatch=mismatch, names=tuple(names),
+        n_beyond=len(tq) - sum(known), last_time=last)
 
 
 def _event_data(e: Any, live: bool) -> tuple:

@@ -40,7 +40,7 @@ _SCHEMA_FILE = "trajectory-1.schema.json"
 
 def _text(m: int) -> str:
     """str(m) without Python's 4300-digit limit on int <-> str conversion (fixtures may hold more)."""
-    return str(fmpz(m))
+    return str(m) if m.bit_length() < 14000 else str(fmpz(m))  # 14000 bits < 4300 digits
 
 
 def _ndigits(m: int) -> int:
@@ -65,17 +65,30 @@ def _format_decimal(m: int, e: int) -> str:
     return f"{sign}{mant}e{point - 1}"
 
 
+def _ceil_3(c: int, k: int) -> tuple[int, int]:
+    """The smallest c' * 10^k' >= c * 10^k whose mantissa c' has at most 3 digits (c > 0): a
+    bound rounded up, never down."""
+    drop = _ndigits(c) - 3
+    if drop > 0:
+        c, k = -(-c // 10 ** drop), k + drop
+        if c == 1000:
+            c, k = 100, k + 1
+    return c, k
+
+
 def _bound_text(err: Fraction) -> str:
     """A decimal with 3 significant digits that is >= err (rounded up: it is a bound)."""
     if err <= 0:
         return "0"
-    k = _ndigits(err.numerator) - _ndigits(err.denominator) - 3
-    while Fraction(10) ** (k + 3) <= err:  # normalise so that 100 <= err / 10^k < 1000
-        k += 1
-    while Fraction(10) ** (k + 2) > err:
-        k -= 1
-    c = -((-err / Fraction(10) ** k) // 1)  # ceiling
-    return _format_decimal(int(c), k)
+    num, den = err.numerator, err.denominator
+    k = _ndigits(num) - _ndigits(den) - 3  # err / 10^k is within a factor 10 of [100, 1000)
+    c = -(-num * 10 ** -k // den) if k <= 0 else -(-num // (den * 10 ** k))  # ceil(err / 10^k)
+    return _format_decimal(*_ceil_3(c, k))
+
+
+def _bound_text_int(r: int, e: int) -> str:
+    """_bound_text of the error r * 10^e (r >= 0 an integer): integer arithmetic only."""
+    return "0" if r <= 0 else _format_decimal(*_ceil_3(r, e))
 
 
 def rational_number(q: Any, digits: int) -> dict:
@@ -89,20 +102,26 @@ def rational_number(q: Any, digits: int) -> dict:
     {'value': '0.33333', 'error': '3.34e-6', 'exact': '1/3'}
     """
     f = to_fmpq(q, "number")
-    q = Fraction(int(f.p), int(f.q))
+    p, d = int(f.p), int(f.q)
     exact = str(f)
-    if q == 0:
+    if p == 0:
         return {"value": "0", "error": "0", "exact": "0"}
-    # scale to an integer mantissa with ``digits`` significant digits
-    e = _ndigits(q.numerator) - _ndigits(q.denominator) - digits
-    while abs(q) / Fraction(10) ** e >= 10 ** digits:
-        e += 1
-    while abs(q) / Fraction(10) ** e < 10 ** (digits - 1):
-        e -= 1
-    scaled = q / Fraction(10) ** e
-    m = round(scaled)  # half to even; the exact error is kept below
-    err = abs(scaled - m) * Fraction(10) ** e
-    return {"value": _format_decimal(m, e), "error": _bound_text(err), "exact": exact}
+    a = abs(p)
+    # the exponent e with 10^(digits-1) <= |q| / 10^e < 10^digits, in integers: N / M = |q| / 10^e
+    e = _ndigits(a) - _ndigits(d) - digits
+    while True:
+        N, M = (a * 10 ** -e, d) if e <= 0 else (a, d * 10 ** e)
+        m, rem = divmod(N, M)
+        if m >= 10 ** digits:
+            e += 1
+        elif m < 10 ** (digits - 1):
+            e -= 1
+        else:
+            break
+    if 2 * rem > M or (2 * rem == M and m % 2 == 1):  # half to even
+        m, rem = m + 1, rem - M
+    err = Fraction(abs(rem), M) * (Fraction(10) ** e)  # |q| - m 10^e, exactly
+    return {"value": _format_decimal(m if p > 0 else -m, e), "error": _bound_text(err), "exact": exact}
 
 
 def ball_number(b: arb, digits: int) -> dict:
@@ -126,8 +145,7 @@ def ball_number(b: arb, digits: int) -> dict:
         scale = 10 ** drop
         value = (abs(m) + scale // 2) // scale * (1 if m >= 0 else -1)
         r += abs(m - value * scale)
-    return {"value": _format_decimal(value, e + drop),
-            "error": _bound_text(Fraction(r) * Fraction(10) ** e), "exact": None}
+    return {"value": _format_decimal(value, e + drop), "error": _bound_text_int(r, e), "exact": None}
 
 
 def _real_number(r: Any, digits: int, cf: Any = None) -> dict:
@@ -316,12 +334,42 @@ def validate_fixture(d: Any) -> None:
         import jsonschema
     except ImportError:  # pragma: no cover - jsonschema is in the test and fixtures extras
         raise ModuleNotFoundError("validating a fixture needs jsonschema: pip install 'lcs_exact[fixtures]'") from None
-    validator = jsonschema.Draft202012Validator(schema())
+    sch = schema()
+    validator = jsonschema.Draft202012Validator(sch)
+    samples = d.get("samples") if isinstance(d, dict) else None
+    if isinstance(samples, list) and len(samples) > 2:
+        # jsonschema costs ~1 ms per sample: it checks the document with two samples, and every
+        # sample is checked against the same sample schema by _sample_ok (patterns read from the
+        # schema); on any doubt the full validation below names the problem
+        head = dict(d, samples=samples[:2])
+        ok = _sample_checker(sch)
+        if not any(True for _ in validator.iter_errors(head)) and all(ok(x) for x in samples):
+            _check_consistency(d)
+            return
     err = jsonschema.exceptions.best_match(validator.iter_errors(d))
     if err is not None:
         where = "/".join(str(p) for p in err.absolute_path)
         raise FormatError(f"fixture{' at ' + where if where else ''}: {err.message}")
     _check_consistency(d)
+
+
+def _sample_checker(sch: dict):
+    """A fast test that a sample satisfies ``$defs/sample`` of the schema, exactly that definition:
+    an object with exactly t (a number) and x (a nonempty list of numbers)."""
+    defs = sch["$defs"]
+    dec, bound = re.compile(defs["decimal"]["pattern"]), re.compile(defs["bound"]["pattern"])
+
+    def num(v):
+        return (type(v) is dict and v.keys() == {"value", "error", "exact"}
+                and type(v["value"]) is str and dec.search(v["value"]) is not None
+                and type(v["error"]) is str and bound.search(v["error"]) is not None
+                and (v["exact"] is None or type(v["exact"]) is str))
+
+    def sample(s):
+        return (type(s) is dict and s.keys() == {"t", "x"} and num(s["t"]) and type(s["x"]) is list
+                and len(s["x"]) >= 1 and all(num(c) for c in s["x"]))
+
+    return sample
 
 
 def _check_consistency(d: dict) -> None:
@@ -394,7 +442,7 @@ def number_ball(num: dict, prec: int | None = None, *, where: str = "number") ->
 
     The decimal ``value`` is read exactly (as a rational), so the ball's only widening is
     flint's outward rounding of that rational to ``prec`` bits (default: enough for every digit
-    of ``value`` plus 32 guard bits).
+    of ``value`` and for a rounding far below ``error``; at least 128 bits).
 
     >>> b = number_ball({"value": "0.333", "error": "0.001", "exact": "1/3"})
     >>> b.contains(fmpq(1, 3)), b.contains(fmpq(3331, 10000)), b.contains(fmpq(3341, 10000))
@@ -405,8 +453,12 @@ def number_ball(num: dict, prec: int | None = None, *, where: str = "number") ->
     v, e = _decimal(num["value"], f"{where}.value"), _decimal(num["error"], f"{where}.error")
     if e < 0:
         raise FormatError(f"fixture: {where}.error is negative")
-    if prec is None:
-        prec = 48 + int(3.33 * max(_ndigits(v.numerator), _ndigits(v.denominator)))
+    if prec is None:  # every digit of value, and rounding well below the error (a 30-digit
+        # sample "0.32" +/- 3e-30 must not come back as 0.32 +/- 1e-17)
+        prec = max(128, 48 + int(3.33 * max(_ndigits(v.numerator), _ndigits(v.denominator))))
+        if e > 0 and v != 0:
+            rel = _ndigits(abs(v.numerator) * e.denominator) - _ndigits(v.denominator * e.numerator)
+            prec = max(prec, 48 + int(3.33 * rel))
     with ctx.workprec(prec):
         b = arb(fmpq(v.numerator, v.denominator))  # rounded outward: the ball contains v
         return b if e == 0 else arb(b, arb(fmpq(e.numerator, e.denominator)))

@@ -86,7 +86,7 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, name: 
         raise ShapeError("mass matrix M is singular")
     if q_names is None:
         q_names = tuple(f"q_{i}" for i in range(m))
-    elif isinstance(q_names, str) or len(tuple(q_names)) != m:
+    elif isinstance(q_names, str) or not hasattr(q_names, "__iter__") or len(tuple(q_names)) != m:
         raise ShapeError(f"q_names must be {m} names (one per coordinate), got {q_names!r}")
     q_names = tuple(q_names)
     if not all(isinstance(q, str) and q for q in q_names):

@@ -12,11 +12,18 @@ What a reader needs to see, and how it is drawn:
 * jumps are discontinuities: each continuous phase is its own line (no segment joins x(τ-) to
   x(τ+)); at a jump an open circle marks x(τ-) and a filled one x(τ+) (the trajectory is
   right-continuous); a component is drawn as jumping only when its two values are certainly
-  different (disjoint balls);
-* events are dashed vertical lines labelled with the mode change (``∅ → {0}``); each phase is
-  shaded with the colour of its mode (the mode of a phase is read from the events: the
-  ``mode_before`` of the event that ends it, else the last ``mode_after``);
-* names come from ``lcs.state_names`` / ``lcs.constraint_names``; legends sit outside the data.
+  different (disjoint balls); the same for u and y, which jump where the mode changes (their
+  values at the phase ends are exact: u = F_I x, y = C x + D u with the phase's F_I);
+* an impulse u^0 δ (3.6) is a dotted arrow whose height grows with its weight (written next to
+  it when there are few), never a segment that reads as part of u;
+* events are dashed vertical lines labelled with the mode change (``∅→{0}``, ``start→{1}`` at
+  t = 0, ``∅→∅ via {0}`` for an impact with immediate lift-off), on up to four lines so that
+  close events do not overwrite each other; each phase is shaded with the colour of its mode
+  (read from the events: the ``mode_before`` of the event that ends it, else the last
+  ``mode_after``);
+* names come from ``lcs.state_names`` / ``lcs.constraint_names``; legends sit outside the data
+  (in columns when long); a partial run is drawn up to where it stopped, marked;
+* sampling is cheap (``traj.sample``: one exponential sum per point), so 800 points by default.
 
 Numbers are evaluated exactly (certified balls) and only then rounded to floats for drawing.
 """
@@ -91,8 +98,9 @@ def phase_intervals(traj) -> list[PhaseInterval]:
 
     A phase ending at an event (time > 0) runs in that event's ``mode_before``; the last phase
     runs in the last event's ``mode_after``; with no event at all, in the smallest mode of
-    S(x0) (Remark 4.8).  Phases of zero length are dropped; a partial trajectory stops at its
-    last event.
+    S(x0) (Remark 4.8).  Phases of zero length are dropped; a partial trajectory ends at its
+    ``t_last``, the last time it covers (the phase after its last event was computed too, up to
+    where the run stopped).
 
     >>> from lcs_exact import simulate
     >>> from lcs_exact.examples import two_carts
@@ -106,10 +114,13 @@ def phase_intervals(traj) -> list[PhaseInterval]:
     end: Any = traj.t_end
     end_event = None
     if getattr(traj, "partial", False):
-        if not inner:
+        if getattr(traj, "t_last", None) is not None:
+            end = traj.t_last
+        elif not inner:
             return []
-        end, end_event = inner[-1].time, inner[-1]
-        inner = inner[:-1]
+        else:  # a trajectory-like object without t_last: up to its last event
+            end, end_event = inner[-1].time, inner[-1]
+            inner = inner[:-1]
     out = []
     start, start_event = 0, (at_zero[-1] if at_zero else None)
     for e in inner:
@@ -137,8 +148,69 @@ def _component(v, i: int) -> tuple[float, bool]:
     return float(c), not c.ball(20).contains(0)
 
 
+def _pair_maps(lcs, mode):
+    """(F_u, F_y) with u = F_u x, y = F_y x on a phase of ``mode``: u_I = F_I x, zero off I
+    (section 4.1), y = C x + D u.  None for an unknown mode (a deadlock at the start)."""
+    from flint import fmpq_mat
+    if mode is None:
+        return None
+    Fu = fmpq_mat(lcs.k, lcs.n)
+    if mode:
+        F = lcs.mode(mode).feedback()  # rows follow the indices of I in increasing order
+        for r, i in enumerate(sorted(mode)):
+            for j in range(lcs.n):
+                Fu[i, j] = F[r, j]
+    return Fu, lcs.C + lcs.D * Fu
+
+
+def _apply(F, rows: list, zero: Sequence[int] = ()) -> list[list[float]]:
+    """F x for every sampled state x (a row of balls), in ball arithmetic, as floats to draw;
+    the entries in ``zero`` are exactly 0 (y_i for i in the phase's mode: y_I = 0 there, (4.2))."""
+    from flint import arb, ctx
+    m, n = F.nrows(), F.ncols()
+    coef = [[(j, arb(F[i, j])) for j in range(n) if F[i, j] != 0] if i not in zero else [] for i in range(m)]
+    out = []
+    with ctx.workprec(128):
+        for x in rows:
+            out.append([float(sum((c * x[j] for j, c in coef[i]), arb(0)).mid()) if coef[i] else 0.0
+                        for i in range(m)])
+    return out
+
+
+#: line styles after the 10 colours of the default cycle are used up (q_0 and q_10 must differ)
+_STYLES = ("-", "--", ":", "-.")
+
+
+def _event_text(e) -> str:
+    """``∅→{0}``; ``start→{1}`` at t = 0; ``∅→∅ via {0}`` when the state jumped through modes
+    other than the one entered (an impact followed by lift-off, a chain (4.9))."""
+    before = "start" if e.mode_before is None else format_mode(e.mode_before)
+    text = f"{before}→{format_mode(e.mode_after)}"
+    chain = tuple(getattr(e, "modes", ()) or ())
+    if chain and (len(chain) > 1 or chain[-1] != e.mode_after):
+        text += " via " + ", ".join(format_mode(m) for m in chain)
+    return text
+
+
+def _label_levels(xs: list[float], widths: list[float], max_levels: int = 4) -> list[int | None]:
+    """Stack labels (left ends ``xs``, estimated ``widths``, both in axes fractions, sorted by
+    x) on lines above the axes, greedily in the lowest line where they do not overlap the label
+    before them; None when all ``max_levels`` lines are taken there (the event stays marked)."""
+    ends: list[float] = []
+    out: list[int | None] = []
+    for x, w in zip(xs, widths):
+        level = next((i for i, e in enumerate(ends) if e < x), None)
+        if level is None and len(ends) < max_levels:
+            level = len(ends)
+            ends.append(-1.0)
+        if level is not None:
+            ends[level] = x + w
+        out.append(level)
+    return out
+
+
 def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: Sequence[Any] | None = None,
-                    panels: Sequence[str] = ("x", "u", "y"), points: int = 200, label_events: int = 24,
+                    panels: Sequence[str] = ("x", "u", "y"), points: int = 800, label_events: int = 24,
                     figsize: tuple | None = None, title: str | None = None, components=None):
     """Plot a trajectory: states, u and y on separate axes sharing t.  Returns the Figure.
 
@@ -153,10 +225,19 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     panels : subset of ("x", "u", "y")
     points : int
         Approximate number of sample times in total (spread over the phases by length, at least
-        six per phase); each sample is a certified evaluation, so keep it modest.
+        six per phase); each is a certified evaluation (``traj.sample``: 800 points take a
+        fraction of a second).
     label_events : int
         Events beyond this number are marked but not labelled.
     figsize, title : optional
+
+    What is drawn: each continuous phase is its own line (no segment joins x(τ-) to x(τ+));
+    where a state, u or y jumps, an open circle marks the left limit and a filled one the right
+    limit (drawn only when the two are certainly different); an impulse u^0 δ (3.6) is a dotted
+    arrow labelled with its weight; events are dashed lines labelled with the mode change
+    (``∅→{0}``; ``start→{1}`` for a jump at t = 0; ``∅→∅ via {0}`` for an impact followed by
+    lift-off: the re-initialization chain when it differs from the mode entered); each phase is
+    shaded with its mode's colour.
 
     Examples
     --------
@@ -172,6 +253,8 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
+    from .reals import ProjectedVector
+
     lcs = traj.lcs
     if components is not None and states is None:
         states = components
@@ -180,56 +263,86 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     panels = [p for p in ("x", "u", "y") if p in panels]
     if not panels:
         raise InvalidArgument("panels must contain at least one of 'x', 'u', 'y'")
+    if isinstance(points, bool) or not isinstance(points, int) or points < 1:
+        raise InvalidArgument(f"points must be a positive integer, got {points!r}")
     phases = phase_intervals(traj)
     fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
                              figsize=figsize or (9, 2.4 * len(panels) + 0.8), layout="constrained")
     axes = list(axes[:, 0])
     ax_of = dict(zip(panels, axes))
     total = sum(float(p.end) - float(p.start) for p in phases) or 1.0
-    colors: dict = {}
     palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     cyc = [palette[i % len(palette)] for i in range(max(lcs.n, lcs.k))]
+    sty = [_STYLES[(i // len(palette)) % len(_STYLES)] for i in range(max(lcs.n, lcs.k))]
 
     # one colour per mode, the same whatever the order of the phases: the free mode grey
     ordered = sorted({ph.mode for ph in phases if ph.mode}, key=lambda m: (len(m), sorted(m)))
     colors = {m: _MODE_COLORS[i % len(_MODE_COLORS)] for i, m in enumerate(ordered)}
     colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
+    pair_ends = []  # per phase: (u, y) at its start and at its end, exact, for the jump markers
     for ph in phases:
         fa, fb = float(ph.start), float(ph.end)
         for ax in axes:
             ax.axvspan(fa, fb, color=colors[ph.mode], alpha=0.10, lw=0)
         npts = max(6, int(points * (fb - fa) / total))
         ts = [_frac(fa + (fb - fa) * (j + 0.5) / npts) for j in range(npts)]  # inside the phase
+        tt = [fa] + [float(t) for t in ts] + [fb]
+        first = ph.start_event.state_after if ph.start_event is not None else traj.x0
+        last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
+        balls = traj.sample(ts, 10)  # certified, one exponential sum per point
         if "x" in ax_of:
-            first = ph.start_event.state_after if ph.start_event is not None else traj.x0
-            last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
-            rows = [[float(c) for c in row] for row in traj.sample(ts, 10)]
-            tt = [fa] + [float(t) for t in ts] + [fb]
+            rows = [[float(b.mid()) for b in row] for row in balls]
             for pos, i in enumerate(sidx):
                 vals = [float(first[i])] + [r[i] for r in rows] + [float(last[i])]
-                ax_of["x"].plot(tt, vals, color=cyc[pos], lw=1.6)
-        for which in ("u", "y"):
+                ax_of["x"].plot(tt, vals, color=cyc[pos], ls=sty[pos], lw=1.6)
+        maps = _pair_maps(lcs, ph.mode)
+        if maps is None:  # no mode: u and y are not defined there
+            pair_ends.append((None, None))
+            continue
+        # u and y are linear in x on the phase: from the same balls, and exactly at the two ends
+        # (u(τ+) at the start, u(τ-) at the end: the values the jump markers compare)
+        ends = tuple((ProjectedVector(maps[0], z), ProjectedVector(maps[1], z)) for z in (first, last))
+        pair_ends.append(ends)
+        for w, which in enumerate(("u", "y")):
             if which in ax_of:
-                f = traj.u if which == "u" else traj.y
-                # u and y are continuous inside a phase: sample up to (nearly) its ends
-                tq = [_frac(fa + (fb - fa) * 1e-9)] + ts + [_frac(fb - (fb - fa) * 1e-9)]
-                vals = [[float(c) for c in f(t)] for t in tq]
+                vals = ([[float(c) for c in ends[0][w]]] + _apply(maps[w], balls, ph.mode if w else ())
+                        + [[float(c) for c in ends[1][w]]])
                 for pos, i in enumerate(cidx):
-                    ax_of[which].plot([float(t) for t in tq], [v[i] for v in vals], color=cyc[pos], lw=1.6)
+                    ax_of[which].plot(tt, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
 
     evs = sorted(traj.events, key=lambda e: float(e.time))
     any_jump = False
+    any_impulse = False
     t_hi = float(phases[-1].end) if phases else float(traj.t_end)
     t_hi = t_hi if t_hi > 0 else 1.0
+    # event labels: horizontal, on up to four lines above the first panel, never on top of
+    # each other (widths estimated from the text: ~4.7 pt per character at 8 pt)
+    texts = [_event_text(e) for e in evs[:label_events]]
+    axes_pt = fig.get_figwidth() * 72 * 0.78
+    x_lo, x_span = -0.015 * t_hi, 1.03 * t_hi
+    levels = _label_levels([(float(e.time) - x_lo) / x_span for e in evs[:label_events]],
+                           [(4.7 * len(tx) + 6) / axes_pt for tx in texts])
+    many = len(evs) > 2 * label_events  # a dense run: thin light event lines, not a hatching
+    impulses: dict = {}  # event number -> [(position, pair, weight of u^0)]
+    for num, e in enumerate(evs):
+        u0 = (getattr(e, "impulse", None) or {}).get(0)
+        if u0 is not None:
+            for pos, i in enumerate(cidx):
+                v, nonzero = _component(u0, i)
+                if nonzero:
+                    impulses.setdefault(num, []).append((pos, i, v))
+    w_max = max((abs(v) for lst in impulses.values() for _, _, v in lst), default=1.0) or 1.0
+    # weights are written next to their arrows when there are few (else the arrows' heights and
+    # the event table tell them)
+    label_weights = sum(len(lst) for lst in impulses.values()) <= 12
     for num, e in enumerate(evs):
         te = float(e.time)
         for ax in axes:
-            ax.axvline(te, color="0.35", lw=0.8, ls="--", zorder=1)
-        if num < label_events:
-            before = "—" if e.mode_before is None else format_mode(e.mode_before)
-            axes[0].annotate(f"{before}→{format_mode(e.mode_after)}", xy=(te, 1.0),
-                             xycoords=("data", "axes fraction"), xytext=(0, 3), textcoords="offset points",
-                             rotation=45, fontsize=8, ha="left", va="bottom", color="0.2")
+            ax.axvline(te, color="0.35", lw=0.4 if many else 0.8, ls="--", alpha=0.35 if many else 1.0, zorder=1)
+        if num < label_events and levels[num] is not None:
+            axes[0].annotate(texts[num], xy=(te, 1.0), xycoords=("data", "axes fraction"),
+                             xytext=(1, 2 + 10 * levels[num]), textcoords="offset points", fontsize=8,
+                             ha="left", va="bottom", color="0.2")
         if "x" in ax_of:
             for pos, i in enumerate(sidx):
                 xb, xa = e.state_before[i], e.state_after[i]
@@ -237,20 +350,37 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
                     any_jump = True
                     ax_of["x"].plot([te], [float(xb)], "o", mfc="white", mec=cyc[pos], ms=6, zorder=5)
                     ax_of["x"].plot([te], [float(xa)], "o", color=cyc[pos], ms=5, zorder=6)
-        u0 = (getattr(e, "impulse", None) or {}).get(0)
-        if "u" in ax_of and u0 is not None:
+        if "u" in ax_of:
             shown = 0
-            for pos, i in enumerate(cidx):
-                v, nonzero = _component(u0, i)
-                if nonzero:  # an impulse u^0 δ at the event (3.6): an arrow, not a value
-                    dx = 0.004 * t_hi * shown  # side by side when several constraints act at once
-                    ax_of["u"].annotate("", xy=(te + dx, 0.97), xycoords=("data", "axes fraction"),
-                                        xytext=(te + dx, 0.03), textcoords=("data", "axes fraction"),
-                                        arrowprops=dict(arrowstyle="-|>", color=cyc[pos], lw=1.4))
-                    ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, 0.88 - 0.1 * shown),
+            for pos, i, v in impulses.get(num, ()):
+                # an impulse u^0 δ at the event (3.6): a dotted arrow whose height grows with the
+                # weight (the largest reaches the top), not a value of u
+                any_impulse = True
+                dx = 0.004 * t_hi * shown  # side by side when several constraints act at once
+                top = 0.03 + 0.94 * (0.15 + 0.85 * abs(v) / w_max)
+                ax_of["u"].annotate("", xy=(te + dx, top), xycoords=("data", "axes fraction"),
+                                    xytext=(te + dx, 0.03), textcoords=("data", "axes fraction"),
+                                    arrowprops=dict(arrowstyle="-|>", color=cyc[pos], lw=1.2, ls=":", alpha=0.8),
+                                    zorder=4)
+                if label_weights:
+                    ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, min(0.6, top - 0.05) - 0.1 * (shown + (levels[num] or 0))),
                                         xycoords=("data", "axes fraction"), xytext=(4, 0),
                                         textcoords="offset points", fontsize=8, color=cyc[pos])
-                    shown += 1
+                shown += 1
+    # u and y jump wherever the mode changes: open/closed markers as for the state
+    for (prev, ends), ph in zip(zip(pair_ends, pair_ends[1:]), phases[1:]):
+        if prev[1] is None or ends[0] is None:
+            continue
+        te = float(ph.start)
+        for w, which in enumerate(("u", "y")):
+            if which not in ax_of:
+                continue
+            for pos, i in enumerate(cidx):
+                left, right = prev[1][w][i], ends[0][w][i]
+                if _certainly_different(left, right):
+                    any_jump = True
+                    ax_of[which].plot([te], [float(left)], "o", mfc="white", mec=cyc[pos], ms=5, zorder=5)
+                    ax_of[which].plot([te], [float(right)], "o", color=cyc[pos], ms=4, zorder=6)
 
     for ax in axes:
         ax.set_xlim(-0.015 * t_hi, 1.015 * t_hi)
@@ -259,19 +389,33 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     for p, ax in ax_of.items():
         ax.set_ylabel({"x": "state"}.get(p, p))
         if p == "x":
-            handles = [Line2D([], [], color=cyc[pos], lw=1.6, label=_state_label(lcs, i)) for pos, i in enumerate(sidx)]
-            if any_jump:
-                handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="x(τ−)"),
-                            Line2D([], [], ls="", marker="o", color="0.3", label="x(τ+)")]
+            handles = [Line2D([], [], color=cyc[pos], ls=sty[pos], lw=1.6, label=_state_label(lcs, i))
+                       for pos, i in enumerate(sidx)]
         else:
-            handles = [Line2D([], [], color=cyc[pos], lw=1.6, label=_pair_label(lcs, p, i)) for pos, i in enumerate(cidx)]
+            handles = [Line2D([], [], color=cyc[pos], ls=sty[pos], lw=1.6, label=_pair_label(lcs, p, i))
+                       for pos, i in enumerate(cidx)]
+            if p == "u" and any_impulse:
+                handles.append(Line2D([], [], color="0.3", ls=":", marker="^", ms=5, label="impulse (weight·δ)"))
         if ax is axes[0]:
+            if any_jump:
+                handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="left limit (τ−)"),
+                            Line2D([], [], ls="", marker="o", color="0.3", label="right limit (τ+)")]
             handles += [Patch(color=colors[m], alpha=0.3, label=f"mode {format_mode(m) if m is not None else '?'}")
                         for m in sorted(colors, key=lambda m: (m is None, len(m or ()), sorted(m or ())))]
-        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+        # a long legend in columns: it must not be taller than its panel
+        ncol = 1 + (len(handles) - 1) // 12
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False,
+                  ncol=ncol)
     name = title if title is not None else (getattr(lcs, "name", None) or "LCS trajectory")
     if getattr(traj, "partial", False):
-        name += " (partial)"
+        status = getattr(getattr(traj, "status", None), "value", None)
+        name += f" (partial: {status})" if status else " (partial)"
+        if phases:  # where the run stopped
+            for ax in axes:
+                ax.axvline(float(phases[-1].end), color="#c44e52", lw=1.2, ls=":", zorder=2)
+            axes[0].annotate("run stopped", xy=(float(phases[-1].end), 1.0), xycoords=("data", "axes fraction"),
+                             xytext=(-2, 2), textcoords="offset points", ha="right", va="bottom", fontsize=8,
+                             color="#c44e52")
     fig.suptitle(name, fontsize=11)
     return fig
 

@@ -411,8 +411,13 @@ class RationalFunction:
 
     def _repr_latex_(self):
         import sympy
+        if len(str(self)) > _LATEX_MAX_CHARS:  # size cap: Jupyter then shows the repr
+            return None
         return f"${sympy.latex(self.to_sympy())}$"
 
+
+#: _repr_latex_ of rational functions and matrices returns None above this many characters
+_LATEX_MAX_CHARS = 3000
 
 _TOKEN = re.compile(r"\s*(?:(\d+(?:\.\d*)?|\.\d+)|(\*\*|[-+*/^()])|([A-Za-z_]\w*))")
 
@@ -706,7 +711,7 @@ class RationalMatrix:
     def _repr_latex_(self):
         import sympy
         n, m = self.shape
-        if n * m > 64:
+        if n * m > 64 or sum(len(str(e)) for r in self.rows for e in r) > _LATEX_MAX_CHARS:
             return None
         return f"${sympy.latex(self.to_sympy())}$"
 

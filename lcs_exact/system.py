@@ -22,7 +22,11 @@ from .lcp import p_matrix_violation
 from .rational import (RationalFunction, RationalMatrix, adjugate_coefficients, mat_rows,
                        matrix_to_sympy, submatrix, to_matrix, to_vector)
 
-__all__ = ["LCS", "WellPosedness"]
+__all__ = ["LCS", "WellPosedness", "LATEX_MAX_CHARS"]
+
+#: ``_repr_latex_`` of a system returns None when its entries take more characters than this
+#: (a page of digits is not math anyone reads; the repr still pastes back)
+LATEX_MAX_CHARS = 3000
 
 
 def _as_column(data: Any, n: int) -> Any:
@@ -326,8 +330,13 @@ class LCS:
                 f"k = {self.k} complementarity pairs ({', '.join(self.constraint_names)})")
 
     def _repr_latex_(self):
+        """The equations (4.1) in LaTeX; None (Jupyter then shows the repr) above a size cap:
+        more than 400 entries in A and B, or more than LATEX_MAX_CHARS characters of entries."""
         import sympy
         if self.n * (self.n + self.k) > 400:
+            return None
+        if sum(len(str(m[i, j])) for m in (self.A, self.B, self.C, self.D)
+               for i in range(m.nrows()) for j in range(m.ncols())) > LATEX_MAX_CHARS:
             return None
         L = lambda m: sympy.latex(matrix_to_sympy(m))  # noqa: E731
         out = (rf"\dot x = {L(self.A)} x + {L(self.B)} u,\quad y = {L(self.C)} x + {L(self.D)} u,"

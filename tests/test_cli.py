@@ -4,6 +4,7 @@ partial fixtures when a run stops early (DESIGN.md section 5)."""
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 from fractions import Fraction
@@ -35,7 +36,10 @@ def run(*args: str) -> subprocess.CompletedProcess:
 
 def write(tmp_path, obj, name="m.json") -> str:
     p = tmp_path / name
-    p.write_text(obj if isinstance(obj, str) else json.dumps(obj))
+    if isinstance(obj, bytes):
+        p.write_bytes(obj)
+    else:
+        p.write_text(obj if isinstance(obj, str) else json.dumps(obj))
     return str(p)
 
 
@@ -52,7 +56,8 @@ def test_two_carts_as_a_module():
     """The README's main job: python -m lcs_exact two-carts."""
     p = run("two-carts", "--digits", "12")
     assert p.returncode == 0 and p.stderr == ""
-    assert "event t = 1  = 1" in p.stdout and "= 1 + pi/2" in p.stdout and "2 events, certified" in p.stdout
+    assert "event t = 1\n" in p.stdout and "= 1 + pi/2" in p.stdout and "2 events, certified" in p.stdout
+    assert "triggered by y_0 (stop)" in p.stdout and "triggered by u_0 (stop)" in p.stdout
 
 
 def test_version():
@@ -102,6 +107,20 @@ def test_check_report(tmp_path, capsys):
         assert f"H_{i} = [{h}]" in out
     assert "WELL-POSED" in out and "rho = (2), M = [1]" in out and "eta = (2), N = [1]" in out
     assert "modes: 2 of 2 autonomous" in out
+
+
+def test_names_from_the_model_file_reach_every_command(tmp_path, capsys):
+    """``states`` and ``inputs`` of a model file name the states and pairs in check, select and
+    simulate (they were read, checked for length, then dropped)."""
+    model = write(tmp_path, {**OSC, "inputs": ["wall"]})
+    assert main(["check", model]) == 0
+    assert capsys.readouterr().out.startswith(
+        "oscillator and stop: n = 2 states (q, v), k = 1 complementarity pairs (wall)")
+    assert main(["simulate", model]) == 0
+    out = capsys.readouterr().out
+    assert "triggered by y_0 (wall)" in out and "[q, v]" in out
+    lcs, _ = load_model(model)
+    assert (lcs.state_names, lcs.constraint_names) == (("q", "v"), ("wall",))
 
 
 def test_check_reports_modes_that_are_not_autonomous(tmp_path, capsys):
@@ -175,6 +194,24 @@ def test_json_and_toml_decimals_are_exact_rationals(tmp_path):
     assert data["x0"] == [Fraction(2001, 2)] and data["t_end"] == Fraction(3, 10)
 
 
+def test_integers_beyond_pythons_digit_limit(tmp_path, capsys):
+    """A 5001-digit JSON integer is read exactly (Python's int(str) stops at 4300 digits); TOML
+    cannot, and says how to write it instead."""
+    big = 10 ** 5000
+    path = write(tmp_path, '{"A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[0]], "x0": [1'
+                 + "0" * 5000 + ', "1/3"]}')
+    lcs, data = load_model(path)
+    assert L.rational.to_fmpq(data["x0"][0]) == fmpq(big)
+    assert main(["select", path]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("x0 = (1" + "0" * 5000 + ", 1/3):  S(x0) = {∅}")
+    toml = tmp_path / "big.toml"
+    toml.write_text("A = [[1" + "0" * 5000 + "]]\nB = [[1]]\nC = [[1]]\nD = [[0]]\n")
+    assert main(["check", str(toml)]) == 2
+    err = capsys.readouterr().err
+    assert one_line_error(err) and "more than 4300 digits" in err and "set_int_max_str_digits" not in err
+
+
 # ---------------------------------------------------------------------------------------------
 # every bad input: one line on stderr, exit 2, no traceback
 # ---------------------------------------------------------------------------------------------
@@ -201,6 +238,14 @@ BAD_MODELS = [
     ({**CARTS, "t_end": [1]}, "t_end must be a number"),
     ({**CARTS, "name": 7}, "name must be a string"),
     ({**CARTS, "states": ["a"]}, "states has 1 names, expected n = 4"),
+    ({**CARTS, "states": ["a", "b", "a", "c"]}, "states must be distinct: 'a' occurs more than once"),
+    ({**CARTS, "inputs": [""]}, "inputs must be nonempty strings"),
+    ({**CARTS, "x0": [[0], -1, -1, 0]}, "x0[0] is a list, not a number"),
+    ({**CARTS, "x0": [0, None, -1, 0]}, "x0[1] is null, not a number"),
+    ({**CARTS, "A": [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, [0]]]}, "A[3, 3] is a list"),
+    ({**CARTS, "B": [[0], [0], [1], [0], [0]]}, "model file"),
+    ({"schema": "lcs-exact/trajectory/1", "system": {}}, "is a fixture (lcs-exact/trajectory/1), not a model file"),
+    (b"\xff\xfe{}", "is not UTF-8 text"),
     ("{not json", "model file"),
 ]
 
@@ -268,6 +313,27 @@ def test_bad_inputs_as_a_module(tmp_path):
                            (["compare", write(tmp_path, {"schema": "x"}, "fx.json"), "nope.csv"], "schema")):
         p = run(*args)
         assert p.returncode == 2 and one_line_error(p.stderr) and fragment in p.stderr, (args, p.stderr)
+
+
+def test_compare_against_a_partial_fixture(tmp_path, capsys):
+    """A run stopped by max_events covers [0, pi/2] only (the impact is the next event): a
+    solution on [0, 4] is compared up to there and the rest is counted, not an error."""
+    fx = tmp_path / "partial.json"
+    assert main(["simulate", write(tmp_path, OSC), "--max-events", "0", "--sample", "1/10", "-o", str(fx)]) == 3
+    lines = ["t,q,v"] + [f"{k / 10!r},{math.cos(k / 10)!r},{-math.sin(k / 10)!r}" for k in range(41)]
+    (tmp_path / "s.csv").write_text("\n".join(lines) + "\n")
+    capsys.readouterr()
+    assert main(["compare", str(fx), str(tmp_path / "s.csv"), "--json"]) == 0
+    r = json.loads(capsys.readouterr().out)["reports"][0]
+    # times 0, 0.1, ..., 1.5 are before pi/2 = 1.5707...: 16 compared; 1.6 ... 4.0 beyond
+    assert (r["compared"], r["beyond_last_time"]) == (16, 25)
+    with mp.workdps(40):
+        half_pi = mp.pi / 2
+        v, e = mp.mpf(r["last_time"]["value"]), mp.mpf(r["last_time"]["error"])
+        assert v - e <= half_pi <= v + e and e < mp.mpf("1e-16")  # the last time is pi/2
+    assert float(Fraction(r["max_error"]["value"])) < 1e-15  # the solver is the exact cosine here
+    assert main(["compare", str(fx), str(tmp_path / "s.csv")]) == 0
+    assert "25 after the reference's last time 1.5707963267949" in capsys.readouterr().out
 
 
 def test_bad_compare_inputs(tmp_path, capsys):

@@ -102,6 +102,38 @@ def test_partial_fixture_recomputes_its_computed_part():
     assert contains(x[1].ball(25), -mp.cos(mp.mpf(1) / 2)) and contains(x[3].ball(25), mp.sin(mp.mpf(1) / 2))
 
 
+@pytest.mark.parametrize("live", [False, True])
+def test_compare_with_a_partial_reference_leaves_out_the_later_times(live):
+    """The carts from (0, -1, -1, 0) stopped after their first event: the run covers [0, pi/2]
+    (the lift-off at pi/2 is the next event, not computed); a solution on [0, 3] is compared on
+    [0, pi/2] and the later times are counted in n_beyond (they raised an error before)."""
+    with pytest.raises(L.LimitExceeded) as err:
+        L.simulate(carts(), [0, -1, -1, 0], 3, max_events=1)
+    part = err.value.trajectory
+    ref = part if live else L.read_fixture(part.to_fixture(20, sample="1/10"))
+    ts = [Fraction(k, 10) for k in range(31)]
+    X = [[0.0, -math.cos(float(t)), 0.0, math.sin(float(t))] for t in ts]  # (0, -cos t, 0, sin t)
+    r = L.compare(ref, ts, X)
+    # 0.0, 0.1, 0.2 are in the window |t - 0| <= w = 2 x 0.1 of the jump at t = 0; 0.3 ... 1.5
+    # compared; 1.6 ... 3.0 after pi/2 = 1.5707...
+    assert (r.n_in_windows, r.n_compared, r.n_beyond) == (3, 13, 15)
+    assert float(r.max_error.mid()) < 1e-15
+    with mp.workdps(120):
+        assert contains(r.last_time, mp.pi / 2)
+    assert "15 after the reference's last time 1.5707963267949" in str(r)
+    assert r.to_dict()["beyond_last_time"] == 15
+
+
+def test_fixture_events_and_samples_show_their_digits(osc_fixture):
+    """Reprs show the digits the balls hold (a 30-digit fixture is not printed as +/- 1e-15)."""
+    fx = L.read_fixture(osc_fixture)
+    text = repr(fx.events[0])
+    assert text.startswith("FixtureEvent(t=1.5707963267948966192 +/- ") and "= pi/2, ∅ => ∅, jumps: {0}" in text
+    assert "x- = (0, -1), x+ = (0, 0)" in text
+    assert repr(fx.samples[1]) .startswith("Sample(t=1/20, x=(0.99875026039496624656 +/- ")
+    assert mp.cos(mp.mpf(1) / 20) == pytest.approx(mpf_of("0.99875026039496624656"), abs=1e-20)
+
+
 @pytest.mark.parametrize("edit, fragment", [
     (lambda d: d["events"][0]["time"].update(value="1.6", error="0.001"), "event 0: recomputed time"),
     (lambda d: d["events"][0].update(mode_after=[0]), "mode_after"),

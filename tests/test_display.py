@@ -89,6 +89,24 @@ def test_latex_size_caps():
     assert RationalMatrix([[s] * 9] * 9)._repr_latex_() is None
 
 
+def test_latex_size_caps_count_digits_not_only_shapes():
+    """A 1 x 1 system or a degree-800 rational function is small by shape but pages of digits
+    as LaTeX: _repr_latex_ gives None (Jupyter shows the repr, which still pastes back)."""
+    wide = LCS([[10**4000]], [[1]], [[1]], [[0]])
+    assert wide._repr_latex_() is None and eval(repr(wide), {"LCS": LCS}).A == wide.A
+    assert LCS([[10**20]], [[1]], [[1]], [[0]])._repr_latex_() == (
+        r"$\dot x = \left[\begin{matrix}100000000000000000000\end{matrix}\right] x + "
+        r"\left[\begin{matrix}1\end{matrix}\right] u,\quad y = \left[\begin{matrix}1\end{matrix}\right] x + "
+        r"\left[\begin{matrix}0\end{matrix}\right] u,\quad 0 \le y \perp u \ge 0$")
+    s = RationalFunction.s()
+    long = RationalFunction(1)
+    for _ in range(800):
+        long = long * s + 1
+    assert long._repr_latex_() is None and RationalMatrix([[long]])._repr_latex_() is None
+    assert eval(repr(long), {"RationalFunction": RationalFunction}) == long
+    assert (s + 1)._repr_latex_() == "$s + 1$"
+
+
 # --- RationalFunction: the repr evaluates --------------------------------------------------
 
 def test_rational_function_repr_evaluates():

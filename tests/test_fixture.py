@@ -239,3 +239,94 @@ def test_validate_rejects(section7_fixture, edit, fragment):
     with pytest.raises(L.FormatError, match="fixture") as err:
         validate_fixture(_broken(section7_fixture, edit))
     assert fragment in str(err.value)
+
+
+# ---------------------------------------------------------------------------------------------
+# the writers in integer arithmetic, against Python's decimal module (correctly rounded)
+# ---------------------------------------------------------------------------------------------
+
+def _decimal_reference(q: Fraction, digits: int) -> Fraction:
+    """q rounded half-to-even to ``digits`` significant digits by the decimal module (its
+    division is correctly rounded in the context's precision)."""
+    import decimal
+    with decimal.localcontext() as c:
+        c.prec, c.rounding, c.Emin, c.Emax = digits, decimal.ROUND_HALF_EVEN, -10 ** 6, 10 ** 6
+        d = decimal.Decimal(q.numerator) / decimal.Decimal(q.denominator)
+    return Fraction(d)
+
+
+def _is_tight_bound(text: str, err: Fraction) -> bool:
+    """text is a decimal >= err with at most 3 significant digits, and one unit less in its third
+    digit would be below err: the smallest such bound (rounded up, never down)."""
+    b = Fraction(text)
+    if err == 0:
+        return text == "0"
+    k = 0
+    while b / Fraction(10) ** k >= 1000:
+        k += 1
+    while b / Fraction(10) ** k < 100:
+        k -= 1
+    three_digits = (b / Fraction(10) ** k).denominator == 1
+    return b >= err and three_digits and b - Fraction(10) ** k < err
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(-10 ** 45, 10 ** 45).filter(bool), st.integers(1, 10 ** 35), st.integers(1, 40))
+def test_rational_number_is_correctly_rounded(p, q, digits):
+    want = Fraction(p, q)
+    n = rational_number(f"{p}/{q}", digits)
+    v = Fraction(n["value"])
+    assert v == _decimal_reference(want, digits)
+    assert _is_tight_bound(n["error"], abs(v - want)), (n, want)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.integers(-10 ** 40, 10 ** 40).filter(bool), st.integers(1, 10 ** 30), st.integers(1, 10 ** 20),
+       st.integers(-60, 60), st.integers(1, 30))
+def test_ball_number_error_is_the_tight_bound(p, q, r, e10, digits):
+    """error = (radius + rounding of the midpoint) rounded up to 3 digits, nothing more."""
+    with ctx.workprec(300):
+        b = arb(fmpq(p, q), fmpq(r, 10 ** 25)) * arb(10) ** e10
+        m, rad, e = (int(v) for v in b.mid_rad_10exp(digits + 5))
+    n = ball_number(b, digits)
+    v = Fraction(n["value"])
+    total = Fraction(rad) * Fraction(10) ** e + abs(Fraction(m) * Fraction(10) ** e - v)
+    assert _is_tight_bound(n["error"], total), (n, total)
+
+
+def test_number_ball_keeps_the_fixtures_precision():
+    """A 30-digit sample whose value is short ("0.32", error 3e-30) reads back as a ball of
+    radius ~3e-30, not widened to the 1e-17 of a 55-bit rounding of 0.32."""
+    b = number_ball({"value": "0.32", "error": "3e-30", "exact": None})
+    with ctx.workprec(300):
+        assert b.contains(fmpq(32, 100) + fmpq(3, 10 ** 30)) and b.contains(fmpq(32, 100) - fmpq(3, 10 ** 30))
+        assert b.rad() < arb(fmpq(31, 10 ** 31))
+    exact = number_ball({"value": "0.32", "error": "0", "exact": "8/25"})
+    with ctx.workprec(300):
+        assert exact.contains(fmpq(8, 25)) and exact.rad() < arb(fmpq(1, 10 ** 35))
+
+
+# ---------------------------------------------------------------------------------------------
+# validation of long sample lists (jsonschema runs on two; every sample is still checked)
+# ---------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("edit, path", [
+    (lambda s: s.update(extra=1), "samples/20"),
+    (lambda s: s["x"][1].update(value="1,5"), "samples/20/x/1/value"),
+    (lambda s: s["x"][2].update(error="-0"), "samples/20/x/2/error"),
+    (lambda s: s["x"][0].update(exact=3), "samples/20/x/0/exact"),
+    (lambda s: s["x"][0].pop("exact"), "samples/20/x/0"),
+    (lambda s: s["t"].update(value=1.5), "samples/20/t/value"),
+    (lambda s: s.update(x=[]), "samples/20/x"),
+    (lambda s: s.pop("t"), "samples/20"),
+])
+def test_validate_checks_every_sample(section7_fixture, edit, path):
+    assert len(section7_fixture["samples"]) == 31
+    d = copy.deepcopy(section7_fixture)
+    edit(d["samples"][20])
+    with pytest.raises(L.FormatError, match="fixture at " + path):
+        validate_fixture(d)
+    # the schema file itself agrees (an independent validator of the same draft)
+    v = jsonschema.Draft202012Validator(json.loads(files("lcs_exact").joinpath(
+        "schemas", "trajectory-1.schema.json").read_text()))
+    assert not v.is_valid(d)

@@ -65,5 +65,7 @@ def test_errors():
         mechanical(M, M, K, E, E)
     with pytest.raises(ShapeError, match="q_names"):
         mechanical(M, K, E, q_names=["a"])
+    with pytest.raises(ShapeError, match="q_names must be"):  # not a bare TypeError
+        mechanical(M, K, E, q_names=5)
     with pytest.raises(ShapeError, match="square"):
         mechanical([[1, 0]], K, E)
