@@ -160,6 +160,11 @@ class Real(_Node):
     def _closed_form(self):
         return None
 
+    @property
+    def known_closed_form(self):
+        """The closed form if it has already been derived (never derives one), else None."""
+        return self._cf if self._cf_done else None
+
     def to_ca(self):
         """The value as a Calcium number (exact), or None when no closed form is known."""
         return None
@@ -268,7 +273,7 @@ class Real(_Node):
         if cf is not None:
             import sympy
             return f"${sympy.latex(cf)}$"
-        return f"${self.decimal(20)}$"
+        return "$" + self.decimal(20).replace(" +/- ", r" \pm ") + "$"
 
 
 class RationalReal(Real):

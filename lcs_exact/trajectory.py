@@ -70,7 +70,7 @@ class Event:
             import sympy
             t = sympy.latex(cf)
         else:
-            t = self.time.decimal(15)
+            t = self.time.decimal(15).replace(" +/- ", r" \pm ")
         return rf"$t = {t}:\ {latex_mode(self.mode_before or frozenset())} \to {latex_mode(self.mode_after)}$"
 
 
@@ -254,16 +254,19 @@ class Trajectory:
 
     def _repr_latex_(self):
         rows = []
+        derive = len(self.events) <= 10  # closed forms are proven on demand: only for short tables
         for e in self.events[:50]:
-            cf = e.time.closed_form
+            cf = e.time.closed_form if derive else e.time.known_closed_form
             if cf is not None:
                 import sympy
                 t = sympy.latex(cf)
             else:
-                t = e.time.decimal(12)
+                t = e.time.decimal(12).replace(" +/- ", r" \pm ")
             mb = "-" if e.mode_before is None else latex_mode(e.mode_before)
             rows.append(rf"{t} & {mb} & {latex_mode(e.mode_after)} & {e.multiplicity} \\")
         body = "\n".join(rows)
+        if len(self.events) > 50:
+            body += "\n" + rf"\multicolumn{{4}}{{l}}{{\text{{... {len(self.events) - 50} more events}}}} \\"
         return r"$\begin{array}{llll} t & I^- & I^+ & m \\ \hline " + body + r"\end{array}$"
 
 
