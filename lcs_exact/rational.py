@@ -41,7 +41,7 @@ __all__ = [
     "fmpq_to_sympy", "matrix_to_sympy", "adjugate_coefficients", "poly_at_matrix", "resolvent",
     "MAX_RATIONAL_BITS", "MAX_DIMENSION", "MAX_ENUMERATION_K", "MAX_P_TEST_K", "MAX_MARKOV_INDEX",
     "MAX_KAPPA", "MAX_HORIZON_SLOW", "MAX_HORIZON_FAST", "MAX_PREC_BITS", "check_enumerable",
-    "eigenvalue_moduli",
+    "eigenvalue_moduli", "to_short",
 ]
 
 RationalLike = Union[int, str, Fraction, fmpq, fmpz, Rational, float]
@@ -77,10 +77,21 @@ MAX_PREC_BITS = 2**20
 _LOG2_10 = math.log2(10)
 
 
-def _short(x: Any, width: int = 40) -> str:
-    """repr of x cut to ``width`` characters (a hostile input must not flood a message)."""
-    r = repr(x)
-    return r if len(r) <= width else r[:width - 5] + "...'" if r[:1] in "'\"" else r[:width - 3] + "..."
+def to_short(x: Any, width: int = 40) -> str:
+    """repr of x cut to ``width`` characters (a hostile input must not flood a message).
+
+    >>> to_short("1" * 100), to_short(2**1000)
+    ("'1111111111111111111111111111111111...'", '<an integer of 1001 bits>')
+    """
+    if isinstance(x, int) and x.bit_length() > 4 * width:
+        return f"<an integer of {x.bit_length()} bits>"  # repr would be huge (or refused by Python)
+    try:
+        r = repr(x)
+    except ValueError:  # e.g. a numpy or SymPy integer beyond Python's 4300-digit str limit
+        return f"<a {type(x).__name__} too large to print>"
+    if len(r) <= width:
+        return r
+    return r[:width - 5] + "...'" if r[:1] in "'\"" else r[:width - 3] + "..."
 
 
 def _check_bits(p: int, q: int, what: str, shown: Any) -> fmpq:
@@ -88,7 +99,7 @@ def _check_bits(p: int, q: int, what: str, shown: Any) -> fmpq:
     for part, v in (("numerator", p), ("denominator", q)):
         b = abs(int(v)).bit_length()
         if b > MAX_RATIONAL_BITS:
-            raise InvalidArgument(f"{what} {_short(shown)} is too large: its {part} has {b} bits, more than "
+            raise InvalidArgument(f"{what} {to_short(shown)} is too large: its {part} has {b} bits, more than "
                                   f"the limit MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} (lcs_exact.rational)")
     return fmpq(p, q)
 
@@ -96,7 +107,7 @@ def _check_bits(p: int, q: int, what: str, shown: Any) -> fmpq:
 _NUMBER = re.compile(r"""\A\s*(?P<sign>[-+]?)(?:
         (?P<p>\d+)\s*/\s*(?P<q>\d+)                                    # p/q
       | (?P<int>\d*)(?:\.(?P<frac>\d*))?(?:[eE](?P<exp>[-+]?\d+))?     # decimal, exponent
-    )\s*\Z""", re.VERBOSE)
+    )\s*\Z""", re.VERBOSE | re.ASCII)
 
 
 def _parse_number(text: str, what: str) -> fmpq:
@@ -104,17 +115,17 @@ def _parse_number(text: str, what: str) -> fmpq:
     expanding a number beyond MAX_RATIONAL_BITS: ``"1e999999999"`` is refused from its exponent."""
     m = _NUMBER.match(text)
     if m is None or (m["p"] is None and not (m["int"] or m["frac"])):
-        raise NotRational(f"{what} {_short(text)} is not a rational number (expected 'p/q' or a decimal "
+        raise NotRational(f"{what} {to_short(text)} is not a rational number (expected 'p/q' or a decimal "
                           f"such as '-1.25e-3')")
     neg = m["sign"] == "-"
     if m["p"] is not None:
         for part in ("p", "q"):
             if len(m[part].lstrip("0")) > 2 * MAX_RATIONAL_BITS:  # > 4 * 10^5 bits: surely too large
-                raise InvalidArgument(f"{what} {_short(text)} is too large: more than "
+                raise InvalidArgument(f"{what} {to_short(text)} is too large: more than "
                                       f"MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} bits (lcs_exact.rational)")
         p, q = fmpz(m["p"]), fmpz(m["q"])
         if q == 0:
-            raise NotRational(f"{what} {_short(text)} has a zero denominator")
+            raise NotRational(f"{what} {to_short(text)} has a zero denominator")
         return _check_bits(-p if neg else p, q, what, text)
     digits = ((m["int"] or "") + (m["frac"] or "")).lstrip("0")
     stripped = digits.rstrip("0")
@@ -122,12 +133,12 @@ def _parse_number(text: str, what: str) -> fmpq:
         return fmpq(0)  # zero, whatever the exponent
     e = m["exp"] or "0"
     if len(e.lstrip("+-").lstrip("0")) > 12:
-        raise InvalidArgument(f"{what} {_short(text)} is too large or too small: its exponent has more than "
+        raise InvalidArgument(f"{what} {to_short(text)} is too large or too small: its exponent has more than "
                               f"12 digits (limit: MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} bits, lcs_exact.rational)")
     # value = N * 10^E with N free of factors 10: the reduced denominator of 10^-E is >= 2^|E|
     E = int(e) - len(m["frac"] or "") + (len(digits) - len(stripped))
     if len(stripped) > 2 * MAX_RATIONAL_BITS or abs(E) > MAX_RATIONAL_BITS:
-        raise InvalidArgument(f"{what} {_short(text)} is too large or too small: it would need more than "
+        raise InvalidArgument(f"{what} {to_short(text)} is too large or too small: it would need more than "
                               f"MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} bits (lcs_exact.rational)")
     N = fmpz(stripped)
     if neg:
@@ -179,7 +190,7 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
     if mod.startswith("sympy"):
         if getattr(x, "is_Rational", False):
             return _check_bits(int(x.p), int(x.q), what, x)
-        raise NotRational(f"{what} {_short(x)} is a SymPy {type(x).__name__}, not a rational number")
+        raise NotRational(f"{what} {to_short(x)} is a SymPy {type(x).__name__}, not a rational number")
     if mod.startswith("numpy") and hasattr(x, "item") and getattr(x, "ndim", 0) == 0:
         v = x.item()
         if type(v) is type(x):  # numpy.longdouble: no Python equivalent; its shortest repr is exact enough
@@ -192,7 +203,7 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
         return _check_bits(int(x), 1, what, x)
     if isinstance(x, Rational):
         return _check_bits(int(x.numerator), int(x.denominator), what, x)
-    raise NotRational(f"{what} {_short(x)} of type {type(x).__name__} is not an exact rational number")
+    raise NotRational(f"{what} {to_short(x)} of type {type(x).__name__} is not an exact rational number")
 
 
 def to_int(x: Any, what: str, lo: int | None = None, hi: int | None = None) -> int:
@@ -207,16 +218,23 @@ def to_int(x: Any, what: str, lo: int | None = None, hi: int | None = None) -> i
     lcs_exact.errors.InvalidArgument: kappa must be an integer, got 1.5 (float)
     """
     if isinstance(x, bool) or type(x).__name__ == "bool_" or not isinstance(x, (Integral, fmpz)):
-        raise InvalidArgument(f"{what} must be an integer, got {_short(x)} ({type(x).__name__})")
+        raise InvalidArgument(f"{what} must be an integer, got {to_short(x)} ({type(x).__name__})")
     v = int(x)
     if (lo is not None and v < lo) or (hi is not None and v > hi):
         rng = f"in {lo}..{hi}" if lo is not None and hi is not None else f">= {lo}" if lo is not None else f"<= {hi}"
-        raise InvalidArgument(f"{what} must be an integer {rng}, got {v}")
+        raise InvalidArgument(f"{what} must be an integer {rng}, got {to_short(v)}")
     return v
 
 
 def check_enumerable(k: int, what: str, limit: int = MAX_ENUMERATION_K) -> None:
-    """Refuse (:class:`~lcs_exact.errors.Unsupported`) an enumeration of 2^k sets beyond ``limit``."""
+    """Refuse (:class:`~lcs_exact.errors.Unsupported`) an enumeration of 2^k sets beyond ``limit``.
+
+    >>> check_enumerable(16, "RCP for every mode")
+    >>> check_enumerable(17, "RCP for every mode")
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.Unsupported: RCP for every mode enumerates all 2^17 index sets; k = 17 is above the limit 16 (lcs_exact.rational.MAX_ENUMERATION_K / MAX_P_TEST_K)
+    """
     if k > limit:
         raise Unsupported(f"{what} enumerates all 2^{k} index sets; k = {k} is above the limit "
                           f"{limit} (lcs_exact.rational.MAX_ENUMERATION_K / MAX_P_TEST_K)")

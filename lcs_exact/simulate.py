@@ -55,7 +55,7 @@ def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_p
 
     from .errors import InvalidArgument, NotRational
     from .rational import (MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_PREC_BITS, to_fmpq, to_int,
-                           vector_entries)
+                           to_short, vector_entries)
     from .reals import Real
     from .system import LCS
 
@@ -65,21 +65,25 @@ def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_p
     if not isinstance(lcs, LCS):
         raise InvalidArgument(f"lcs must be an LCS (lcs_exact.LCS), got {type(lcs).__name__}")
     if not is_int(digits):
-        raise InvalidArgument(f"digits must be a Python int in 1..{MAX_DIGITS}, got {digits!r} "
+        raise InvalidArgument(f"digits must be a Python int in 1..{MAX_DIGITS}, got {to_short(digits)} "
                               f"({type(digits).__name__}{'; use int(...)' if hasattr(digits, '__index__') else ''})")
     to_int(digits, "digits", 1, MAX_DIGITS)
     if not is_int(max_events) or max_events < 0:
-        raise InvalidArgument(f"max_events must be a nonnegative Python int, got {max_events!r}")
-    if time_limit is not None and (isinstance(time_limit, bool) or type(time_limit).__name__ == "bool_"
-                                   or not isinstance(time_limit, RealNumber) or math.isnan(time_limit)
-                                   or time_limit < 0):
-        raise InvalidArgument(f"time_limit must be a nonnegative number of seconds or None, got {time_limit!r}")
+        raise InvalidArgument(f"max_events must be a nonnegative Python int, got {to_short(max_events)}")
+    if time_limit is not None:
+        try:  # the deadline adds it to a float clock: it must be a real number a float can hold
+            seconds = float(time_limit) if isinstance(time_limit, RealNumber) else math.nan
+        except OverflowError:
+            seconds = math.nan
+        if isinstance(time_limit, bool) or type(time_limit).__name__ == "bool_" or not seconds >= 0:
+            raise InvalidArgument("time_limit must be a nonnegative number of seconds (a float can hold) or "
+                                  f"None, got {to_short(time_limit)}")
     if not isinstance(closed_forms, (str, bool)) or closed_forms not in _CLOSED_FORMS:
-        raise InvalidArgument(f"closed_forms must be 'lazy', True or False, got {closed_forms!r}")
+        raise InvalidArgument(f"closed_forms must be 'lazy', True or False, got {to_short(closed_forms)}")
     if not isinstance(allow_unresolved, bool):
-        raise InvalidArgument(f"allow_unresolved must be True or False, got {allow_unresolved!r}")
+        raise InvalidArgument(f"allow_unresolved must be True or False, got {to_short(allow_unresolved)}")
     if max_prec is not None and (not is_int(max_prec) or not 64 <= max_prec <= MAX_PREC_BITS):
-        raise InvalidArgument(f"max_prec must be None or an int in 64..{MAX_PREC_BITS} (bits), got {max_prec!r}")
+        raise InvalidArgument(f"max_prec must be None or an int in 64..{MAX_PREC_BITS} (bits), got {to_short(max_prec)}")
     if x0 is None:
         raise ShapeError("x0 is required: a vector of length n (rational entries or an exact vector)")
     if not isinstance(x0, (ExactVector, fmpq_mat, Iterator)):  # an iterator is read once, later
