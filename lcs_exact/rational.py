@@ -370,11 +370,9 @@ def eigenvalue_moduli(A: fmpq_mat, chi: fmpq_poly | None = None):
         return None
     p = p / p.gcd(p.derivative())  # squarefree part: the roots once each
     mods = [abs(r) for r, _ in flint.fmpz_poly(p).complex_roots()]
-    lo, hi = mods[0], mods[0]
-    for m in mods[1:]:
-        lo = m if m.upper() < lo.upper() else lo
-        hi = m if m.lower() > hi.lower() else hi
-    return lo, hi
+    lows, ups = [m.lower() for m in mods], [m.upper() for m in mods]  # exact endpoints
+    # min |lambda| lies in [min lower, min upper], max |lambda| in [max lower, max upper]
+    return min(lows).union(min(ups)), max(lows).union(max(ups))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -21,8 +21,9 @@ from flint import fmpq_mat, fmpq_poly
 
 from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
-from .rational import (MAX_MARKOV_INDEX, RationalFunction, RationalMatrix, adjugate_coefficients,
-                       eigenvalue_moduli, mat_rows, matrix_to_sympy, submatrix, to_int, to_matrix)
+from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, RationalFunction, RationalMatrix,
+                       adjugate_coefficients, eigenvalue_moduli, mat_rows, matrix_to_sympy, submatrix, to_int,
+                       to_matrix, to_short)
 
 __all__ = ["LCS", "WellPosedness"]
 
@@ -251,10 +252,11 @@ class LCS:
     # --- modes and selection (delegated) -----------------------------------------------------
     def _index_set(self, I: Iterable[int]) -> frozenset:
         if isinstance(I, (str, bytes, Mapping)) or not isinstance(I, Iterable):
-            raise ShapeError(f"a mode is a set of constraint indices (0-based ints), got {I!r}")
-        items = list(islice(iter(I), 4 * self.k + 1))
-        if len(items) > 4 * self.k:
-            raise ShapeError(f"a mode is a set of at most k = {self.k} constraint indices, got more")
+            raise ShapeError(f"a mode is a set of constraint indices (0-based ints), got {to_short(I)}")
+        items = list(islice(iter(I), MAX_DIMENSION + 1))  # an endless iterator is cut off
+        if len(items) > MAX_DIMENSION:
+            raise ShapeError(f"a mode is a set of at most k = {self.k} constraint indices, got more than "
+                             f"{MAX_DIMENSION} items")
         s = frozenset(to_int(i, "a mode's constraint index") for i in items)
         bad = [i for i in s if not 0 <= i < self.k]
         if bad:
