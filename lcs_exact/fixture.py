@@ -23,6 +23,7 @@ from typing import Any
 
 from flint import arb, ctx, fmpq, fmpz
 
+from .balls import MAX_DIGITS
 from .errors import FormatError, LCSError
 from .rational import to_fmpq
 
@@ -263,8 +264,8 @@ def fixture_dict(traj: Any, digits: int | None = None, sample: Any = None) -> di
     ('pi/2', 5, '0.8775825619')
     """
     d = traj.digits if digits is None else digits
-    if isinstance(d, bool) or not isinstance(d, int) or d < 1:
-        raise FormatError(f"digits must be a positive integer, got {d!r}")
+    if isinstance(d, bool) or not isinstance(d, int) or not 1 <= d <= MAX_DIGITS:
+        raise FormatError(f"digits must be a positive integer <= {MAX_DIGITS} (balls.MAX_DIGITS), got {d!r}")
     lcs = traj.lcs
     until = _computed_until(traj)
     final = traj.state(until) if until is not None else traj.x0

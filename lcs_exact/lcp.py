@@ -23,7 +23,7 @@ from typing import Any
 from flint import fmpq, fmpq_mat
 
 from .errors import LCSError, ShapeError
-from .rational import sign_of_form, submatrix, to_matrix, to_vector, zeros
+from .rational import MAX_P_TEST_K, check_enumerable, sign_of_form, submatrix, to_matrix, to_vector, zeros
 
 __all__ = ["LCPSolution", "p_matrix_violation", "is_p_matrix", "murty", "lemke", "solve_lcp",
            "all_solutions"]
@@ -64,7 +64,10 @@ def p_matrix_violation(m: Any) -> tuple[int, ...] | None:
     """None if M is a P-matrix, else a (0-based) index set whose principal minor is <= 0.
 
     det M[pre ∪ S] = det M[pre] * det (M/M[pre])[S], so a nonpositive leading entry found in a
-    Schur complement names the principal minor on pre ∪ {i}.
+    Schur complement names the principal minor on pre ∪ {i}.  The test visits 2^k Schur
+    complements: a nonsymmetric M above ``MAX_P_TEST_K`` = 20 is refused
+    (:class:`~lcs_exact.errors.Unsupported`); a larger symmetric M is tested by its leading minors
+    (P iff positive definite), so mechanical systems (N = E M^{-1} E^T) have no such limit.
 
     >>> p_matrix_violation([[1, 2], [0, 1]]) is None
     True
@@ -74,6 +77,18 @@ def p_matrix_violation(m: Any) -> tuple[int, ...] | None:
     m = to_matrix(m, "M")
     if m.nrows() != m.ncols():
         raise ShapeError(f"a P-matrix must be square, got {m.nrows()}x{m.ncols()}")
+    k = m.nrows()
+    if k > MAX_P_TEST_K and m == m.transpose():
+        # symmetric: P iff positive definite iff every leading minor is > 0 (Sylvester); the
+        # pivots of the Schur complements are their ratios (k steps instead of 2^k)
+        a = m
+        for j in range(k):
+            if a[0, 0] <= 0:
+                return tuple(range(j + 1))
+            if j + 1 < k:
+                a = _schur(a)
+        return None
+    check_enumerable(k, "the P-matrix test of a nonsymmetric matrix", MAX_P_TEST_K)
 
     def rec(a: fmpq_mat, labels: tuple[int, ...], pre: tuple[int, ...]):
         if not labels:
@@ -228,7 +243,10 @@ def all_solutions(q: Any, m: Any) -> list[LCPSolution]:
     """
     m = to_matrix(m, "M")
     k = m.nrows()
+    if m.ncols() != k:
+        raise ShapeError(f"LCP: M must be square, got {k}x{m.ncols()}")
     q = to_vector(q, k, "q")
+    check_enumerable(k, "all_solutions")
     found: list[LCPSolution] = []
     seen = set()
     for r in range(k + 1):

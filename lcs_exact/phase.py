@@ -233,7 +233,7 @@ class EventState(ExpVector):
         fZ = self.t.function.at(prec)
         if lo == hi:  # an exact rational root (a polynomial phase with a rational start)
             return plain
-        if not (fZ.value(lo) > 0 and fZ.value(hi) < 0 and fZ.enclose(lo, hi, 1) < 0):
+        if not (fZ.value(lo) > 0 and fZ.value(hi) < 0 and fZ.sign_enclose(lo, hi, 1) < 0):
             return plain
         Theta = arb(lo).union(arb(hi))
         # the root for the center z_c, inside Theta (which holds theta(z) for every z in Z)

@@ -20,71 +20,240 @@ raises :class:`~lcs_exact.errors.UnresolvedSign`.
 """
 from __future__ import annotations
 
+import math
 import re
+from collections.abc import Mapping, Set
+from decimal import Decimal
 from fractions import Fraction
-from numbers import Integral, Rational
+from itertools import islice
+from numbers import Integral, Rational, Real
 from typing import Any, Iterable, Sequence, Union
 
 import flint
 from flint import fmpq, fmpq_mat, fmpq_poly, fmpz
 
-from .errors import NotRational, ShapeError
+from .errors import InvalidArgument, NotRational, ShapeError, Unsupported
 
 __all__ = [
-    "RationalLike", "to_fmpq", "to_matrix", "to_vector", "is_rational_vector",
+    "RationalLike", "to_fmpq", "to_matrix", "to_vector", "vector_entries", "to_int", "is_rational_vector",
     "zeros", "identity", "is_zero", "hstack", "vstack", "submatrix", "column", "mat_rows", "mat_equal",
     "RationalFunction", "RationalMatrix", "laurent_coefficients", "sign_of_form", "lex_sign",
     "fmpq_to_sympy", "matrix_to_sympy", "adjugate_coefficients", "poly_at_matrix", "resolvent",
+    "MAX_RATIONAL_BITS", "MAX_DIMENSION", "MAX_ENUMERATION_K", "MAX_P_TEST_K", "MAX_MARKOV_INDEX",
+    "MAX_KAPPA", "MAX_HORIZON_SLOW", "MAX_HORIZON_FAST", "MAX_PREC_BITS", "check_enumerable",
+    "eigenvalue_moduli", "to_short",
 ]
 
 RationalLike = Union[int, str, Fraction, fmpq, fmpz, Rational, float]
 
 # ---------------------------------------------------------------------------------------------
-# coercion of user input
+# limits on user input (one place; docs/limits.md lists them with their reasons)
 # ---------------------------------------------------------------------------------------------
+
+#: bits of the numerator and of the denominator of one rational read from user input (about
+#: 19,700 decimal digits; ``"1e999999999"`` is refused at once instead of being expanded).
+#: ``fmpq``/``fmpz`` values are taken as they are: they are already exact (and the engine's own).
+MAX_RATIONAL_BITS = 65_536
+#: rows and columns of one matrix, length of one vector (so n, k <= 1024); the exact engine is
+#: practical to n ~ 64 (a 16-cart chain, n = 32, runs in seconds).
+MAX_DIMENSION = 1024
+#: largest k for computations that enumerate the 2^k modes or index sets (RCP for every mode,
+#: mode maps, all solutions of an LCP): 2^16 = 65,536 sets.
+MAX_ENUMERATION_K = 16
+#: largest k for the P-matrix test of a nonsymmetric matrix (Tsatsomeros-Li: 2^k Schur steps,
+#: ~3 s at k = 20); a symmetric matrix is tested by its leading minors at any size.
+MAX_P_TEST_K = 20
+#: largest Markov parameter index i of ``lcs.markov(i)`` (the theory needs i <= n + 1)
+MAX_MARKOV_INDEX = 4096
+#: largest kappa of ``lcs.ldcp(x0, kappa)`` (Theorem 6.10 needs kappa = n)
+MAX_KAPPA = 1024
+#: horizon: t_end times the smallest nonzero |eigenvalue| of A (the slowest time constant)
+MAX_HORIZON_SLOW = 10**6
+#: horizon: t_end times the spectral radius of A (the fastest time constant)
+MAX_HORIZON_FAST = 10**12
+#: largest ``max_prec`` (bits) a run may refine a sign decision to (2^20 bits ~ 315,000 digits)
+MAX_PREC_BITS = 2**20
+
+_LOG2_10 = math.log2(10)
+
+
+def to_short(x: Any, width: int = 40) -> str:
+    """repr of x cut to ``width`` characters (a hostile input must not flood a message).
+
+    >>> to_short("1" * 100), to_short(2**1000)
+    ("'1111111111111111111111111111111111...'", '<an integer of 1001 bits>')
+    """
+    if isinstance(x, int) and x.bit_length() > 4 * width:
+        return f"<an integer of {x.bit_length()} bits>"  # repr would be huge (or refused by Python)
+    try:
+        r = repr(x)
+    except ValueError:  # e.g. a numpy or SymPy integer beyond Python's 4300-digit str limit
+        return f"<a {type(x).__name__} too large to print>"
+    if len(r) <= width:
+        return r
+    return r[:width - 5] + "...'" if r[:1] in "'\"" else r[:width - 3] + "..."
+
+
+def _check_bits(p: int, q: int, what: str, shown: Any) -> fmpq:
+    """fmpq(p, q) after checking both parts against MAX_RATIONAL_BITS."""
+    for part, v in (("numerator", p), ("denominator", q)):
+        b = abs(int(v)).bit_length()
+        if b > MAX_RATIONAL_BITS:
+            raise InvalidArgument(f"{what} {to_short(shown)} is too large: its {part} has {b} bits, more than "
+                                  f"the limit MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} (lcs_exact.rational)")
+    return fmpq(p, q)
+
+
+_NUMBER = re.compile(r"""\A\s*(?P<sign>[-+]?)(?:
+        (?P<p>\d+)\s*/\s*(?P<q>\d+)                                    # p/q
+      | (?P<int>\d*)(?:\.(?P<frac>\d*))?(?:[eE](?P<exp>[-+]?\d+))?     # decimal, exponent
+    )\s*\Z""", re.VERBOSE | re.ASCII)
+
+
+def _parse_number(text: str, what: str) -> fmpq:
+    """An exact rational from ``"p/q"`` or a decimal string (``"-1.25e-3"``), without ever
+    expanding a number beyond MAX_RATIONAL_BITS: ``"1e999999999"`` is refused from its exponent."""
+    m = _NUMBER.match(text)
+    if m is None or (m["p"] is None and not (m["int"] or m["frac"])):
+        raise NotRational(f"{what} {to_short(text)} is not a rational number (expected 'p/q' or a decimal "
+                          f"such as '-1.25e-3')")
+    neg = m["sign"] == "-"
+    if m["p"] is not None:
+        for part in ("p", "q"):
+            if len(m[part].lstrip("0")) > 2 * MAX_RATIONAL_BITS:  # > 4 * 10^5 bits: surely too large
+                raise InvalidArgument(f"{what} {to_short(text)} is too large: more than "
+                                      f"MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} bits (lcs_exact.rational)")
+        p, q = fmpz(m["p"]), fmpz(m["q"])
+        if q == 0:
+            raise NotRational(f"{what} {to_short(text)} has a zero denominator")
+        return _check_bits(-p if neg else p, q, what, text)
+    digits = ((m["int"] or "") + (m["frac"] or "")).lstrip("0")
+    stripped = digits.rstrip("0")
+    if not stripped:
+        return fmpq(0)  # zero, whatever the exponent
+    e = m["exp"] or "0"
+    if len(e.lstrip("+-").lstrip("0")) > 12:
+        raise InvalidArgument(f"{what} {to_short(text)} is too large or too small: its exponent has more than "
+                              f"12 digits (limit: MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} bits, lcs_exact.rational)")
+    # value = N * 10^E with N free of factors 10: the reduced denominator of 10^-E is >= 2^|E|
+    E = int(e) - len(m["frac"] or "") + (len(digits) - len(stripped))
+    if len(stripped) > 2 * MAX_RATIONAL_BITS or abs(E) > MAX_RATIONAL_BITS:
+        raise InvalidArgument(f"{what} {to_short(text)} is too large or too small: it would need more than "
+                              f"MAX_RATIONAL_BITS = {MAX_RATIONAL_BITS} bits (lcs_exact.rational)")
+    N = fmpz(stripped)
+    if neg:
+        N = -N
+    if E >= 0:
+        return _check_bits(N * fmpz(10) ** E, 1, what, text)
+    q = fmpq(N, fmpz(10) ** (-E))
+    return _check_bits(q.p, q.q, what, text)
 
 
 def to_fmpq(x: Any, what: str = "entry") -> fmpq:
     """Read one exact rational from user input.
 
-    Accepts int, ``"p/q"`` or decimal strings, Fraction, sympy Rational, fmpq, fmpz, numpy
-    integers, and floats (read as their shortest decimal repr: ``0.1 -> 1/10``).
+    Accepts int, ``"p/q"`` or decimal strings (``"-1.25e-3"``), Fraction, Decimal, sympy
+    Rational, fmpq, fmpz, numpy integers, and floats (read as their shortest decimal repr:
+    ``0.1 -> 1/10``).  Refuses bools, NaN and infinities, complex numbers, SymPy non-rationals
+    (:class:`~lcs_exact.errors.NotRational`, naming ``what``) and numbers whose numerator or
+    denominator would exceed :data:`MAX_RATIONAL_BITS` bits
+    (:class:`~lcs_exact.errors.InvalidArgument`; checked before a decimal exponent is expanded).
 
-    >>> to_fmpq("3/4"), to_fmpq(0.1), to_fmpq(2)
-    (3/4, 1/10, 2)
+    >>> to_fmpq("3/4"), to_fmpq(0.1), to_fmpq(2), to_fmpq("-1.25e-3")
+    (3/4, 1/10, 2, -1/800)
+    >>> to_fmpq("1e999999999", "t_end")
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.InvalidArgument: t_end '1e999999999' is too large or too small: it would need more than MAX_RATIONAL_BITS = 65536 bits (lcs_exact.rational)
     """
     if isinstance(x, fmpq):
         return x
-    if isinstance(x, bool):
+    if isinstance(x, fmpz):
+        return fmpq(x)
+    if isinstance(x, bool) or type(x).__name__ == "bool_":
         raise NotRational(f"{what} is a bool ({x!r}), not a number")
-    if isinstance(x, (int, fmpz)):
-        return fmpq(int(x))
+    if isinstance(x, int):
+        return _check_bits(x, 1, what, x)
     if isinstance(x, Fraction):
-        return fmpq(x.numerator, x.denominator)
+        return _check_bits(x.numerator, x.denominator, what, x)
     if isinstance(x, float):
-        if x != x or x in (float("inf"), float("-inf")):
+        if not math.isfinite(x):
             raise NotRational(f"{what} is {x!r}, not a finite number")
-        f = Fraction(repr(float(x)))  # float(): numpy's float64 repr is 'np.float64(...)'
-        return fmpq(f.numerator, f.denominator)
+        return _parse_number(repr(float(x)), what)  # float(): numpy's float64 repr is 'np.float64(...)'
     if isinstance(x, str):
-        try:
-            f = Fraction(x.strip())
-        except (ValueError, ZeroDivisionError):
-            raise NotRational(f"{what} {x!r} is not a rational number (expected 'p/q' or a decimal)") from None
-        return fmpq(f.numerator, f.denominator)
-    # sympy Rational/Integer and other numbers.Rational (numpy ints are Integral)
-    if isinstance(x, Integral):
-        return fmpq(int(x))
-    if isinstance(x, Rational):
-        return fmpq(int(x.numerator), int(x.denominator))
+        return _parse_number(x, what)
+    if isinstance(x, Decimal):
+        if not x.is_finite():
+            raise NotRational(f"{what} is {x!r}, not a finite number")
+        return _parse_number(str(x), what)
     mod = type(x).__module__
     if mod.startswith("sympy"):
         if getattr(x, "is_Rational", False):
-            return fmpq(int(x.p), int(x.q))
-        raise NotRational(f"{what} {x} is a SymPy {type(x).__name__}, not a rational number")
-    if mod.startswith("numpy") and hasattr(x, "item"):
-        return to_fmpq(x.item(), what)
-    raise NotRational(f"{what} {x!r} of type {type(x).__name__} is not an exact rational number")
+            return _check_bits(int(x.p), int(x.q), what, x)
+        raise NotRational(f"{what} {to_short(x)} is a SymPy {type(x).__name__}, not a rational number")
+    if mod.startswith("numpy") and hasattr(x, "item") and getattr(x, "ndim", 0) == 0:
+        v = x.item()
+        if type(v) is type(x):  # numpy.longdouble: no Python equivalent; its shortest repr is exact enough
+            if not math.isfinite(float(v)) and isinstance(x, Real):
+                raise NotRational(f"{what} is {x!r}, not a finite number")
+            v = str(x) if isinstance(x, Real) else complex(x)
+        return to_fmpq(v, what)
+    # other numbers.Rational (Integral first: numpy-like ints)
+    if isinstance(x, Integral):
+        return _check_bits(int(x), 1, what, x)
+    if isinstance(x, Rational):
+        return _check_bits(int(x.numerator), int(x.denominator), what, x)
+    raise NotRational(f"{what} {to_short(x)} of type {type(x).__name__} is not an exact rational number")
+
+
+def to_int(x: Any, what: str, lo: int | None = None, hi: int | None = None) -> int:
+    """An integer argument (a Python or numpy integer, not a bool), checked to lie in [lo, hi];
+    :class:`~lcs_exact.errors.InvalidArgument` naming ``what`` otherwise.
+
+    >>> to_int(3, "kappa", 0, 10)
+    3
+    >>> to_int(1.5, "kappa")
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.InvalidArgument: kappa must be an integer, got 1.5 (float)
+    """
+    if isinstance(x, bool) or type(x).__name__ == "bool_" or not isinstance(x, (Integral, fmpz)):
+        raise InvalidArgument(f"{what} must be an integer, got {to_short(x)} ({type(x).__name__})")
+    v = int(x)
+    if (lo is not None and v < lo) or (hi is not None and v > hi):
+        rng = f"in {lo}..{hi}" if lo is not None and hi is not None else f">= {lo}" if lo is not None else f"<= {hi}"
+        raise InvalidArgument(f"{what} must be an integer {rng}, got {to_short(v)}")
+    return v
+
+
+def check_enumerable(k: int, what: str, limit: int = MAX_ENUMERATION_K) -> None:
+    """Refuse (:class:`~lcs_exact.errors.Unsupported`) an enumeration of 2^k sets beyond ``limit``.
+
+    >>> check_enumerable(16, "RCP for every mode")
+    >>> check_enumerable(17, "RCP for every mode")
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.Unsupported: RCP for every mode enumerates all 2^17 index sets; k = 17 is above the limit 16 (lcs_exact.rational.MAX_ENUMERATION_K / MAX_P_TEST_K)
+    """
+    if k > limit:
+        raise Unsupported(f"{what} enumerates all 2^{k} index sets; k = {k} is above the limit "
+                          f"{limit} (lcs_exact.rational.MAX_ENUMERATION_K / MAX_P_TEST_K)")
+
+
+def _is_nested(e: Any) -> bool:
+    return isinstance(e, (list, tuple, Mapping, Set)) or (
+        hasattr(e, "tolist") and getattr(e, "ndim", 0) > 0 and not isinstance(e, fmpq_mat))
+
+
+def _items(data: Any, name: str, what: str) -> list:
+    """The items of a list-like (at most MAX_DIMENSION of them; an endless iterator is cut off)."""
+    if isinstance(data, (str, bytes, Mapping, Set)) or not isinstance(data, Iterable):
+        raise ShapeError(f"{name} must be {what}, got {type(data).__name__}")
+    items = list(islice(iter(data), MAX_DIMENSION + 1))
+    if len(items) > MAX_DIMENSION:
+        raise ShapeError(f"{name} has more than MAX_DIMENSION = {MAX_DIMENSION} entries along one side "
+                         "(lcs_exact.rational)")
+    return items
 
 
 def _rows_of(data: Any, name: str) -> list[list[Any]]:
@@ -92,11 +261,18 @@ def _rows_of(data: Any, name: str) -> list[list[Any]]:
         return [[data[i, j] for j in range(data.ncols())] for i in range(data.nrows())]
     if hasattr(data, "tolist"):  # numpy arrays, sympy matrices
         data = data.tolist()
-    if isinstance(data, (str, bytes)) or not isinstance(data, Iterable):
-        raise ShapeError(f"{name} must be a matrix (a list of rows), got {type(data).__name__}")
-    rows = [r.tolist() if hasattr(r, "tolist") else r for r in data]
-    return [list(r) if isinstance(r, Iterable) and not isinstance(r, (str, bytes)) else [r]
-            for r in rows]
+    rows = [r.tolist() if hasattr(r, "tolist") else r for r in _items(data, name, "a matrix (a list of rows)")]
+    out = []
+    for i, r in enumerate(rows):
+        if isinstance(r, (Mapping, Set)):
+            raise ShapeError(f"{name} row {i} is a {type(r).__name__}: rows must be lists of numbers")
+        row = _items(r, f"{name} row {i}", "a list") if isinstance(r, Iterable) and not isinstance(r, (str, bytes)) else [r]
+        for j, e in enumerate(row):
+            if _is_nested(e):
+                raise ShapeError(f"{name}[{i}, {j}] is a {type(e).__name__}: {name} must be a matrix of "
+                                 "numbers (nested too deep)")
+        out.append(row)
+    return out
 
 
 def to_matrix(data: Any, name: str = "matrix", shape: tuple[int | None, int | None] | None = None
@@ -104,7 +280,8 @@ def to_matrix(data: Any, name: str = "matrix", shape: tuple[int | None, int | No
     """Read a matrix (list of rows, sympy/numpy matrix, fmpq_mat) into an ``fmpq_mat``.
 
     ``shape`` may fix either dimension (``None`` leaves it free).  Raises
-    :class:`~lcs_exact.errors.ShapeError` for ragged or wrong-sized input and
+    :class:`~lcs_exact.errors.ShapeError` for ragged, wrong-sized, too deeply nested or
+    oversized (more than :data:`MAX_DIMENSION` along a side) input, or a mapping or set, and
     :class:`~lcs_exact.errors.NotRational` for an entry that is not an exact rational.
 
     >>> to_matrix([[1, "1/2"], [0, 0.25]])
@@ -129,6 +306,37 @@ def to_matrix(data: Any, name: str = "matrix", shape: tuple[int | None, int | No
     return m
 
 
+def vector_entries(data: Any, n: int | None, name: str = "x0") -> list:
+    """The entries of a vector given flat (``[a, b]``) or as a column (``[[a], [b]]``), not
+    converted; :class:`~lcs_exact.errors.ShapeError` for a string, a mapping or set (no order),
+    a scalar, deeper nesting or a wrong length.
+
+    >>> vector_entries([[1], ["1/2"]], 2)
+    [1, '1/2']
+    >>> vector_entries({0: 1, 1: 2}, 2)
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.ShapeError: x0 must be a vector of length 2 (a list of numbers), got dict
+    """
+    want = "a vector" + ("" if n is None else f" of length {n}") + " (a list of numbers)"
+    if hasattr(data, "tolist") and not isinstance(data, fmpq_mat):
+        data = data.tolist()
+    flat: list[Any] = []
+    for i, e in enumerate(_items(data, name, want)):
+        if hasattr(e, "tolist") and getattr(e, "ndim", 0) > 0:
+            e = e.tolist()
+        if isinstance(e, (list, tuple)):
+            if len(e) != 1:
+                raise ShapeError(f"{name} must be {want}: entry {i} is a row of length {len(e)}")
+            e = e[0]
+        if _is_nested(e):
+            raise ShapeError(f"{name}[{i}] is a {type(e).__name__}: {name} must be {want} (nested too deep)")
+        flat.append(e)
+    if n is not None and len(flat) != n:
+        raise ShapeError(f"{name} has length {len(flat)}, expected {n}")
+    return flat
+
+
 def to_vector(data: Any, n: int, name: str = "x0") -> fmpq_mat:
     """Read a rational vector of length n into an n x 1 ``fmpq_mat`` (flat or column input)."""
     if isinstance(data, fmpq_mat):
@@ -137,26 +345,34 @@ def to_vector(data: Any, n: int, name: str = "x0") -> fmpq_mat:
         if data.nrows() == 1 and data.ncols() == n:
             return data.transpose()
         raise ShapeError(f"{name} has shape {data.nrows()}x{data.ncols()}, expected a vector of length {n}")
-    if hasattr(data, "tolist"):
-        data = data.tolist()
-    if isinstance(data, (str, bytes)) or not isinstance(data, Iterable):
-        raise ShapeError(f"{name} must be a vector of length {n}, got {type(data).__name__}")
-    flat: list[Any] = []
-    for e in data:
-        if isinstance(e, (list, tuple)):
-            if len(e) != 1:
-                raise ShapeError(f"{name} must be a vector of length {n}, got a row of length {len(e)}")
-            flat.append(e[0])
-        else:
-            flat.append(e)
-    if len(flat) != n:
-        raise ShapeError(f"{name} has length {len(flat)}, expected {n}")
+    flat = vector_entries(data, n, name)
     return fmpq_mat(n, 1, [to_fmpq(e, f"{name}[{i}]") for i, e in enumerate(flat)])
 
 
 def is_rational_vector(x: Any) -> bool:
     """True for an ``fmpq_mat`` column (the exact-rational case of a state)."""
     return isinstance(x, fmpq_mat) and x.ncols() == 1
+
+
+def eigenvalue_moduli(A: fmpq_mat, chi: fmpq_poly | None = None):
+    """(smallest nonzero |lambda|, largest |lambda|) over the eigenvalues of A, as certified
+    ``arb`` balls, or None when A is nilpotent (every eigenvalue 0).  The zero eigenvalues are
+    split off exactly (the power of s dividing det(sI - A)), the others isolated by flint.
+
+    >>> lo, hi = eigenvalue_moduli(fmpq_mat([[0, 1], [-4, 0]]))
+    >>> lo.contains(2) and hi.contains(2)
+    True
+    """
+    p = flint.fmpz_poly((chi if chi is not None else A.charpoly()).numer())
+    while p.degree() > 0 and p[0] == 0:
+        p = flint.fmpz_poly(p.coeffs()[1:])
+    if p.degree() <= 0:
+        return None
+    p = p / p.gcd(p.derivative())  # squarefree part: the roots once each
+    mods = [abs(r) for r, _ in flint.fmpz_poly(p).complex_roots()]
+    lows, ups = [m.lower() for m in mods], [m.upper() for m in mods]  # exact endpoints
+    # min |lambda| lies in [min lower, min upper], max |lambda| in [max lower, max upper]
+    return min(lows).union(min(ups)), max(lows).union(max(ups))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -31,11 +31,11 @@ from typing import Any, Callable, Iterator
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from .balls import (DEFAULT_POLICY, Policy, accuracy_bits, closed_form_arb, decide_sign, digits_to_bits,
-                    workprec)
+from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_form_arb, decide_sign,
+                    digits_to_bits, workprec)
 from .errors import NotRational, ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of
-from .rational import is_zero, to_fmpq, to_matrix, to_vector, zeros
+from .rational import is_zero, to_fmpq, to_int, to_matrix, to_vector, vector_entries, zeros
 from .subspaces import in_row_span, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
 __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
@@ -173,6 +173,7 @@ class Real(_Node):
     def ball(self, digits: int = 30) -> arb:
         """An arb ball containing the value with relative radius < 10^-digits (absolute for a
         value that is zero or below 10^-digits)."""
+        digits = to_int(digits, "digits", 1, MAX_DIGITS)
         need = digits_to_bits(digits) + 4
         q = self.known_rational()
         if q is not None:  # exact (or rounded to far more than the digits asked)
@@ -191,6 +192,7 @@ class Real(_Node):
     def decimal(self, digits: int = 30) -> str:
         """The value to ``digits`` significant digits, followed by an error bound ``+/- e``
         unless it is exact."""
+        digits = to_int(digits, "digits", 1, MAX_DIGITS)
         q = self.known_rational()
         if q is None and self._cf_done and self._cf is not None and self._cf.is_Rational:
             q = fmpq(int(self._cf.p), int(self._cf.q))  # a closed form already proven rational
@@ -913,15 +915,7 @@ def as_exact_vector(x: Any, n: int | None = None, name: str = "x0", policy: Poli
                                         (n if n is not None else x.ncols()), name), policy)
     if hasattr(x, "tolist") and not _is_sympy(x):
         x = x.tolist()
-    if isinstance(x, (str, bytes)) or not hasattr(x, "__iter__"):
-        raise ShapeError(f"{name} must be a vector{'' if n is None else f' of length {n}'}, got {type(x).__name__}")
-    flat = []
-    for e in x:
-        if isinstance(e, (list, tuple)) and len(e) == 1:
-            e = e[0]
-        flat.append(e)
-    if n is not None and len(flat) != n:
-        raise ShapeError(f"{name} has length {len(flat)}, expected {n}")
+    flat = vector_entries(x, n, name)
     if any(_is_sympy(e) and not getattr(e, "is_Rational", False) for e in flat):
         return ComponentsVector([as_real(e, policy) for e in flat], policy)
     return RationalVector(to_vector(flat, len(flat), name), policy)

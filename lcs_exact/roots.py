@@ -58,6 +58,7 @@ class ExpSum:
         self.terms = terms
         self.prec = prec
         self._d: dict[int, list] = {0: terms}
+        self._shifted: dict[int, "ExpSum"] = {}
 
     def _deriv_terms(self, d: int) -> list:
         """Terms of f^{(d)}: (e^{lambda t} P)' = e^{lambda t} (lambda P + P')."""
@@ -96,6 +97,22 @@ class ExpSum:
         """f^{(d)}(t)."""
         return self.values(t, range(d, d + 1))[0]
 
+    def sign_enclose(self, lo: fmpq, hi: fmpq, d: int = 0) -> arb:
+        """An enclosure of e^{-mu t} f^{(d)}(t) on [lo, hi], mu a dyadic near the largest real
+        part of the exponents: the same sign as f^{(d)} everywhere (e^{-mu t} > 0), but a ball
+        can show it.  e^{-10^6 t} on [0, 1] spans 10^-434294 .. 1 - no midpoint-radius ball of it
+        excludes 0 - while its shifted form is the constant 1: stiff decaying terms cost nothing
+        once the slowest term is factored out."""
+        if d not in self._shifted:
+            terms = [t for t in self._deriv_terms(d) if any(not c.is_zero() for c in t[2])]
+            if not terms:
+                self._shifted[d] = ExpSum([(acb(0), 1, [acb(0)])], self.prec)
+            else:
+                with workprec(self.prec):
+                    mu = dyadic(max((lam.real for lam, _, _ in terms), key=lambda r: r.mid()))
+                    self._shifted[d] = ExpSum([(lam - mu, w, cs) for lam, w, cs in terms], self.prec)
+        return self._shifted[d].enclose(lo, hi, 0)
+
     def enclose(self, lo: fmpq, hi: fmpq, d: int = 0) -> arb:
         """An enclosure of f^{(d)} on [lo, hi] (Taylor form of order TAYLOR_ORDER at the midpoint)."""
         with workprec(self.prec):
@@ -111,7 +128,10 @@ class ExpSum:
                 # [-r, r]^j / j!: [0, r^j] for even j, [-r^j, r^j] for odd j
                 box = arb(rp / 2, rp / 2) if j % 2 == 0 else arb(0, rp)
                 out += coef * box / fact
-            return out
+            # the natural interval evaluation is rigorous too and far tighter on wide intervals
+            # where one exponential dominates (e^{-10^6 t} on [0, 1]): keep the intersection
+            direct = self.values(X, range(d, d + 1))[0]
+            return out.intersection(direct) if out.overlaps(direct) else direct
 
 
 class RootFunction(Protocol):
@@ -214,10 +234,10 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
 def _decide_interval(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, touch):
     """One interval of the search: "none" (no crossing in it), a Bracket, a smaller interval
     (lo, p, True) known to hold the crossing, or "split"."""
-    F = f.enclose(lo, hi, 0)
+    F = f.sign_enclose(lo, hi, 0)
     if not neg and F > 0:
         return "none"
-    D = f.enclose(lo, hi, 1)
+    D = f.sign_enclose(lo, hi, 1)
     if D > 0 and not neg:
         return "none"  # increasing from f(lo) > 0
     if D < 0:
@@ -229,7 +249,7 @@ def _decide_interval(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, to
         if s < 0:
             return Bracket(lo, hi, True)
         return "split"
-    D2 = f.enclose(lo, hi, 2)
+    D2 = f.sign_enclose(lo, hi, 2)
     if D2 < 0:  # concave with f(lo) > 0: at most one root in [lo, hi], a crossing
         s = -1 if neg else ball_sign(f.value(hi))
         if s > 0:
@@ -259,7 +279,7 @@ def _convex_minimum(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, tou
             clo = m
         else:
             chi = m
-        v = f.enclose(clo, chi, 0)
+        v = f.sign_enclose(clo, chi, 0)
         if v > 0:
             return "none" if not neg else "split"
         if f.value(clo) < 0:
@@ -321,12 +341,21 @@ class RootReal(Real):
         for _ in range(64 + 4 * prec.bit_length()):
             if self.hi - self.lo <= target:
                 return
+            if not f.sign_enclose(self.lo, self.hi, 1) < 0:
+                self.simple = False
+                return self._bisect(f, prec, target)
             X = arb(self.lo).union(arb(self.hi))
             m = dyadic(X)
             fm, dX = f.value(m), f.enclose(self.lo, self.hi, 1)
-            if not dX < 0:
-                self.simple = False
-                return self._bisect(f, prec, target)
+            if not dX < 0:  # f' < 0 is certified, but this enclosure is too loose: bisect once
+                sp = _split_point(f, self.lo, self.hi)
+                if sp is None:
+                    return
+                if sp[1] < 0:
+                    self.hi = sp[0]
+                else:
+                    self.lo = sp[0]
+                continue
             N = arb(m) - fm / dX
             lo2, hi2 = max(self.lo, dyadic_lower(N)), min(self.hi, dyadic_upper(N))
             if lo2 > hi2:
@@ -347,7 +376,7 @@ class RootReal(Real):
         """Bisection keeping "no crossing before lo" (a search on the left part at each step)."""
         while self.hi - self.lo > target:
             self.policy.check_deadline(lambda: f" while refining the root of {self.function.describe()}")
-            if f.enclose(self.lo, self.hi, 1) < 0:  # one simple root left: Newton from here
+            if f.sign_enclose(self.lo, self.hi, 1) < 0:  # one simple root left: Newton from here
                 self.simple = True
                 return self._newton(f, prec, target)
             sp = _split_point(f, self.lo, self.hi)

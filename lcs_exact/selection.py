@@ -38,8 +38,8 @@ from .errors import InvalidArgument, IllPosed, LCSError, NotAutonomous
 from .lcp import murty
 from .modes import LATEX_MAX_N, format_mode, latex_mode
 from .rcpfamily import family, row_series
-from .rational import (RationalFunction, RationalMatrix, is_rational_vector, is_zero, lex_sign, sign_of_form,
-                       submatrix, to_vector, zeros)
+from .rational import (MAX_KAPPA, RationalFunction, RationalMatrix, check_enumerable, is_rational_vector,
+                       is_zero, lex_sign, sign_of_form, submatrix, to_int, to_vector, zeros)
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "LDCPSolution", "select_modes",
            "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data",
@@ -205,6 +205,11 @@ class RCPSolution:
 
 
 def _all_modes(k: int):
+    check_enumerable(k, "RCP for every mode")  # at once, not on the first next()
+    return _subsets(k)
+
+
+def _subsets(k: int):
     for r in range(k + 1):
         for c in combinations(range(k), r):
             yield frozenset(c)
@@ -334,8 +339,7 @@ def ldcp(lcs, x0: Any, kappa: int) -> LDCPSolution:
     K (undecided) from the earlier stages, y_I = 0 and v_J = 0 leave an LCP on K with the Schur
     complement N_KK - N_KI N_II^{-1} N_IK, a P-matrix (the proof of Theorem 6.8).
     """
-    if kappa < -lcs.n + 1:
-        raise InvalidArgument(f"kappa must be >= -n + 1 = {-lcs.n + 1}, got {kappa}")
+    kappa = to_int(kappa, "kappa", -lcs.n + 1, MAX_KAPPA)
     _require_N_P(lcs)
     x = as_state(lcs, x0)
     n, k = lcs.n, lcs.k

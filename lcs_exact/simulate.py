@@ -26,7 +26,7 @@ from typing import Any
 from flint import arb
 
 from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, workprec
-from .errors import (Deadlock, IllPosed, LCSError, LimitExceeded, ShapeError, UnresolvedSign,
+from .errors import (Deadlock, IllPosed, InvalidArgument, LCSError, LimitExceeded, ShapeError, UnresolvedSign,
                      ZenoDetected)
 from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
 from .flow import next_event
@@ -44,29 +44,78 @@ _ZENO_WINDOW = 24
 _CLOSED_FORMS = {"lazy": "lazy", True: "eager", "eager": "eager", False: "off", "off": "off"}
 
 
-def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec):
-    """Validated options (every bad value is a named LCSError that says which argument)."""
-    if isinstance(digits, bool) or not isinstance(digits, int) or not 1 <= digits <= MAX_DIGITS:
-        raise ShapeError(f"digits must be an integer in 1..{MAX_DIGITS}, got {digits!r}")
-    if isinstance(max_events, bool) or not isinstance(max_events, int) or max_events < 0:
-        raise ShapeError(f"max_events must be a nonnegative integer, got {max_events!r}")
-    if time_limit is not None and (isinstance(time_limit, bool) or not isinstance(time_limit, (int, float))
-                                   or not time_limit >= 0):
-        raise ShapeError(f"time_limit must be a nonnegative number of seconds or None, got {time_limit!r}")
-    if closed_forms not in _CLOSED_FORMS:
-        raise ShapeError(f"closed_forms must be 'lazy', True or False, got {closed_forms!r}")
-    if max_prec is not None and (not isinstance(max_prec, int) or max_prec < 64):
-        raise ShapeError(f"max_prec must be an integer >= 64 bits, got {max_prec!r}")
+def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec, *,
+             allow_unresolved=False):
+    """Validated options: every bad value is a named LCSError whose message names the argument
+    (:class:`InvalidArgument` for option values, :class:`ShapeError` / :class:`NotRational` for
+    x0 and t_end), and the limits of docs/limits.md are enforced before anything is computed."""
+    import math
+    from collections.abc import Iterator
+    from numbers import Real as RealNumber
+
+    from flint import fmpq_mat
+
+    from .errors import InvalidArgument, NotRational
+    from .rational import (MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_PREC_BITS, to_fmpq, to_int,
+                           to_short, vector_entries)
+    from .reals import Real
+    from .system import LCS
+
+    def is_int(v):
+        return isinstance(v, int) and not isinstance(v, bool)
+
+    if not isinstance(lcs, LCS):
+        raise InvalidArgument(f"lcs must be an LCS (lcs_exact.LCS), got {type(lcs).__name__}")
+    if not is_int(digits):
+        raise InvalidArgument(f"digits must be a Python int in 1..{MAX_DIGITS}, got {to_short(digits)} "
+                              f"({type(digits).__name__}{'; use int(...)' if hasattr(digits, '__index__') else ''})")
+    to_int(digits, "digits", 1, MAX_DIGITS)
+    if not is_int(max_events) or max_events < 0:
+        raise InvalidArgument(f"max_events must be a nonnegative Python int, got {to_short(max_events)}")
+    if time_limit is not None:
+        try:  # the deadline adds it to a float clock: it must be a real number a float can hold
+            seconds = float(time_limit) if isinstance(time_limit, RealNumber) else math.nan
+        except OverflowError:
+            seconds = math.nan
+        if isinstance(time_limit, bool) or type(time_limit).__name__ == "bool_" or not seconds >= 0:
+            raise InvalidArgument("time_limit must be a nonnegative number of seconds (a float can hold) or "
+                                  f"None, got {to_short(time_limit)}")
+    if not isinstance(closed_forms, (str, bool)) or closed_forms not in _CLOSED_FORMS:
+        raise InvalidArgument(f"closed_forms must be 'lazy', True or False, got {to_short(closed_forms)}")
+    if not isinstance(allow_unresolved, bool):
+        raise InvalidArgument(f"allow_unresolved must be True or False, got {to_short(allow_unresolved)}")
+    if max_prec is not None and (not is_int(max_prec) or not 64 <= max_prec <= MAX_PREC_BITS):
+        raise InvalidArgument(f"max_prec must be None or an int in 64..{MAX_PREC_BITS} (bits), got {to_short(max_prec)}")
     if x0 is None:
         raise ShapeError("x0 is required: a vector of length n (rational entries or an exact vector)")
+    if not isinstance(x0, (ExactVector, fmpq_mat, Iterator)):  # an iterator is read once, later
+        vector_entries(x0, lcs.n, "x0")
+    if t_end is None:
+        raise NotRational("t_end is required: a rational number or an exact real >= 0")
+    T = t_end if isinstance(t_end, Real) or type(t_end).__module__.startswith("sympy") else to_fmpq(t_end, "t_end")
     try:
-        T = as_real(t_end)
+        T = as_real(T)
     except LCSError as e:
         raise type(e)(f"t_end: {e}") from e
     except (TypeError, ValueError) as e:
-        raise ShapeError(f"t_end: {e}") from e
+        raise NotRational(f"t_end: {e}") from e
     if T.sign() < 0:
-        raise ShapeError(f"t_end must be >= 0, got {t_end}")
+        raise InvalidArgument(f"t_end must be >= 0, got {T.label()}")
+    # the horizon (docs/limits.md): t_end times the slowest and the fastest rate of x' = Ax
+    with workprec(64):
+        tb = T.arb(64)
+        norm = max(sum(abs(lcs.A[i, j]) for j in range(lcs.n)) for i in range(lcs.n))  # >= |lambda|
+        if not tb * arb(norm) <= MAX_HORIZON_SLOW and lcs.spectral_scales() is not None:
+            for rate, limit, which in ((lcs.spectral_scales()[0], MAX_HORIZON_SLOW, "slowest nonzero"),
+                                       (lcs.spectral_scales()[1], MAX_HORIZON_FAST, "largest")):
+                if tb * rate > limit:
+                    most = limit / rate.upper()
+                    raise InvalidArgument(
+                        f"t_end = {T.label()} is beyond the horizon limit: t_end times the {which} "
+                        f"|eigenvalue| of A ({float(rate.mid()):.4g}) is {float((tb * rate).mid()):.4g} > "
+                        f"10^{round(math.log10(limit))} (MAX_HORIZON_{'SLOW' if limit == MAX_HORIZON_SLOW else 'FAST'}, "
+                        f"docs/limits.md); t_end <= {float(most.mid()):.4g} is accepted: simulate in "
+                        "pieces (restart from traj.state(t)) or rescale time")
     return T
 
 
@@ -80,14 +129,18 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     ----------
     lcs : LCS
     x0 : vector
-        Rational (any input LCS accepts) or an exact vector such as ``expm_action(A, -1, v)``.
+        Rational (any input LCS accepts: a flat list or a column, not a string, dict or set) or
+        an exact vector such as ``expm_action(A, -1, v)``.
     t_end : rational or exact real, >= 0
+        Within the horizon limits of docs/limits.md: t_end times the smallest nonzero |eigenvalue|
+        of A at most 10^6 (``MAX_HORIZON_SLOW``) and times its spectral radius at most 10^12
+        (``MAX_HORIZON_FAST``); a rational has at most 65,536 bits (``MAX_RATIONAL_BITS``).
     digits : int
-        Correct significant digits promised for every reported number (1..10000).  Evaluation
-        is on demand; sign decisions refine up to ``max_prec`` bits (default
-        max(4096, 8 * bits(digits))).
-    max_events, time_limit : limits; reaching one raises :class:`LimitExceeded` with the
-        partial trajectory in ``.trajectory``.
+        Correct significant digits promised for every reported number (1..10000,
+        ``balls.MAX_DIGITS``).  Evaluation is on demand; sign decisions refine up to
+        ``max_prec`` bits (default max(4096, 8 * bits(digits)); at most 2^20).
+    max_events, time_limit : limits (an int >= 0; seconds >= 0 or None); reaching one raises
+        :class:`LimitExceeded` with the partial trajectory in ``.trajectory``.
     allow_unresolved : if True, an undecidable sign is assumed zero, recorded in
         ``traj.assumptions``, and the result is not ``certified``; otherwise UnresolvedSign.
     closed_forms : ``"lazy"`` (default: proven on first access of ``.closed_form``), True (proven
@@ -104,6 +157,11 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         ``time_limit`` each) and return :class:`~lcs_exact.trajectory.Branches`, each trajectory
         with its ``.choices`` (never ``certified``: none is *the* solution).
 
+    Raises
+    ------
+    InvalidArgument, ShapeError, NotRational
+        Before anything is computed, for a bad option, x0 or t_end (the message names it).
+
     Examples
     --------
     >>> from lcs_exact.models import two_carts
@@ -111,7 +169,8 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     >>> tr.events[0].state_after
     (0, 1, 0, 0)
     """
-    T = _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec)
+    T = _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec,
+                 allow_unresolved=allow_unresolved)
     policy = Policy(digits=digits, max_prec=max_prec or 0, allow_unresolved=allow_unresolved,
                     closed_forms=_CLOSED_FORMS[closed_forms], deadline=Deadline(time_limit))
     if zeno not in ("cross", "stop"):
@@ -233,6 +292,7 @@ class _Run:
             if H.sign() == 0:
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase))
                 return
+            _check_phase_horizon(phase, H, t)
             try:
                 hit = next_event(phase, H, prec)
             except (UnresolvedSign, LCSError) as e:
@@ -424,6 +484,19 @@ class _ReferenceStates:
             M = F if kind == "u" else self.run.lcs.C + self.run.lcs.D * F
             return ProjectedVector(M, x)
         raise LCSError("internal inconsistency: a reference time outside the computed run")
+
+
+def _check_phase_horizon(phase: Phase, H, t) -> None:
+    """The horizon limit of docs/limits.md per phase: H rho(A_I) <= MAX_HORIZON_FAST (a mode can be
+    faster than A itself: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0})."""
+    from .rational import MAX_HORIZON_FAST
+    eig = phase.spectrum.eigen(64)  # cached on the mode
+    with workprec(64):
+        rho = max((abs(lam) for lam, _, _ in eig), key=lambda b: b.mid(), default=None)
+        if rho is not None and H.arb(64) * rho > MAX_HORIZON_FAST:
+            raise InvalidArgument(f"the horizon t_end - t = {H.label()} from t = {t.label()} is too long for "
+                                  f"mode {format_mode(phase.mode.I)} (spectral radius ~{float(rho.mid()):.3g}): "
+                                  f"t_end * rho <= {MAX_HORIZON_FAST:g} (docs/limits.md)")
 
 
 def _accuracy(ball) -> int:

@@ -12,15 +12,18 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Mapping, Sized
 from dataclasses import dataclass, field
+from itertools import islice
 from typing import Any, Iterable
 
 from flint import fmpq_mat, fmpq_poly
 
 from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
-from .rational import (RationalFunction, RationalMatrix, adjugate_coefficients, mat_rows,
-                       matrix_to_sympy, submatrix, to_matrix, to_vector)
+from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, RationalFunction, RationalMatrix,
+                       adjugate_coefficients, eigenvalue_moduli, mat_rows, matrix_to_sympy, submatrix, to_int,
+                       to_matrix, to_short, to_vector)
 
 __all__ = ["LCS", "WellPosedness", "LATEX_MAX_CHARS"]
 
@@ -48,9 +51,12 @@ def _names(names: Any, count: int, what: str, prefix: str) -> tuple:
         return tuple(f"{prefix}{i}" for i in range(count))
     if isinstance(names, str) or not isinstance(names, Iterable):
         raise InvalidArgument(f"{what} must be a sequence of {count} strings, got {type(names).__name__}")
-    names = tuple(names)
+    # a sized sequence is read whole; an iterator is cut off (it may be endless)
+    sized = isinstance(names, Sized)
+    names = tuple(names) if sized else tuple(islice(iter(names), count + 1))
     if len(names) != count:
-        raise ShapeError(f"{what} has {len(names)} names, expected {count}")
+        got = str(len(names)) if sized or len(names) < count else f"more than {count}"
+        raise ShapeError(f"{what} has {got} names, expected {count}")
     bad = [nm for nm in names if not isinstance(nm, str) or not nm]
     if bad:
         raise InvalidArgument(f"{what} must be nonempty strings, got {bad[0]!r}")
@@ -130,9 +136,12 @@ class LCS:
 
     # --- Markov parameters and transfer matrices --------------------------------------------
     def markov(self, i: int) -> fmpq_mat:
-        """H_i (5.8): H_0 = D, H_i = C A^{i-1} B (exact, k x k)."""
-        if i < 0:
-            raise InvalidArgument(f"Markov parameter index must be >= 0, got {i}")
+        """H_i (5.8): H_0 = D, H_i = C A^{i-1} B (exact, k x k); 0 <= i <= MAX_MARKOV_INDEX (4096).
+
+        >>> LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]]).markov(2)
+        [1]
+        """
+        i = to_int(i, "Markov parameter index i", 0, MAX_MARKOV_INDEX)
         while len(self._markov) <= i:
             j = len(self._markov)  # H_j = C A^{j-1} B
             while len(self._apow_b) < j:
@@ -141,7 +150,8 @@ class LCS:
         return self._markov[i]
 
     def a_power_b(self, i: int) -> fmpq_mat:
-        """A^i B (used for the state jump (3.8))."""
+        """A^i B (used for the state jump (3.8)); 0 <= i <= MAX_MARKOV_INDEX."""
+        i = to_int(i, "power i of A^i B", 0, MAX_MARKOV_INDEX)
         while len(self._apow_b) <= i:
             self._apow_b.append(self.A * self._apow_b[-1])
         return self._apow_b[i]
@@ -151,6 +161,19 @@ class LCS:
         if "chi" not in self._cache:
             self._cache["chi"] = self.A.charpoly()
         return self._cache["chi"]
+
+    def spectral_scales(self):
+        """(smallest nonzero |lambda|, largest |lambda|) over the eigenvalues lambda of A, as
+        certified ``arb`` balls, or None when A is nilpotent: the slowest and fastest rates of
+        mode 0 (x' = Ax), which bound the horizons ``simulate`` accepts (docs/limits.md).
+
+        >>> lo, hi = LCS([[0, 1], [-4, 0]], [[0], [1]], [[1, 0]], [[0]]).spectral_scales()
+        >>> lo.contains(2) and hi.contains(2)
+        True
+        """
+        if "scales" not in self._cache:
+            self._cache["scales"] = eigenvalue_moduli(self.A, self.charpoly())
+        return self._cache["scales"]
 
     def _adjugate_coeffs(self) -> list[fmpq_mat]:
         if "adj" not in self._cache:
@@ -254,10 +277,13 @@ class LCS:
 
     # --- modes and selection (delegated) -----------------------------------------------------
     def _index_set(self, I: Iterable[int]) -> frozenset:
-        try:
-            s = frozenset(int(i) for i in I)
-        except TypeError:
-            raise ShapeError(f"a mode is a set of constraint indices, got {I!r}") from None
+        if isinstance(I, (str, bytes, Mapping)) or not isinstance(I, Iterable):
+            raise ShapeError(f"a mode is a set of constraint indices (0-based ints), got {to_short(I)}")
+        items = list(islice(iter(I), MAX_DIMENSION + 1))  # an endless iterator is cut off
+        if len(items) > MAX_DIMENSION:
+            raise ShapeError(f"a mode is a set of at most k = {self.k} constraint indices, got more than "
+                             f"{MAX_DIMENSION} items")
+        s = frozenset(to_int(i, "a mode's constraint index") for i in items)
         bad = [i for i in s if not 0 <= i < self.k]
         if bad:
             raise ShapeError(f"mode {set(sorted(s))} has indices {bad} outside 0..{self.k - 1} (indices are 0-based)")

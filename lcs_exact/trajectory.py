@@ -186,7 +186,11 @@ class Trajectory:
         """Certified balls of x(t) for every t in ``ts`` (rationals), each component to ``digits``
         digits (absolute 10^-digits for components below that).  One exponential per eigenvalue
         and point, from the phase's modal data: thousands of points in well under a second."""
-        from .rational import to_fmpq
+        from .balls import MAX_DIGITS
+        from .rational import to_fmpq, to_int
+        digits = to_int(digits, "digits", 1, MAX_DIGITS)
+        if isinstance(ts, (str, bytes)) or not hasattr(ts, "__iter__"):
+            raise InvalidArgument(f"ts must be a sequence of rational times, got {type(ts).__name__}")
         need = digits_to_bits(digits) + 4
         out: list = []
         prec = need + 32
