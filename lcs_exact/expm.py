@@ -103,6 +103,20 @@ class Spectrum:
         """True when M is diagonalizable over C (N = 0)."""
         return len(self.nilpotent) == 1
 
+    def eigenvalues(self, prec: int) -> list[tuple[acb, int]]:
+        """[(lambda, weight)] at ``prec`` bits: the roots of r, one of each conjugate pair (weight
+        2), without the projections K_lambda of :meth:`eigen` (O(n^3) per pair)."""
+        if self._eig_prec >= prec:
+            return [(lam, w) for lam, w, _ in self._eig]
+        with workprec(prec + 24):
+            out = []
+            for lam, _ in self.r.complex_roots():
+                if lam.imag.is_zero():
+                    out.append((acb(lam.real), 1))
+                elif lam.imag > 0:
+                    out.append((lam, 2))
+            return out
+
     def eigen(self, prec: int) -> list[tuple[acb, int, acb_mat]]:
         """[(lambda, weight, K_lambda)] at ``prec`` bits (cached at the highest precision asked)."""
         if self._eig_prec < prec:
@@ -111,17 +125,11 @@ class Spectrum:
             with workprec(prec + 24):
                 out = []
                 dr = self.r.derivative()
-                for lam, _ in self.r.complex_roots():
-                    if lam.imag.is_zero():
-                        weight = 1
-                        lam = acb(lam.real)
-                    elif lam.imag > 0:
-                        weight = 2
-                    else:
-                        continue
+                Bs = [acb_mat(B) for B in self._B]  # converted once, not once per eigenvalue
+                for lam, weight in self.eigenvalues(prec):
                     q = acb_mat(self.n, self.n)
-                    for B in self._B:  # Horner in lambda
-                        q = q * lam + acb_mat(B)
+                    for B in Bs:  # Horner in lambda
+                        q = q * lam + B
                     d = acb(0)
                     for c in reversed(dr.coeffs()):
                         d = d * lam + acb(c)

@@ -111,10 +111,12 @@ class ExpSum:
                 with workprec(self.prec):
                     mu = dyadic(max((lam.real for lam, _, _ in terms), key=lambda r: r.mid()))
                     self._shifted[d] = ExpSum([(lam - mu, w, cs) for lam, w, cs in terms], self.prec)
-        return self._shifted[d].enclose(lo, hi, 0)
+        return self._shifted[d].enclose(lo, hi, 0, sign_only=True)
 
-    def enclose(self, lo: fmpq, hi: fmpq, d: int = 0) -> arb:
-        """An enclosure of f^{(d)} on [lo, hi] (Taylor form of order TAYLOR_ORDER at the midpoint)."""
+    def enclose(self, lo: fmpq, hi: fmpq, d: int = 0, sign_only: bool = False) -> arb:
+        """An enclosure of f^{(d)} on [lo, hi] (Taylor form of order TAYLOR_ORDER at the midpoint,
+        intersected with the natural interval evaluation).  ``sign_only``: the caller wants the
+        sign only, so a Taylor form that already excludes 0 is returned as it is."""
         with workprec(self.prec):
             X = arb(lo).union(arb(hi))  # contains [lo, hi] whatever the rounding
             m, r = X.mid(), X.rad()  # exact: X = [m - r, m + r]
@@ -128,6 +130,8 @@ class ExpSum:
                 # [-r, r]^j / j!: [0, r^j] for even j, [-r^j, r^j] for odd j
                 box = arb(rp / 2, rp / 2) if j % 2 == 0 else arb(0, rp)
                 out += coef * box / fact
+            if sign_only and ball_sign(out):
+                return out
             # the natural interval evaluation is rigorous too and far tighter on wide intervals
             # where one exponential dominates (e^{-10^6 t} on [0, 1]): keep the intersection
             direct = self.values(X, range(d, d + 1))[0]
@@ -338,15 +342,20 @@ class RootReal(Real):
         """Interval Newton N(X) = m - f(m)/f'(X) on the bracket, kept as rational ends; a
         bisection step where Newton does not contract (a wide bracket), a stop where the
         precision is exhausted."""
+        certified = False  # f' < 0 on the bracket; it stays so on every sub-bracket
         for _ in range(64 + 4 * prec.bit_length()):
             if self.hi - self.lo <= target:
                 return
-            if not f.sign_enclose(self.lo, self.hi, 1) < 0:
-                self.simple = False
-                return self._bisect(f, prec, target)
+            dX = f.enclose(self.lo, self.hi, 1)
+            certified = certified or dX < 0
+            if not certified:
+                if not f.sign_enclose(self.lo, self.hi, 1) < 0:
+                    self.simple = False
+                    return self._bisect(f, prec, target)
+                certified = True
             X = arb(self.lo).union(arb(self.hi))
             m = dyadic(X)
-            fm, dX = f.value(m), f.enclose(self.lo, self.hi, 1)
+            fm = f.value(m)
             if not dX < 0:  # f' < 0 is certified, but this enclosure is too loose: bisect once
                 sp = _split_point(f, self.lo, self.hi)
                 if sp is None:

@@ -41,7 +41,7 @@ from .rcpfamily import family, row_series
 from .rational import (MAX_KAPPA, RationalFunction, RationalMatrix, check_enumerable, is_rational_vector,
                        is_zero, lex_sign, sign_of_form, submatrix, to_int, to_vector, zeros)
 
-__all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "LDCPSolution", "select_modes",
+__all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "ldcp_modes", "LDCPSolution", "select_modes",
            "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data",
            "admissibility_forms", "admissibility_conditions", "NONAUTONOMOUS"]
 
@@ -344,42 +344,83 @@ def ldcp(lcs, x0: Any, kappa: int) -> LDCPSolution:
     x = as_state(lcs, x0)
     n, k = lcs.n, lcs.k
     eta = lcs.leading_column_indices()
-    N = lcs.leading_column_matrix()
     U: dict[int, fmpq_mat] = {j: zeros(k, n) for j in range(-n + 1, kappa + 1)}  # u^j as forms
     Y: dict[int, fmpq_mat] = {i: zeros(k, n) for i in range(-n + 1, kappa + 1)}
     I: set[int] = set()
     J: set[int] = set()
-    cap = lcs.C  # C A^{i-1}
-    for i in range(1, kappa + 1):
-        if i > 1:
-            cap = cap * lcs.A
-        z = fmpq_mat(cap)
-        for l in range(k):
-            for j in range(max(1 - eta[l], -n + 1), i - eta[l]):
-                h = lcs.markov(i - j)
-                col = submatrix(h, None, [l])
-                if not is_zero(col):
-                    z = z + col * submatrix(U[j], [l], None)
-        v = _stage_lcp(N, z, x, sorted(I), sorted(J))
-        for l in range(k):
-            j = i - eta[l]
-            if j >= -n + 1:
+    for i, urows, y in _lcp_sequence(lcs, x, kappa, I, J):
+        for (l, j), row in urows.items():
+            if j == i - eta[l]:
                 for c in range(n):
-                    U[j][l, c] = v[l, c]
-        Y[i] = z + N * v
-        for l in range(k):
-            if l in I or l in J:
-                continue
-            if sign_of_form(submatrix(v, [l], None), x) > 0:
-                I.add(l)
-            elif sign_of_form(submatrix(Y[i], [l], None), x) > 0:
-                J.add(l)
+                    U[j][l, c] = row[0, c]
+        Y[i] = y
     K = frozenset(range(k)) - I - J
     undetermined = frozenset((l, j) for l in range(k) for j in range(max(kappa - eta[l] + 1, -n + 1), kappa + 1))
     modes = {frozenset(I) | frozenset(c) for r in range(len(K) + 1) for c in combinations(sorted(K), r)}
     return LDCPSolution(lcs, x, kappa, {j: _evaluate(f, x) for j, f in U.items()},
                         {i: _evaluate(f, x) for i, f in Y.items()}, frozenset(I), frozenset(J), K,
                         undetermined, modes)
+
+
+def ldcp_modes(lcs, x: fmpq_mat) -> set:
+    """S_LDCP^n(x0) of Theorem 6.10 (N a P-matrix, x a state column): the LCP sequence of
+    :func:`ldcp`, stopped at the first stage after which every index is in I or J - I and J
+    only grow, so later stages cannot change the modes {I ∪ K' : K' ⊆ K}."""
+    _require_N_P(lcs)
+    k = lcs.k
+    I: set[int] = set()
+    J: set[int] = set()
+    for _ in _lcp_sequence(lcs, x, lcs.n, I, J):
+        if len(I) + len(J) == k:
+            break
+    K = sorted(set(range(k)) - I - J)
+    return {frozenset(I) | frozenset(c) for r in range(len(K) + 1) for c in combinations(K, r)}
+
+
+def _lcp_sequence(lcs, x: fmpq_mat, kappa: int, I: set, J: set):
+    """The stages i = 1..kappa of Theorem 6.9 (see :func:`ldcp`), growing I and J in place.
+
+    Yields (i, u, y^i): u maps (l, j) to the row u_l^j (a 1 x n form) for the nonzero unknowns
+    found so far, y^i is k x n.  Only nonzero rows of u and nonzero columns of the Markov
+    parameters enter y^i = C A^{i-1} x + sum_j H_{i-j} u^j: on long runs of large systems most
+    of the k * kappa^2 / 2 products are zero."""
+    n, k = lcs.n, lcs.k
+    eta = lcs.leading_column_indices()
+    N = lcs.leading_column_matrix()
+    cols: dict[tuple[int, int], fmpq_mat | None] = {}  # (d, l) -> column l of H_d, None if zero
+
+    def hcol(d: int, l: int):
+        if (d, l) not in cols:
+            col = submatrix(lcs.markov(d), None, [l])
+            cols[d, l] = None if is_zero(col) else col
+        return cols[d, l]
+
+    urows: dict[tuple[int, int], fmpq_mat] = {}
+    cap = lcs.C  # C A^{i-1}
+    for i in range(1, kappa + 1):
+        if i > 1:
+            cap = cap * lcs.A
+        z = fmpq_mat(cap)
+        for (l, j), row in urows.items():
+            if j < i - eta[l]:
+                col = hcol(i - j, l)
+                if col is not None:
+                    z = z + col * row
+        v = _stage_lcp(N, z, x, sorted(I), sorted(J))
+        for l in range(k):
+            j = i - eta[l]
+            row = submatrix(v, [l], None)
+            if j >= -n + 1 and not is_zero(row):
+                urows[l, j] = row
+        y = z + N * v
+        for l in range(k):
+            if l in I or l in J:
+                continue
+            if sign_of_form(submatrix(v, [l], None), x) > 0:
+                I.add(l)
+            elif sign_of_form(submatrix(y, [l], None), x) > 0:
+                J.add(l)
+        yield i, urows, y
 
 
 def _stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_mat:
@@ -447,7 +488,7 @@ def select_modes(lcs, x0: Any, method: str = "auto", *, nonautonomous: str = "ra
         raise InvalidArgument(f"nonautonomous must be 'raise' or 'include', got {nonautonomous!r}")
     x = as_state(lcs, x0)
     if method == "ldcp" or (method == "auto" and lcs.well_posedness().N_is_P):
-        return ldcp(lcs, x, lcs.n).modes
+        return ldcp_modes(lcs, x)
     S = {I for I in _all_modes(lcs.k) if mode_admissible(lcs.mode(I), x)}
     bad = sorted((I for I in S if not lcs.mode(I).is_autonomous), key=lambda m: (len(m), sorted(m)))
     if bad and nonautonomous == "raise":

@@ -490,9 +490,9 @@ def _check_phase_horizon(phase: Phase, H, t) -> None:
     """The horizon limit of docs/limits.md per phase: H rho(A_I) <= MAX_HORIZON_FAST (a mode can be
     faster than A itself: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0})."""
     from .rational import MAX_HORIZON_FAST
-    eig = phase.spectrum.eigen(64)  # cached on the mode
+    eig = phase.spectrum.eigenvalues(64)
     with workprec(64):
-        rho = max((abs(lam) for lam, _, _ in eig), key=lambda b: b.mid(), default=None)
+        rho = max((abs(lam) for lam, _ in eig), key=lambda b: b.mid(), default=None)
         if rho is not None and H.arb(64) * rho > MAX_HORIZON_FAST:
             raise InvalidArgument(f"the horizon t_end - t = {H.label()} from t = {t.label()} is too long for "
                                   f"mode {format_mode(phase.mode.I)} (spectral radius ~{float(rho.mid()):.3g}): "
