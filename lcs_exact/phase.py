@@ -64,6 +64,11 @@ class PhaseFunction:
     def deps(self) -> tuple:
         return (self.phase.base,)
 
+    def __getstate__(self):
+        # the exponential sum is a ball cache of the exact data (rebuilt on demand): a pickled
+        # trajectory (sweeps) carries its exact definitions and computed digits, not its caches
+        return {**self.__dict__, "_sum": None}
+
     def polynomial(self) -> fmpq_poly | None:
         """f as an exact polynomial in t when A_I is nilpotent (a piecewise-constant or
         piecewise-polynomial vector field, e.g. relays) and the start is rational: then
@@ -120,6 +125,9 @@ class Phase:
                 g = g + submatrix(D, [i], mode.I) * F
             cons.append(Constraint("y", i, g))
         return cons
+
+    def __getstate__(self):
+        return {**self.__dict__, "_modal": None, "_modal_prec": 0}  # ball caches, as above
 
     # --- data per precision -------------------------------------------------------------------
     def modal(self, prec: int) -> list:

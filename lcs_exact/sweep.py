@@ -12,7 +12,9 @@ the systems it rebuilt, so mode data is computed once per worker). The trajector
 as bytes from a pickler that knows how to write flint numbers *exactly* (integers and
 rationals by value, balls by their binary midpoint and radius), so the parent receives the same
 exact definitions, anchors and closed forms a sequential :func:`~lcs_exact.simulate.simulate`
-would give. A run that stops early keeps its :class:`~lcs_exact.errors.LCSError` (same class and
+would give. The system, its modes and spectra do not travel back (the trajectory refers to the
+caller's own LCS and its modes), nor do ball caches of phases (rebuilt on demand): a few
+kilobytes per run. Jobs go out in chunks, a few per CPU, to save round trips. A run that stops early keeps its :class:`~lcs_exact.errors.LCSError` (same class and
 message) and the partial trajectory in ``error.trajectory`` and ``result.trajectory``; the other
 runs are unaffected. Results come back in input order.
 """
@@ -30,6 +32,8 @@ import flint
 
 from .errors import InvalidArgument
 from . import errors as _errors
+from .expm import Spectrum, spectrum_of
+from .modes import Mode
 from .simulate import simulate
 from .system import LCS
 
@@ -143,12 +147,55 @@ _DISPATCH.update({
 })
 
 
-def _dumps(obj) -> bytes:
+class _Pickler(pickle.Pickler):
+    """Writes a trajectory exactly, leaving out what the parent has or can rebuild: the system
+    itself and its modes (the parent's own objects stand in for them), and spectra (a pure
+    function of their rational matrix).  Results shrink from tens of kilobytes to a few, and
+    the parent - which unpickles every result alone - stops being the bottleneck of a sweep."""
+
+    dispatch_table = _DISPATCH
+
+    def __init__(self, file, lcs: LCS | None):
+        super().__init__(file, protocol=pickle.HIGHEST_PROTOCOL)
+        self._lcs = lcs
+
+    def persistent_id(self, obj):
+        if self._lcs is not None:
+            if obj is self._lcs:
+                return ("lcs",)
+            if isinstance(obj, Mode) and obj.lcs is self._lcs:
+                return ("mode", tuple(sorted(obj.I)))
+        if isinstance(obj, Spectrum):
+            M = obj.M
+            return ("spectrum", M.nrows(), tuple(str(c) for c in M.entries()))
+        return None
+
+
+class _Unpickler(pickle.Unpickler):
+    def __init__(self, file, lcs: LCS | None):
+        super().__init__(file)
+        self._lcs = lcs
+
+    def persistent_load(self, pid):
+        kind = pid[0]
+        if kind == "lcs" and self._lcs is not None:
+            return self._lcs
+        if kind == "mode" and self._lcs is not None:
+            return self._lcs.mode(pid[1])
+        if kind == "spectrum":
+            n, entries = pid[1], pid[2]
+            return spectrum_of(flint.fmpq_mat(n, n, [flint.fmpq(c) for c in entries]))
+        raise pickle.UnpicklingError(f"unknown persistent id {pid[:1]!r}")
+
+
+def _dumps(obj, lcs: LCS | None = None) -> bytes:
     buf = io.BytesIO()
-    p = pickle.Pickler(buf, protocol=pickle.HIGHEST_PROTOCOL)
-    p.dispatch_table = _DISPATCH
-    p.dump(obj)
+    _Pickler(buf, lcs).dump(obj)
     return buf.getvalue()
+
+
+def _loads(data: bytes, lcs: LCS | None = None):
+    return _Unpickler(io.BytesIO(data), lcs).load()
 
 
 # --- jobs ---------------------------------------------------------------------------------------
@@ -178,8 +225,11 @@ def _text_vector(x, where: str) -> list:
 def _system_text(lcs: LCS) -> tuple:
     return (tuple(map(tuple, _text_matrix(lcs.A))), tuple(map(tuple, _text_matrix(lcs.B))),
             tuple(map(tuple, _text_matrix(lcs.C))), tuple(map(tuple, _text_matrix(lcs.D))),
-            getattr(lcs, "name", None))
+            lcs.name, tuple(lcs.state_names), tuple(lcs.constraint_names))
 
+
+#: chunks per CPU of the parent in a sweep (see ``_drive``)
+CHUNKS_PER_CPU = 8
 
 _SYSTEMS: dict = {}   # per worker process: rebuilt systems keep their mode caches
 
@@ -187,9 +237,10 @@ _SYSTEMS: dict = {}   # per worker process: rebuilt systems keep their mode cach
 def _rebuild(system: tuple) -> LCS:
     lcs = _SYSTEMS.get(system)
     if lcs is None:
-        A, B, C, D, name = system
+        A, B, C, D, name, state_names, constraint_names = system
         lcs = LCS([list(r) for r in A], [list(r) for r in B], [list(r) for r in C],
-                  [list(r) for r in D], name=name)
+                  [list(r) for r in D], name=name, state_names=list(state_names),
+                  constraint_names=list(constraint_names))
         if len(_SYSTEMS) > 64:
             _SYSTEMS.clear()
         _SYSTEMS[system] = lcs
@@ -207,33 +258,40 @@ def run_job(system: tuple, x0: list, t_end: str, options: dict) -> tuple:
         traj = simulate(lcs, x0, t_end, **options)
     except _errors.LCSError as e:
         tr = getattr(e, "trajectory", None)
-        return "lcs_error", (type(e).__name__, str(e), None if tr is None else _safe_dumps(tr))
+        return "lcs_error", (type(e).__name__, str(e), None if tr is None else _safe_dumps(tr, lcs))
     except Exception as e:   # RecursionError, ... : keep it, lose nothing else
         try:
             return "error", pickle.dumps(e)
         except Exception:
             return "error", pickle.dumps(RuntimeError(f"{type(e).__name__}: {e}"))
-    return "ok", _safe_dumps(traj)
+    return "ok", _safe_dumps(traj, lcs)
 
 
-def _safe_dumps(traj):
+def run_jobs(jobs: list) -> list:
+    """Worker side of a chunk of jobs (:func:`run_job` each): one round trip for several runs."""
+    return [run_job(*job) for job in jobs]
+
+
+def _safe_dumps(traj, lcs):
     try:
-        return _dumps(traj)
+        return _dumps(traj, lcs)
     except Exception as e:   # an object the exact pickler does not know: say so, keep the run
         return ("unpicklable", f"{type(e).__name__}: {e}")
 
 
-def _load_traj(payload):
+def _load_traj(payload, lcs):
     if payload is None:
         return None
     if isinstance(payload, tuple) and payload and payload[0] == "unpicklable":
         return None
-    return pickle.loads(payload)
+    return _loads(payload, lcs)
 
 
-def _result(x0, param, status, payload) -> SweepResult:
+def _result(x0, param, lcs, status, payload) -> SweepResult:
+    """The parent side of :func:`run_job`; ``lcs`` is the parent's system, which the returned
+    trajectory refers to (its modes are the parent's modes)."""
     if status == "ok":
-        traj = _load_traj(payload)
+        traj = _load_traj(payload, lcs)
         err = None
         if traj is None:
             err = RuntimeError(f"the trajectory could not be sent back from the worker ({payload[1]})")
@@ -241,7 +299,7 @@ def _result(x0, param, status, payload) -> SweepResult:
     if status == "lcs_error":
         name, msg, tr_bytes = payload
         cls = getattr(_errors, name, _errors.LCSError)
-        traj = _load_traj(tr_bytes)
+        traj = _load_traj(tr_bytes, lcs)
         err = cls(msg, trajectory=traj) if issubclass(cls, _errors.LCSError) else cls(msg)
         return SweepResult(x0, traj, err, param)
     return SweepResult(x0, None, pickle.loads(payload), param)
@@ -264,12 +322,17 @@ def _drive(jobs: list, executor: Executor | None, progress: bool, desc: str) -> 
         executor = ProcessPoolExecutor(max_workers=os.cpu_count() or 1)
     bar = _progress(len(jobs), progress, desc)
     out: list = [None] * len(jobs)
+    # chunks of about 1/CHUNKS_PER_CPU of a worker's share: fewer round trips through the parent
+    # (which serves every worker alone), still enough chunks to balance uneven runs
+    size = max(1, len(jobs) // (CHUNKS_PER_CPU * (os.cpu_count() or 1)))
+    starts = range(0, len(jobs), size)
     try:
-        futures = {executor.submit(run_job, *job): i for i, job in enumerate(jobs)}
+        futures = {executor.submit(run_jobs, jobs[i:i + size]): i for i in starts}
         for f in as_completed(futures):
-            out[futures[f]] = f.result()
+            rs = f.result()
+            out[futures[f]:futures[f] + len(rs)] = rs
             if bar is not None:
-                bar.update(1)
+                bar.update(len(rs))
     finally:
         if bar is not None:
             bar.close()
@@ -324,7 +387,7 @@ def sweep(lcs: LCS, x0s: Iterable, t_end: Any, executor: Executor | None = None,
     opts = _options(simulate_options)
     texts = [_text_vector(x, f"x0s[{i}]") for i, x in enumerate(x0s)]
     raw = _drive([(system, x, str(t_end), opts) for x in texts], executor, progress, "sweep")
-    return [_result(x0, None, *r) for x0, r in zip(x0s, raw)]
+    return [_result(x0, None, lcs, *r) for x0, r in zip(x0s, raw)]
 
 
 def param_sweep(make_lcs: Callable[[Any], LCS], params: Iterable, x0: Any, t_end: Any,
@@ -349,6 +412,7 @@ def param_sweep(make_lcs: Callable[[Any], LCS], params: Iterable, x0: Any, t_end
     params = list(params)
     opts = _options(simulate_options)
     xt = _text_vector(x0, "x0")
-    jobs = [(_system_text(make_lcs(p)), xt, str(t_end), opts) for p in params]
+    systems = [make_lcs(p) for p in params]
+    jobs = [(_system_text(lcs), xt, str(t_end), opts) for lcs in systems]
     raw = _drive(jobs, executor, progress, "param_sweep")
-    return [_result(x0, p, *r) for p, r in zip(params, raw)]
+    return [_result(x0, p, lcs, *r) for p, lcs, r in zip(params, systems, raw)]

@@ -68,6 +68,32 @@ def test_sweep_equals_sequential_runs_in_input_order(pool):
         assert str(r.trajectory.events[0].state_after) == f"({e}, {e}, -1/2, -1/2)"
 
 
+def test_results_refer_to_the_callers_system_and_refine_past_the_workers_digits(pool):
+    # the worker ships neither the system, its modes, spectra nor ball caches: the parent's
+    # own objects stand in, and digits the worker never computed come from the exact data
+    lcs = LCS(two_carts_with_hook().A, two_carts_with_hook().B, two_carts_with_hook().C,
+              two_carts_with_hook().D, state_names=["q1", "q2", "v1", "v2"],
+              constraint_names=["stop", "hook"])
+    e = Fraction(3, 10)
+    r, = sweep(lcs, [hook_x0(e)], 3, pool, progress=False)
+    tr = r.trajectory
+    assert tr.lcs is lcs
+    assert tr.lcs.constraint_names == ("stop", "hook")
+    assert [ev.triggers for ev in tr.events] == [(), ("u_1", "y_0")]  # the hook lets go at the stop
+    t = tr.events[1].time  # the worker computed 30 digits; 200 are asked here
+    with mpmath.workdps(220):
+        got = mpmath.mpf(t.decimal(200).split(" ")[0])
+        assert abs(got - release_time_at(e, 220)) < mpmath.mpf(10) ** -199
+    # the state after the release, recomputed in the parent from the exact phase data
+    x = tr.state(Fraction(5, 2))
+    assert [c.decimal(40) for c in x] == [c.decimal(40) for c in simulate(lcs, hook_x0(e), 3).state(Fraction(5, 2))]
+
+
+def release_time_at(e, dps):
+    with mpmath.workdps(dps):
+        return mpmath.sqrt(2) * mpmath.atan(mpmath.sqrt(2) * mpmath.mpf(e.numerator) / e.denominator)
+
+
 def test_rational_event_times_stay_exact(pool):
     # two carts from (0, 1, -1, 0): the impact is at t = 0 with an exact rational state
     rs = sweep(two_carts(), [[0, 1, -1, 0], [0, 1, -3, 0]], 1, pool, progress=False)
