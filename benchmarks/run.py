@@ -362,8 +362,8 @@ def markdown(results, args, siconos_note, elapsed):
     w("")
     notes = [r for r in results if r["stop_note"]]
     if notes:
-        w("**Runs today's engine could not complete at the nominal t_end** (benchmarked to a shorter "
-          "t_end; re-run after the core rewrite):\n")
+        w("**Runs benchmarked to a shorter t_end than the nominal one, and why** (a run meant to "
+          "stop at max_events is benchmarked to the last whole time unit before that):\n")
         for r in notes:
             w(f"- {r['label']}: {r['stop_note']}; benchmarked to T = {r['T']}.")
         w("")
