@@ -26,7 +26,6 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 import lcs_exact as L  # noqa: E402
-from lcs_exact.models import mechanical  # noqa: E402
 
 SICONOS_PY = "/usr/bin/python3"
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
@@ -114,16 +113,7 @@ def long_run(events):
 
 def chain16():
     N = 16
-    K = [[0] * N for _ in range(N)]
-    for i in range(N):
-        K[i][i] = 2
-        if i:
-            K[i][i - 1] = -1
-        if i < N - 1:
-            K[i][i + 1] = -1
-    K[N - 1][N - 1] = 1
-    lcs = mechanical([[int(i == j) for j in range(N)] for i in range(N)], K,
-                     [[int(j == i) for j in range(N)] for i in range(0, N, 2)])
+    lcs = L.examples.cart_chain(N)
     x0 = [Fraction((-1) ** i, 2) for i in range(N)] + [0] * N
     t = time.perf_counter()
     tr = L.simulate(lcs, x0, 10)

@@ -57,17 +57,16 @@ def fr(v):
     return str(Fraction(v))
 
 
+def text_matrix(m) -> list:
+    """A flint matrix as rows of rational strings (what a Case holds)."""
+    return [[str(m[i, j]) for j in range(m.ncols())] for i in range(m.nrows())]
+
+
 def mechanical_data(M, K, E):
-    """A, B, C, D of (8.3) for M q'' + K q = E^T u, y = E q (M diagonal here)."""
-    m, k = len(M), len(E)
-    Minv = [Fraction(1, 1) / Fraction(M[i][i]) for i in range(m)]
-    A = [[0] * m + [1 if j == i else 0 for j in range(m)] for i in range(m)]
-    A += [[fr(-Minv[i] * Fraction(K[i][j])) for j in range(m)] + [0] * m for i in range(m)]
-    B = [[0] * k for _ in range(m)] + [[fr(Minv[i] * Fraction(E[j][i])) for j in range(k)]
-                                      for i in range(m)]
-    C = [list(E[j]) + [0] * m for j in range(k)]
-    D = [[0] * k for _ in range(k)]
-    return A, B, C, D
+    """A, B, C, D of (8.3) for M q'' + K q = E^T u, y = E q (:func:`lcs_exact.mechanics.mechanical`)."""
+    import lcs_exact as L
+    lcs = L.mechanics.mechanical(M, K, E)
+    return tuple(text_matrix(m) for m in (lcs.A, lcs.B, lcs.C, lcs.D))
 
 
 def two_carts() -> Case:
@@ -104,17 +103,13 @@ def stiff_rc_diode() -> Case:
 
 
 def chain(N: int) -> Case:
-    K = [[0] * N for _ in range(N)]
-    for i in range(N):
-        K[i][i] = 2
-        if i > 0:
-            K[i][i - 1] = -1
-        if i < N - 1:
-            K[i][i + 1] = -1
-    K[N - 1][N - 1] = 1
-    E = [[1 if j == i else 0 for j in range(N)] for i in range(0, N, 2)]
+    import lcs_exact as L
+    lcs = L.examples.cart_chain(N)
+    A, B, C, D = (text_matrix(m) for m in (lcs.A, lcs.B, lcs.C, lcs.D))
+    # the Lagrangian data Siconos needs: M = I, K = -A[N:, :N], E = C[:, :N]
     M = [[1 if i == j else 0 for j in range(N)] for i in range(N)]
-    A, B, C, D = mechanical_data(M, K, E)
+    K = [[int(-lcs.A[N + i, j]) for j in range(N)] for i in range(N)]
+    E = [[int(lcs.C[r, j]) for j in range(N)] for r in range(lcs.k)]
     x0 = [fr(Fraction((-1) ** i, 2)) for i in range(N)] + [0] * N
     return Case(f"chain{N}", f"chain N = {N}", A, B, C, D, x0, Fraction(10), 2,
                 mech={"M": M, "K": K, "E": E}, fallback_t_end=Fraction(3, 4),

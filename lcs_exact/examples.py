@@ -2,7 +2,8 @@
 
 * :func:`two_carts` - section 2, (2.1); :func:`two_carts_with_hook` - Example 8.3, (8.12);
 * :func:`half_wave_rectifier`, :func:`diode_bridge` - LC tanks rectified by ideal diodes;
-* :func:`filippov_spiral` - (4.12), a relay system (:func:`lcs_exact.relays.relay`).
+* :func:`filippov_spiral` - (4.12), a relay system (:func:`lcs_exact.relays.relay`);
+* :func:`cart_chain` - N unit carts on springs with stops, the (8.3) system of the benchmarks.
 
 Indices are 0-based (the paper's x_1 and mode {1} are ``x_0`` and ``{0}`` here).  Mechanical
 examples name their states q_0, q_1, q_0', q_1' (positions, velocities): the paper's x1..x4.
@@ -12,12 +13,14 @@ from __future__ import annotations
 from typing import Any
 
 from .circuits import circuit
+from .errors import InvalidArgument
 from .mechanics import mechanical
 from .rational import to_fmpq
 from .relays import relay
 from .system import LCS
 
-__all__ = ["two_carts", "two_carts_with_hook", "half_wave_rectifier", "diode_bridge", "filippov_spiral"]
+__all__ = ["two_carts", "two_carts_with_hook", "half_wave_rectifier", "diode_bridge", "filippov_spiral",
+           "cart_chain"]
 
 
 def two_carts() -> LCS:
@@ -125,3 +128,29 @@ def filippov_spiral() -> LCS:
     """
     return relay([[0, 0], [0, 0]], [[-1, 2], [-2, -1]], [[1, 0], [0, 1]],
                  name="Filippov's spiral (4.12)", state_names=("x_0", "x_1"))
+
+
+def cart_chain(N: int, stops: Any = None) -> LCS:
+    """N unit carts in a row (8.3): a spring from the wall to cart 0, unit springs between
+    neighbours (K = tridiag(-1, 2, -1) with K[N-1][N-1] = 1), a stop q_i >= 0 on each cart in
+    ``stops`` (default: carts 0, 2, 4, ...).
+
+    From q0 = (1, -1, 1, ...)/2, v0 = 0 the carts with stops reach them at nearly the same time
+    (near-coincident impacts: the benchmarks' and tests' chain).  The two carts of section 2 are
+    ``cart_chain(2)``.
+
+    >>> cart_chain(2).A == two_carts().A
+    True
+    >>> cart_chain(5).k, cart_chain(5, stops=[4]).constraint_names
+    (3, ('stop_4',))
+    """
+    if isinstance(N, bool) or not isinstance(N, int) or N < 1:
+        raise InvalidArgument(f"N must be a positive int, got {N!r}")
+    stops = list(range(0, N, 2)) if stops is None else list(stops)
+    if any(isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < N for i in stops):
+        raise InvalidArgument(f"stops must be cart indices in 0..{N - 1}, got {stops!r}")
+    K = [[2 if i == j else -1 if abs(i - j) == 1 else 0 for j in range(N)] for i in range(N)]
+    K[N - 1][N - 1] = 1
+    E = [[int(j == i) for j in range(N)] for i in stops]
+    return mechanical([[int(i == j) for j in range(N)] for i in range(N)], K, E,
+                      name=f"chain of {N} carts", constraint_names=[f"stop_{i}" for i in stops])
