@@ -14,9 +14,10 @@ rationals by value, balls by their binary midpoint and radius), so the parent re
 exact definitions, anchors and closed forms a sequential :func:`~lcs_exact.simulate.simulate`
 would give. The system, its modes and spectra do not travel back (the trajectory refers to the
 caller's own LCS and its modes), nor do ball caches of phases (rebuilt on demand): a few
-kilobytes per run. Jobs go out in chunks, a few per CPU, to save round trips. A run that stops early keeps its :class:`~lcs_exact.errors.LCSError` (same class and
-message) and the partial trajectory in ``error.trajectory`` and ``result.trajectory``; the other
-runs are unaffected. Results come back in input order.
+kilobytes per run. Jobs go out in chunks, a few per CPU, to save round trips. A run that stops
+early keeps its :class:`~lcs_exact.errors.LCSError` (same class and message) and the partial
+trajectory in ``error.trajectory`` and ``result.trajectory``; the other runs are unaffected.
+Results come back in input order.
 """
 from __future__ import annotations
 
