@@ -48,10 +48,8 @@ def _frequencies(M: fmpq_mat) -> tuple[list, list]:
         elif p.degree() == 2:
             q, pp, a2 = c
             disc = q / a2 - (pp / a2) ** 2 / 4
-            if disc > 0:
+            if disc > 0:  # a complex pair; a real irrational pair gives no candidate here
                 omegas.append(sympy.sqrt(disc))
-            elif pp == 0 and disc < 0:
-                pass
     return omegas, lambdas
 
 

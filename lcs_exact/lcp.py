@@ -23,7 +23,7 @@ from typing import Any
 from flint import fmpq, fmpq_mat
 
 from .errors import LCSError, ShapeError
-from .rational import MAX_P_TEST_K, check_enumerable, sign_of_form, submatrix, to_matrix, to_vector, zeros
+from .rational import MAX_P_TEST_K, check_enumerable, pivot_tableau, sign_of_form, submatrix, to_matrix, to_vector, zeros
 
 __all__ = ["LCPSolution", "p_matrix_violation", "is_p_matrix", "murty", "lemke", "solve_lcp",
            "all_solutions"]
@@ -183,12 +183,7 @@ def lemke(q: Any, m: Any, *, max_pivots: int = 10_000) -> LCPSolution | None:
         return [t[i][rhs] / d] + [t[i][j] / d for j in range(k)]
 
     def pivot(r, c):
-        p = t[r][c]
-        t[r] = [e / p for e in t[r]]
-        for i in range(k):
-            if i != r and t[i][c] != 0:
-                f = t[i][c]
-                t[i] = [e - f * g for e, g in zip(t[i], t[r])]
+        pivot_tableau(t, r, c)
         leaving = basic[r]
         basic[r] = c
         return leaving

@@ -20,7 +20,7 @@ from typing import Any, Iterable, Sequence
 from flint import fmpq
 
 from .errors import InvalidArgument, LCSError
-from .rational import to_fmpq
+from .rational import pivot_tableau, to_fmpq
 
 __all__ = ["Constraint", "find_point", "is_feasible", "RELATIONS"]
 
@@ -71,12 +71,7 @@ def _phase_one(rows: list[list[fmpq]], rhs: list[fmpq], ncols: int) -> list[fmpq
         if best is None:  # unbounded direction: impossible in phase 1 (objective >= 0)
             raise LCSError("internal inconsistency: phase-1 simplex is unbounded")
         r = best[1]
-        piv = T[r][enter]
-        T[r] = [v / piv for v in T[r]]
-        for i in range(m):
-            if i != r and T[i][enter] != 0:
-                f = T[i][enter]
-                T[i] = [v - f * w for v, w in zip(T[i], T[r])]
+        pivot_tableau(T, r, enter)
         if cost[enter] != 0:
             f = cost[enter]
             cost = [v - f * w for v, w in zip(cost, T[r])]

@@ -41,7 +41,7 @@ __all__ = [
     "fmpq_to_sympy", "matrix_to_sympy", "adjugate_coefficients", "poly_at_matrix", "resolvent",
     "MAX_RATIONAL_BITS", "MAX_DIMENSION", "MAX_ENUMERATION_K", "MAX_P_TEST_K", "MAX_MARKOV_INDEX",
     "MAX_KAPPA", "MAX_HORIZON_SLOW", "MAX_HORIZON_FAST", "MAX_PREC_BITS", "check_enumerable",
-    "eigenvalue_moduli", "to_short",
+    "eigenvalue_moduli", "to_short", "pivot_tableau",
 ]
 
 RationalLike = Union[int, str, Fraction, fmpq, fmpz, Rational, float]
@@ -429,6 +429,18 @@ def vstack(*ms: fmpq_mat, ncols: int | None = None) -> fmpq_mat:
         raise ShapeError("vstack: blocks have different numbers of columns")
     entries = [m[i, j] for m in ms for i in range(m.nrows()) for j in range(c)]
     return fmpq_mat(sum(m.nrows() for m in ms), c, entries)
+
+
+def pivot_tableau(T: list, r: int, c: int) -> None:
+    """Gauss-Jordan pivot of a tableau of exact rationals (a list of rows), in place: row r is
+    divided by T[r][c] and column c is eliminated from every other row (Lemke's method, the
+    simplex of :mod:`lcs_exact.polyhedra`)."""
+    p = T[r][c]
+    T[r] = [e / p for e in T[r]]
+    for i in range(len(T)):
+        if i != r and T[i][c] != 0:
+            f = T[i][c]
+            T[i] = [e - f * g for e, g in zip(T[i], T[r])]
 
 
 def is_zero(m: fmpq_mat) -> bool:
