@@ -33,7 +33,8 @@ from typing import Any, Sequence
 
 from flint import fmpq, fmpq_mat
 
-from .reals import ExactVector, RationalVector, Real
+from . import calcium
+from .reals import AlgebraicReal, ExactVector, RationalReal, RationalVector, Real, algebraic_vector
 
 __all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle"]
 
@@ -106,28 +107,58 @@ def _signature(e) -> tuple:
     return (e.mode_before, e.modes, e.mode_after, e.triggers)
 
 
+def _exact_number(x: Real):
+    """An event time as fmpq, or as a Calcium number when it is a known algebraic irrational
+    (a free fall's sqrt(2 h / g)); None when it is not known exactly."""
+    q = x.known_rational()
+    return q if q is not None else x.known_ca()
+
+
+def _exact_state(v: ExactVector):
+    """A state as an fmpq_mat column, or a list of Calcium numbers (algebraic), or None."""
+    q = v.known_rational()
+    return q if q is not None else v.known_ca()
+
+
+def _as_ca(x):
+    return x if isinstance(x, calcium.Ca) else calcium.Ca(x)
+
+
+def _zero(x) -> bool | None:
+    return x == 0 if isinstance(x, fmpq) else x.is_zero()
+
+
+def _ratio(b, a) -> fmpq | None:
+    """b / a as a rational when it is one, proven (a != 0)."""
+    if isinstance(a, fmpq) and isinstance(b, fmpq):
+        return b / a
+    return (_as_ca(b) / _as_ca(a)).to_fmpq()
+
+
 @dataclass(frozen=True)
 class GeometricLaw:
     """A proven geometric law: cycles of ``period`` events, each ``ratio`` times shorter and with
-    states scaled by rho^{exponents} (see the module docstring)."""
+    states scaled by rho^{exponents} (see the module docstring).  Times are exact reals
+    (rational, or algebraic: a bouncing ball's t1 (1 + e) / (1 - e) with t1 = sqrt(2 h / g))."""
 
     period: int
     ratio: fmpq
     exponents: tuple
     start: int  # index of the first event of the reference cycle (events start..start+period-1)
-    cycle_start: fmpq  # time of the event before the reference cycle
-    cycle_length: fmpq  # duration of the reference cycle
-    time: fmpq  # the accumulation time T*
-    limit: fmpq_mat  # the limit state x(T*-)
+    cycle_start: Real  # time of the event before the reference cycle
+    cycle_length: Real  # duration of the reference cycle
+    time: Real  # the accumulation time T*
+    limit: ExactVector  # the limit state x(T*-)
     input_exponents: tuple = ()  # a_j of u_j (u scales by rho^a_j)
     output_exponents: tuple = ()  # b_i of y_i
 
 
-def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int = 8) -> GeometricLaw | None:
+def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int = 8,
+                  policy=None) -> GeometricLaw | None:
     """The geometric law that the last events satisfy, proven exactly, or None.
 
     ``events`` are :class:`~lcs_exact.trajectory.Event` objects; their times and states must be
-    known exactly (rational) for a law to be proven."""
+    known exactly (rational, or algebraic numbers) for a law to be proven."""
     if symmetry is None:
         return None
     K = len(events) - 1
@@ -136,62 +167,90 @@ def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int 
             break
         if any(_signature(events[K - j]) != _signature(events[K - p - j]) for j in range(p)):
             continue
-        times = [events[K - 2 * p + j].time.known_rational() for j in range(2 * p + 1)]
+        times = [_exact_number(events[K - 2 * p + j].time) for j in range(2 * p + 1)]
         if any(t is None for t in times):
             continue
+        if not all(isinstance(t, fmpq) for t in times):
+            if not calcium.available():
+                continue
+            times = [_as_ca(t) for t in times]
         durs = [b - a for a, b in zip(times, times[1:])]
-        T1, T2 = sum(durs[:p], fmpq(0)), sum(durs[p:], fmpq(0))
-        if T1 <= 0 or T2 <= 0:
+        T1, T2 = sum(durs[1:p], durs[0]), sum(durs[p + 1:], durs[p])
+        rho = _ratio(T2, T1)
+        if rho is None or not 0 < rho < 1 or _sign(T1) != 1:
             continue
-        rho = T2 / T1
-        if not 0 < rho < 1 or any(durs[p + j] != rho * durs[j] for j in range(p)):
+        if not all(_zero(durs[p + j] - durs[j] * rho) is True for j in range(p)):
             continue
-        z1, z2 = events[K - p].state_after.known_rational(), events[K].state_after.known_rational()
+        z1, z2 = _exact_state(events[K - p].state_after), _exact_state(events[K].state_after)
         if z1 is None or z2 is None:
             continue
         law = _exponents_of(lcs, symmetry, rho, z1, z2)
         if law is None:
             continue
         exps, limit, ua, yb = law
-        return GeometricLaw(p, rho, tuple(exps), K - p + 1, times[p], T2, times[-1] + T2 * rho / (1 - rho),
-                            limit, tuple(ua), tuple(yb))
+        T_star = times[-1] + T2 * (rho / (1 - rho))
+        return GeometricLaw(p, rho, tuple(exps), K - p + 1, _real(times[p], policy), _real(T2, policy),
+                            _real(T_star, policy), limit, tuple(ua), tuple(yb))
     return None
 
 
-def _exponents_of(lcs, symmetry: dict, rho: fmpq, z1: fmpq_mat, z2: fmpq_mat):
+def _sign(x) -> int | None:
+    return (x > 0) - (x < 0) if isinstance(x, fmpq) else x.sign()
+
+
+def _real(x, policy) -> Real:
+    return RationalReal(x, policy) if isinstance(x, fmpq) else AlgebraicReal(x, policy)
+
+
+def _entries(z) -> list:
+    return [z[i, 0] for i in range(z.nrows())] if isinstance(z, fmpq_mat) else list(z)
+
+
+def _exponents_of(lcs, symmetry: dict, rho: fmpq, z1, z2):
     """Exponents e (one shift per component of the symmetry) with z2 = S_rho z1, and the limit of
     S_{rho^m} z2 (m -> oo); None when there are none or the limit does not exist."""
     n = lcs.n
     comp = symmetry["component"]
     shift: dict = {}
+    a_s, b_s = _entries(z1), _entries(z2)
+    zeros_b = []
     for i in range(n):
-        a, b = z1[i, 0], z2[i, 0]
-        if a == 0 or b == 0:
-            if a != b:
+        a, b = a_s[i], b_s[i]
+        za, zb = _zero(a), _zero(b)
+        if za is None or zb is None:
+            return None
+        zeros_b.append(zb)
+        if za or zb:
+            if za != zb:
                 return None
             continue
-        e = _exponent(b / a, rho)
+        r = _ratio(b, a)
+        e = None if r is None else _exponent(r, rho)
         if e is None:
             return None
         c = comp[("x", i)]
         s = e - symmetry["x"][i]
         if shift.setdefault(c, s) != s:
             return None
-    exps = []
-    limit = fmpq_mat(n, 1)
+    exps, limit = [], []
     for i in range(n):
         c = comp[("x", i)]
         e = symmetry["x"][i] + shift.get(c, 0) if c in shift else None
-        if z2[i, 0] == 0:
+        if zeros_b[i]:
             exps.append(e if e is not None else 0)
+            limit.append(fmpq(0))
             continue
         if e is None or e < 0:
             return None  # a component that grows without bound: no limit state
         exps.append(e)
-        limit[i, 0] = z2[i, 0] if e == 0 else 0
+        limit.append(b_s[i] if e == 0 else fmpq(0))
     ua = [symmetry["u"][j] + shift.get(comp[("u", j)], 0) for j in range(lcs.k)]
     yb = [symmetry["y"][i] + shift.get(comp[("y", i)], 0) for i in range(lcs.k)]
-    return exps, limit, ua, yb
+    if all(isinstance(x, fmpq) for x in limit):
+        lim = RationalVector(fmpq_mat(n, 1, limit))
+    else:
+        lim = algebraic_vector([_as_ca(x) for x in limit])
+    return exps, lim, ua, yb
 
 
 @dataclass(frozen=True)
@@ -215,31 +274,38 @@ class Accumulation:
 class ScaledCycle:
     """The continuous motion on [t_k, T*) of a proven geometric law, as a phase-like object: a time
     in cycle m (the reference cycle scaled by rho^(m+1)) is mapped back into the reference cycle
-    and the reference trajectory is scaled there (x by rho^e, u by rho^a, y by rho^b)."""
+    and the reference trajectory is scaled there (x by rho^e, u by rho^a, y by rho^b).  Times and
+    states are exact (rational or algebraic)."""
 
-    def __init__(self, law: GeometricLaw, reference, t_k: fmpq, mode, z: ExactVector):
+    def __init__(self, law: GeometricLaw, reference, t_k: Real, mode, z: ExactVector):
         self.law, self.reference, self.t_k = law, reference, t_k
         self.mode = mode  # the mode of the first phase after t_k (reprs only)
         self.z = z  # the state at t_k (after the last computed event)
 
-    def _map(self, dt: Any) -> tuple[fmpq, fmpq]:
+    def _map(self, dt: Any) -> tuple[Real, fmpq]:
         """(t_ref, scale) for a time t_k + dt of the window."""
         from .reals import as_real
-        d = as_real(dt).rational()
-        if d is None:
+        d = as_real(dt)
+        if d.known_rational() is None and d.known_ca() is None:
             from .errors import InvalidArgument
-            raise InvalidArgument("inside an accumulation window states are evaluated at rational times only")
+            raise InvalidArgument("inside an accumulation window states are evaluated at exact (rational or "
+                                  "algebraic) times only")
         law = self.law
         rho, T = law.ratio, law.cycle_length
-        m, start, length = 0, fmpq(0), T * rho
-        while d >= start + length:  # cycle m covers [start, start + T rho^(m+1)) after t_k
+        m, start, length = 0, as_real(0), T * rho
+        while (d - (start + length)).sign() >= 0:  # cycle m covers [start, start + T rho^(m+1)) after t_k
             start, length, m = start + length, length * rho, m + 1
+            if m > 100_000:
+                from .errors import LCSError
+                raise LCSError("internal inconsistency: a time inside an accumulation window beyond its end")
         scale = rho ** (m + 1)
         return law.cycle_start + (d - start) / scale, scale
 
     @staticmethod
-    def _scaled(v: fmpq_mat, scale: fmpq, exps: Sequence[int]) -> RationalVector:
-        return RationalVector(fmpq_mat(v.nrows(), 1, [v[i, 0] * _power(scale, exps[i]) for i in range(v.nrows())]))
+    def _scaled(v, scale: fmpq, exps: Sequence[int]) -> ExactVector:
+        if isinstance(v, fmpq_mat):
+            return RationalVector(fmpq_mat(v.nrows(), 1, [v[i, 0] * _power(scale, exps[i]) for i in range(v.nrows())]))
+        return algebraic_vector([x * _power(scale, e) for x, e in zip(v, exps)])
 
     def state(self, dt: Any) -> ExactVector:
         t_ref, scale = self._map(dt)
@@ -252,9 +318,9 @@ class ScaledCycle:
         return self._scaled(_exact(self.reference(t_ref, kind)), scale, exps)
 
 
-def _exact(v: ExactVector) -> fmpq_mat:
-    q = v.rational()
+def _exact(v: ExactVector):
+    q = _exact_state(v)
     if q is None:
         from .errors import LCSError
-        raise LCSError("internal inconsistency: a reference value of a proven law is not rational")
+        raise LCSError("internal inconsistency: a reference value of a proven law is not exact")
     return q

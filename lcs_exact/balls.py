@@ -32,7 +32,8 @@ from flint import arb, ctx, fmpq
 from .errors import InvalidArgument, LimitExceeded, UnresolvedSign
 
 __all__ = ["Policy", "Deadline", "DEFAULT_POLICY", "workprec", "digits_to_bits", "decide_sign",
-           "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb"]
+           "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb", "dyadic", "dyadic_lower",
+           "dyadic_upper"]
 
 #: largest ``digits`` accepted (10^4 digits = 33,220 bits: e^{Mt} at that precision takes seconds)
 MAX_DIGITS = 10_000
@@ -145,6 +146,23 @@ def ball_sign(b: arb) -> int:
     if b < 0:
         return -1
     return 0
+
+
+def dyadic(x: arb) -> fmpq:
+    """The exact midpoint of a ball as fmpq."""
+    m, e = x.mid().man_exp()
+    m, e = int(m), int(e)
+    return fmpq(m * 2 ** e) if e >= 0 else fmpq(m, 2 ** (-e))
+
+
+def dyadic_lower(x: arb) -> fmpq:
+    """A dyadic rational <= every point of the ball."""
+    return dyadic(x.lower())
+
+
+def dyadic_upper(x: arb) -> fmpq:
+    """A dyadic rational >= every point of the ball."""
+    return dyadic(x.upper())
 
 
 def decide_sign(compute: Callable[[int], arb], *, policy: Policy, what: str | Callable[[], str],

@@ -83,7 +83,7 @@ from flint import acb, arb, arf, fmpq, fmpz
 from .errors import NotRational, UnresolvedSign
 from .rational import to_fmpq
 
-__all__ = ["available", "Ca"]
+__all__ = ["available", "Ca", "real_roots"]
 
 # ---------------------------------------------------------------------------------------------
 # FLINT 3.6 struct layouts (64-bit).  fmpz is one slong; truth_t is an enum (int).
@@ -193,6 +193,7 @@ _SIGNATURES: dict[str, tuple[Any, list[Any]]] = {
     "qqbar_init": (None, [_P]), "qqbar_clear": (None, [_P]),
     "_qqbar_vec_init": (_P, [_S]), "_qqbar_vec_clear": (None, [_P, _S]),
     "qqbar_roots_fmpz_poly": (None, [_P, _P, _I]), "qqbar_equal": (_I, [_P, _P]),
+    "qqbar_sgn_im": (_I, [_P]), "ca_get_qqbar": (_I, [_P, _P, _P]),
     "qqbar_degree": (_S, [_P]), "qqbar_get_acb": (None, [_P, _P, _S]),
     "fmpz_clear": (None, [_P]), "fmpz_set_str": (_I, [_P, _C, _I]),
     "fmpz_get_str": (_P, [_P, _I, _P]),
@@ -915,6 +916,29 @@ class Ca:
             finally:
                 b.lib.acb_clear(at)
 
+    def minimal_polynomial(self) -> list[int] | None:
+        """The integer coefficients (low degree first, content 1, leading coefficient > 0) of the
+        minimal polynomial over Q, when Calcium proves the number algebraic; else None.
+
+        >>> (Ca(2).sqrt() + 1).minimal_polynomial()       # (x - 1)^2 = 2
+        [-1, -2, 1]
+        >>> Ca.pi().minimal_polynomial() is None
+        True
+        """
+        b = self._b
+        lib = b.lib
+        with b.lock:
+            buf = (_ulong * (2 * ctypes.sizeof(_qqbar) // 8))()
+            at = ctypes.addressof(buf)
+            lib.qqbar_init(at)
+            try:
+                if not lib.ca_get_qqbar(at, self._ptr, b.ctx):
+                    return None
+                poly = _qqbar.from_address(at).poly
+                return [_fmpz_to_int(lib, poly.coeffs + 8 * j) for j in range(poly.length)]
+            finally:
+                lib.qqbar_clear(at)
+
     # ---- refused operations and printing ----------------------------------------------------
 
     def __bool__(self) -> bool:
@@ -938,8 +962,58 @@ class Ca:
 
 
 # ---------------------------------------------------------------------------------------------
-# root selection for Ca.algebraic
+# real roots of integer polynomials; root selection for Ca.algebraic
 # ---------------------------------------------------------------------------------------------
+
+def real_roots(coeffs: Sequence[Any]) -> list[Ca]:
+    """The distinct real roots of ``sum(coeffs[j] * s**j)`` (rational coefficients, low degree
+    first), each as an exact :class:`Ca` (FLINT's ``qqbar_roots_fmpz_poly``; realness decided
+    exactly by ``qqbar_sgn_im``).  In no particular order.
+
+    >>> sorted(float(r.enclosure(30).real.mid()) for r in real_roots([-2, 0, 1]))
+    [-1.4142135623730951, 1.4142135623730951]
+    >>> real_roots([1, 0, 1])
+    []
+    """
+    qs = [to_fmpq(c, "polynomial coefficient") for c in coeffs]
+    while qs and qs[-1] == 0:
+        qs.pop()
+    if len(qs) < 2:
+        return []
+    den = 1
+    for q in qs:
+        den = den * int(q.q) // _gcd(den, int(q.q))
+    ints = [int(q.p) * (den // int(q.q)) for q in qs]
+    deg = len(ints) - 1
+    b = _get()
+    lib = b.lib
+    qsize = ctypes.sizeof(_qqbar)
+    out: list[Ca] = []
+    with b.lock:
+        poly = (_ulong * (2 * ctypes.sizeof(_fmpz_poly) // 8))()
+        lib.fmpz_poly_init(ctypes.addressof(poly))
+        vec = None
+        try:
+            for j, c in enumerate(ints):
+                with _Fmpz(lib, c) as f:
+                    lib.fmpz_poly_set_coeff_fmpz(ctypes.addressof(poly), j, f)
+            vec = lib._qqbar_vec_init(deg)
+            lib.qqbar_roots_fmpz_poly(vec, ctypes.addressof(poly), 0)
+            seen: list[int] = []
+            for k in range(deg):
+                at = vec + k * qsize
+                if lib.qqbar_sgn_im(at) != 0 or any(lib.qqbar_equal(at, r) for r in seen):
+                    continue
+                seen.append(at)
+                r = Ca._new()
+                lib.ca_set_qqbar(r._ptr, at, b.ctx)
+                out.append(r)
+        finally:
+            if vec is not None:
+                lib._qqbar_vec_clear(vec, deg)
+            lib.fmpz_poly_clear(ctypes.addressof(poly))
+    return out
+
 
 def _gcd(a: int, b: int) -> int:
     while b:

@@ -6,9 +6,13 @@ Input: a netlist in the style of SPICE, one element per line (or a sequence of t
     name  node+  node-  [value]
 
 The first letter of ``name`` is the kind: ``R`` (resistance, ohm), ``L`` (inductance, henry),
-``C`` (capacitance, farad), ``D`` (ideal diode: anode = node+, cathode = node-, no value).
-Values are exact positive rationals (``1/2``, ``0.25``, ``3``).  Node ``0`` is ground and must
-occur; lines starting with ``*`` or ``#`` are comments.
+``C`` (capacitance, farad), ``D`` (ideal diode: anode = node+, cathode = node-, no value),
+``V`` (voltage source: e(node+) - e(node-) = w(t)), ``I`` (current source: w(t) flows from node+
+through the source to node-).  Values of R, L, C are exact positive rationals (``1/2``, ``0.25``,
+``3``); a source's value is a rational (DC), a :class:`~lcs_exact.sources.Source` (in the tuple
+form of a netlist) or text such as ``sine(100, 10)``, ``cosine(2)``, ``exponential(-1, 5)``,
+``constant(5) + sine(1, 2)`` (:mod:`lcs_exact.sources`).  Node ``0`` is ground and must occur;
+lines starting with ``*`` or ``#`` are comments.
 
 State.  x = (capacitor voltages v(C) = e(node+) - e(node-), inductor currents i(L) flowing
 node+ -> node- through the inductor), in netlist order; named ``v(C1)``, ``i(L1)``.
@@ -26,8 +30,11 @@ series with an inductor must be a voltage port: its current is the inductor's st
 :func:`circuit_ports` says which convention each diode got.  Every capacitor must be in the
 tree and every inductor outside it (no loop of capacitors, no cutset of inductors: their
 voltages / currents would not be independent states); such circuits are refused with a
-:class:`~lcs_exact.errors.Unsupported` error naming the elements.  Sources are not supported
-(an LCS (4.1) has no affine term); energy enters through the initial state.
+:class:`~lcs_exact.errors.Unsupported` error naming the elements.  Voltage sources come first
+in the tree and current sources last, outside it (a loop of voltage sources or a cutset of
+current sources is refused likewise).  Sources enter as x' = A x + B u + E w(t),
+y = C x + D u + F w(t): the LCS carries them by exosystem states (:mod:`lcs_exact.exosystems`),
+and ``lcs.embed(x)`` appends their initial state.
 
 Equations: Kirchhoff's laws on the node potentials, the branch laws v = R i, i = C v',
 v = L i', and the port definitions, solved exactly for (x', y) in terms of (x, u).
@@ -39,24 +46,30 @@ from typing import Any, Sequence
 
 from flint import fmpq, fmpq_mat
 
-from .errors import ShapeError, Unsupported
+from .errors import NotRational, ShapeError, Unsupported
+from .exosystems import extend
 from .rational import to_fmpq
+from .sources import Source, as_source, constant, cosine, exponential, exosystem, polynomial, sine
 from .system import LCS
 
 __all__ = ["circuit", "circuit_ports", "Element", "Port", "parse_netlist"]
 
-_KINDS = {"R": "resistor", "L": "inductor", "C": "capacitor", "D": "diode"}
+_KINDS = {"R": "resistor", "L": "inductor", "C": "capacitor", "D": "diode", "V": "voltage source",
+          "I": "current source"}
+_SOURCE_FUNCS = {"sine": sine, "cosine": cosine, "exponential": exponential, "constant": constant,
+                 "polynomial": lambda *cs: polynomial(cs)}
 
 
 @dataclass(frozen=True)
 class Element:
-    """One netlist element: ``kind`` in R, L, C, D; nodes ``plus`` -> ``minus``; ``value`` (None for D)."""
+    """One netlist element: ``kind`` in R, L, C, D, V, I; nodes ``plus`` -> ``minus``; ``value``
+    (None for D; a :class:`~lcs_exact.sources.Source` for V and I)."""
 
     name: str
     kind: str
     plus: str
     minus: str
-    value: fmpq | None
+    value: Any
 
 
 @dataclass(frozen=True)
@@ -96,7 +109,7 @@ def parse_netlist(netlist: Any) -> tuple[Element, ...]:
         name = str(parts[0])
         kind = name[:1].upper()
         if kind not in _KINDS:
-            raise ShapeError(f"{where}: the name must start with R, L, C or D (the element kind), got {name!r}")
+            raise ShapeError(f"{where}: the name must start with R, L, C, D, V or I (the element kind), got {name!r}")
         if name in seen:
             raise ShapeError(f"{where}: element name {name!r} is used twice")
         seen.add(name)
@@ -107,6 +120,11 @@ def parse_netlist(netlist: Any) -> tuple[Element, ...]:
             if len(parts) != 3:
                 raise ShapeError(f"{where}: an ideal diode takes no value ('D1 anode cathode')")
             out.append(Element(name, kind, plus, minus, None))
+            continue
+        if kind in "VI":
+            if len(parts) < 4:
+                raise ShapeError(f"{where}: a {_KINDS[kind]} needs a value (a number or a source)")
+            out.append(Element(name, kind, plus, minus, _source_value(parts[3:], where)))
             continue
         if len(parts) != 4:
             raise ShapeError(f"{where}: a {_KINDS[kind]} needs exactly one value")
@@ -122,8 +140,52 @@ def parse_netlist(netlist: Any) -> tuple[Element, ...]:
     return tuple(out)
 
 
+def _source_value(parts: list, where: str) -> Source:
+    """A source from the value fields of a V or I element: a Source, a rational, or text such as
+    ``sine(100, 10)`` or ``constant(5) + sine(1, 2)`` (one field or several, joined)."""
+    if len(parts) == 1 and isinstance(parts[0], Source):
+        return parts[0]
+    text = " ".join(str(p) for p in parts)
+    out = as_source(0)
+    for term in _split_terms(text):
+        term = term.strip()
+        if "(" not in term:
+            try:
+                out = out + to_fmpq(term, "source value")
+            except NotRational:
+                raise ShapeError(f"{where}: cannot read the source value {term!r} (a number, or sine(omega, "
+                                 "amplitude), cosine(...), exponential(rate, amplitude), constant(c))") from None
+            continue
+        fname, _, rest = term.partition("(")
+        fn = _SOURCE_FUNCS.get(fname.strip())
+        if fn is None or not rest.endswith(")"):
+            raise ShapeError(f"{where}: unknown source {term!r}: use sine(omega, amplitude), cosine(omega, "
+                             "amplitude), exponential(rate, amplitude), constant(c) or polynomial(c0, c1, ...)")
+        args = [a.strip() for a in rest[:-1].split(",") if a.strip()]
+        try:
+            out = out + fn(*args)
+        except TypeError:
+            raise ShapeError(f"{where}: wrong number of arguments in {term!r}") from None
+    return out
+
+
+def _split_terms(text: str) -> list[str]:
+    """Split 'a + b(1, 2) + c' at the top-level '+' signs."""
+    terms, depth, cur = [], 0, ""
+    for ch in text:
+        depth += ch == "("
+        depth -= ch == ")"
+        if ch == "+" and depth == 0 and cur.strip():
+            terms.append(cur)
+            cur = ""
+        else:
+            cur += ch
+    terms.append(cur)
+    return [t for t in terms if t.strip()]
+
+
 def _normal_tree(elements: Sequence[Element]) -> set[str]:
-    """Names of the tree branches: Kruskal on the priority C, R, D, L (a normal tree)."""
+    """Names of the tree branches: Kruskal on the priority V, C, R, D, L, I (a normal tree)."""
     parent: dict[str, str] = {}
 
     def find(a):
@@ -133,7 +195,7 @@ def _normal_tree(elements: Sequence[Element]) -> set[str]:
         return a
 
     tree = set()
-    for kind in "CRDL":
+    for kind in "VCRDLI":
         for e in elements:
             if e.kind == kind:
                 ra, rb = find(e.plus), find(e.minus)
@@ -149,15 +211,24 @@ def _normal_tree(elements: Sequence[Element]) -> set[str]:
 
 def _structure(elements: Sequence[Element]):
     tree = _normal_tree(elements)
+    vloops = [e.name for e in elements if e.kind == "V" and e.name not in tree]
+    if vloops:
+        raise Unsupported(f"voltage sources {vloops} close a loop of voltage sources: their voltages are "
+                          "not independent; merge them or add a series resistor")
     loops = [e.name for e in elements if e.kind == "C" and e.name not in tree]
     if loops:
-        caps = [e.name for e in elements if e.kind == "C"]
-        raise Unsupported(f"capacitors {loops} close a loop of capacitors (of {caps}): their voltages are "
-                          "not independent states; merge parallel capacitors or add a series resistor")
+        caps = [e.name for e in elements if e.kind in "CV"]
+        raise Unsupported(f"capacitors {loops} close a loop of capacitors and voltage sources (of {caps}): "
+                          "their voltages are not independent states; merge parallel capacitors or add a "
+                          "series resistor")
     cuts = [e.name for e in elements if e.kind == "L" and e.name in tree]
     if cuts:
-        raise Unsupported(f"inductors {cuts} lie in a cutset of inductors: their currents are not "
-                          "independent states; merge series inductors or add a parallel resistor")
+        raise Unsupported(f"inductors {cuts} lie in a cutset of inductors (and current sources): their "
+                          "currents are not independent states; merge series inductors or add a parallel resistor")
+    icuts = [e.name for e in elements if e.kind == "I" and e.name in tree]
+    if icuts:
+        raise Unsupported(f"current sources {icuts} lie in a cutset of current sources: their currents are "
+                          "not independent; add a parallel resistor")
     ports = []
     for e in elements:
         if e.kind == "D":
@@ -213,15 +284,17 @@ def circuit(netlist: Any, *, name: str | None = None) -> LCS:
     states = [e for e in elements if e.kind in "CL"]
     st_ix = {e.name: i for i, e in enumerate(states)}
     port_ix = {p.name: i for i, p in enumerate(ports)}
-    nn, nb, ns, k = len(nodes), len(elements), len(states), len(ports)
+    srcs = [e for e in elements if e.kind in "VI"]
+    src_ix = {e.name: i for i, e in enumerate(srcs)}
+    nn, nb, ns, k, nw = len(nodes), len(elements), len(states), len(ports), len(srcs)
     if ns == 0:
         raise Unsupported("the circuit has no capacitor or inductor: an LCS needs at least one state")
     if k == 0:
         raise Unsupported("the circuit has no diode: an LCS needs at least one complementarity pair")
-    # unknowns: e (nn), v (nb), i (nb), x' (ns); knowns: x (ns), u (k)
+    # unknowns: e (nn), v (nb), i (nb), x' (ns); knowns: x (ns), u (k), w (nw)
     V, I, XD = nn, nn + nb, nn + 2 * nb
     nz = nn + 2 * nb + ns
-    rows: list[tuple[dict, dict, dict]] = []  # (unknown coeffs, x coeffs, u coeffs): lhs = x part + u part
+    rows: list[tuple[dict, dict, dict, dict]] = []  # (unknowns, x, u, w) coefficients: lhs = x + u + w parts
     for v in nodes:  # KCL: sum of currents leaving the node is zero
         c = {}
         for b, e in enumerate(elements):
@@ -229,50 +302,57 @@ def circuit(netlist: Any, *, name: str | None = None) -> LCS:
                 c[I + b] = c.get(I + b, 0) + 1
             if e.minus == v:
                 c[I + b] = c.get(I + b, 0) - 1
-        rows.append((c, {}, {}))
+        rows.append((c, {}, {}, {}))
     for b, e in enumerate(elements):  # KVL: v_b = e(plus) - e(minus)
         c = {V + b: fmpq(1)}
         if e.plus != "0":
             c[node_ix[e.plus]] = c.get(node_ix[e.plus], 0) - 1
         if e.minus != "0":
             c[node_ix[e.minus]] = c.get(node_ix[e.minus], 0) + 1
-        rows.append((c, {}, {}))
+        rows.append((c, {}, {}, {}))
     ports_by = {p.name: p for p in ports}
     for b, e in enumerate(elements):  # branch laws
         if e.kind == "R":
-            rows.append(({V + b: 1, I + b: -e.value}, {}, {}))
+            rows.append(({V + b: 1, I + b: -e.value}, {}, {}, {}))
         elif e.kind == "C":
             s = st_ix[e.name]
-            rows.append(({V + b: 1}, {s: 1}, {}))
-            rows.append(({I + b: 1, XD + s: -e.value}, {}, {}))
+            rows.append(({V + b: 1}, {s: 1}, {}, {}))
+            rows.append(({I + b: 1, XD + s: -e.value}, {}, {}, {}))
         elif e.kind == "L":
             s = st_ix[e.name]
-            rows.append(({I + b: 1}, {s: 1}, {}))
-            rows.append(({V + b: 1, XD + s: -e.value}, {}, {}))
+            rows.append(({I + b: 1}, {s: 1}, {}, {}))
+            rows.append(({V + b: 1, XD + s: -e.value}, {}, {}, {}))
+        elif e.kind == "V":
+            rows.append(({V + b: 1}, {}, {}, {src_ix[e.name]: 1}))
+        elif e.kind == "I":
+            rows.append(({I + b: 1}, {}, {}, {src_ix[e.name]: 1}))
         else:
             p = port_ix[e.name]
             if ports_by[e.name].kind == "current":
-                rows.append(({I + b: 1}, {}, {p: 1}))
+                rows.append(({I + b: 1}, {}, {p: 1}, {}))
             else:
-                rows.append(({V + b: 1}, {}, {p: -1}))
+                rows.append(({V + b: 1}, {}, {p: -1}, {}))
     if len(rows) != nz:
         raise ShapeError(f"internal inconsistency: {len(rows)} circuit equations for {nz} unknowns")
     Mz = fmpq_mat(nz, nz)
-    R = fmpq_mat(nz, ns + k)
-    for r, (c, cx, cu) in enumerate(rows):
+    R = fmpq_mat(nz, ns + k + nw)
+    for r, (c, cx, cu, cw) in enumerate(rows):
         for j, v in c.items():
             Mz[r, j] = v
         for j, v in cx.items():
             R[r, j] = v
         for j, v in cu.items():
             R[r, ns + j] = v
+        for j, v in cw.items():
+            R[r, ns + k + j] = v
     if Mz.rank() < nz:
         raise Unsupported("the circuit equations do not determine the branch voltages and currents "
                           "from the states and the diode ports (a degenerate network)")
-    Z = Mz.solve(R)  # every unknown as a linear map of (x, u)
+    Z = Mz.solve(R)  # every unknown as a linear map of (x, u, w)
     A = fmpq_mat(ns, ns, [Z[XD + i, j] for i in range(ns) for j in range(ns)])
     B = fmpq_mat(ns, k, [Z[XD + i, ns + j] for i in range(ns) for j in range(k)])
-    Cm, Dm = fmpq_mat(k, ns), fmpq_mat(k, k)
+    E = fmpq_mat(ns, nw, [Z[XD + i, ns + k + j] for i in range(ns) for j in range(nw)])
+    Cm, Dm, F = fmpq_mat(k, ns), fmpq_mat(k, k), fmpq_mat(k, nw)
     for b, e in enumerate(elements):
         if e.kind != "D":
             continue
@@ -283,5 +363,11 @@ def circuit(netlist: Any, *, name: str | None = None) -> LCS:
             Cm[p, j] = sign * Z[row, j]
         for j in range(k):
             Dm[p, j] = sign * Z[row, ns + j]
+        for j in range(nw):
+            F[p, j] = sign * Z[row, ns + k + j]
     names = tuple(f"v({e.name})" if e.kind == "C" else f"i({e.name})" for e in states)
-    return LCS(A, B, Cm, Dm, name=name, state_names=names, constraint_names=tuple(p.name for p in ports))
+    cnames = tuple(p.name for p in ports)
+    if nw == 0:
+        return LCS(A, B, Cm, Dm, name=name, state_names=names, constraint_names=cnames)
+    ex = exosystem([e.value for e in srcs])
+    return extend(A, B, Cm, Dm, E * ex.W, F * ex.W, ex, name=name, state_names=names, constraint_names=cnames)

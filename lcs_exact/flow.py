@@ -16,13 +16,14 @@ from typing import Any
 
 from flint import arb, fmpq
 
-from .balls import Deadline, Policy, workprec
+from .balls import Deadline, Policy, dyadic_lower, dyadic_upper, workprec
 from .closedforms import prove_root, prove_touch
 from .errors import LCSError
 from .modes import format_mode
 from .phase import Constraint, Phase
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, Real, as_exact_vector, as_real
-from .roots import RootReal, dyadic_lower, dyadic_upper, first_crossing
+from .polyroots import exact_first_crossing
+from .roots import RootReal, first_crossing
 
 __all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound"]
 
@@ -54,15 +55,22 @@ class _Toucher(_Finder):
         return prove_touch(ph.spectrum, self.c.g, ph.base, lo, hi, ph.policy.deadline)
 
 
-def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> RootReal | None | str:
-    """The first t in (0, horizon] where f = g x(t) turns negative: a :class:`RootReal`, None (no
-    event in (0, horizon]) or "now" (f is negative right after t = 0)."""
+def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> Real | None | str:
+    """The first t in (0, horizon] where f = g x(t) turns negative: a :class:`RootReal` (or an
+    exact :class:`~lcs_exact.reals.AlgebraicReal` on a polynomial phase from an exact start,
+    :mod:`lcs_exact.polyroots`), None (no event in (0, horizon]) or "now" (f is negative right
+    after t = 0)."""
     sign, order = phase.start_order(c)
     if sign == 0:
         return None  # f = 0 on the whole phase
     if sign < 0:
         return "now"
     fn = phase.function(c)
+    exact = fn.exact_coefficients()
+    if exact is not None:  # a polynomial phase from an exact start: its roots exactly
+        hit = exact_first_crossing(exact, horizon, phase.policy)
+        if hit is not None:
+            return hit.root
     a = fmpq(0)
     if order > 0:
         a, prec = _start(phase, c, fn, order, horizon, prec)
@@ -71,28 +79,7 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> RootRea
     br = first_crossing(fn, a, horizon, prec, touch=_Toucher(phase, c))
     if br is None:
         return None
-    root = RootReal(fn, br, _Finder(phase, c))
-    exact = _rational_root(fn, br)
-    if exact is not None:
-        root.set_rational(exact)
-    return root
-
-
-def _rational_root(fn, br) -> fmpq | None:
-    """The root exactly when f is an exact polynomial (nilpotent A_I, rational start) with a
-    single root in the simple bracket that is rational (a linear factor over Q)."""
-    if not br.simple:
-        return None
-    p = fn.polynomial()
-    if p is None or p.degree() < 1:
-        return None
-    inside = []
-    for factor, _ in p.factor()[1]:
-        if factor.degree() == 1:
-            r = -factor.coeffs()[0] / factor.coeffs()[1]
-            if br.lo < r <= br.hi:
-                inside.append(r)
-    return inside[0] if len(inside) == 1 else None
+    return RootReal(fn, br, _Finder(phase, c))
 
 
 def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int) -> tuple[fmpq, int]:
@@ -136,6 +123,11 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
     ``allow_unresolved``), +1."""
     if phase.proportional(ca.g, cb.g):
         return 0
+    xa, xb = a.known_ca(), b.known_ca()
+    if xa is not None and xb is not None:  # exact roots (polynomial phases): decided exactly
+        s = (xa - xb).sign()
+        if s is not None:
+            return s
     policy: Policy = phase.policy
     prec = start = max(64, a.anchor_prec, b.anchor_prec)
     tried = False

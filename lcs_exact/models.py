@@ -1,6 +1,9 @@
 """Builders for linear complementarity systems, in one place (DESIGN.md section 6).
 
-* :func:`mechanical` (:mod:`lcs_exact.mechanics`): M q'' + D q' + K q = E^T u, y = E q (8.1)-(8.3);
+* :func:`mechanical` (:mod:`lcs_exact.mechanics`): M q'' + D q' + K q = f + E^T u, y = E q + g
+  (8.1)-(8.3), with forces and gaps as sources and Newton's impact law (``restitution``);
+* :func:`driven` (:mod:`lcs_exact.exosystems`): x' = A x + B u + E w(t), y = C x + D u + F w(t) with
+  sources w (:mod:`lcs_exact.sources`) carried by appended exosystem states;
 * :func:`circuit`, :func:`circuit_ports` (:mod:`lcs_exact.circuits`): RLC networks with ideal diodes;
 * :func:`relay` (:mod:`lcs_exact.relays`): x' = A x + B w, w in Sgn(C x), with a constant state
   for the relay levels and ``lcs.embed(x)`` = (x, 1);
@@ -10,9 +13,10 @@
 from __future__ import annotations
 
 from .circuits import circuit, circuit_ports
+from .exosystems import driven
 from .examples import diode_bridge, filippov_spiral, half_wave_rectifier, two_carts, two_carts_with_hook
 from .mechanics import mechanical
 from .relays import relay
 
-__all__ = ["mechanical", "circuit", "circuit_ports", "relay", "two_carts", "two_carts_with_hook",
+__all__ = ["mechanical", "driven", "circuit", "circuit_ports", "relay", "two_carts", "two_carts_with_hook",
            "half_wave_rectifier", "diode_bridge", "filippov_spiral"]

@@ -19,10 +19,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from flint import acb_mat, arb, arb_mat, fmpq_mat, fmpq_poly
+from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
 
+from . import calcium
 from .balls import Policy, workprec
-from .reals import ExactVector, ExpVector, ScaledVector, as_real, orbit_start
+from .reals import (ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, as_real, ca_matvec,
+                    orbit_start)
 from .rational import submatrix, vstack, zeros
 from .roots import ExpSum, RootReal, newton_ball
 from .subspaces import in_row_span, invariant_forms, orbit_zero_forms, rank, row_basis
@@ -69,15 +71,18 @@ class PhaseFunction:
         # trajectory (sweeps) carries its exact definitions and computed digits, not its caches
         return {**self.__dict__, "_sum": None}
 
-    def polynomial(self) -> fmpq_poly | None:
-        """f as an exact polynomial in t when A_I is nilpotent (a piecewise-constant or
-        piecewise-polynomial vector field, e.g. relays) and the start is rational: then
-        f(t) = sum_j g N^j z t^j / j! exactly; None otherwise."""
-        sp = self.phase.spectrum
-        q = self.phase.base.known_rational() if sp.nilpotent_only else None
-        if q is None:
+    def exact_coefficients(self) -> list | None:
+        """f as an exact polynomial in t, sum_j c_j t^j with c_j = g N^j z / j!, when A_I is
+        nilpotent (a free fall, a relay's constant field, a chain of integrators) and the start
+        z is known exactly: ``fmpq`` coefficients for a rational z, Calcium numbers for an
+        algebraic one; None otherwise."""
+        z = self.phase.exact_start
+        if z is None:
             return None
-        return fmpq_poly([(self.g * P * q)[0, 0] for P in sp.nilpotent])
+        rows = [self.g * P for P in self.phase.spectrum.nilpotent]
+        if isinstance(z, fmpq_mat):
+            return [(r * z)[0, 0] for r in rows]
+        return [ca_matvec(r, z)[0] for r in rows]
 
     def describe(self) -> str:
         return self.name
@@ -110,6 +115,11 @@ class Phase:
             inv = invariant_forms(self.base.zero_forms, self.M) if self.base.zero_forms.nrows() else W
             self.zero_forms = row_basis(W, inv) if W.nrows() or inv.nrows() else zeros(0, self.M.nrows())
         self.constraints = self._constraints()
+        # a polynomial phase (A_I nilpotent) from an exactly known start: exact roots and states
+        self.exact_start = None
+        if self.spectrum.nilpotent_only:
+            q = self.base.known_rational()
+            self.exact_start = q if q is not None else self.base.known_ca()
         self._powers: dict = {}
         self._modal = None
         self._modal_prec = 0
@@ -177,8 +187,34 @@ class Phase:
             zf = row_basis(zf, extra_zero_forms) if zf.nrows() else row_basis(extra_zero_forms)
         if t.known_rational() == 0:
             return self.z
-        x = ExpVector(self.spectrum, t, self.base, zf, self.policy, modal=self.modal)
+        x = self._exact_state(t, zf)
+        if x is None:
+            x = ExpVector(self.spectrum, t, self.base, zf, self.policy, modal=self.modal)
         return ScaledVector(self.scale, x, self.policy) if self.scale is not None else x
+
+    def _exact_state(self, t, zero_forms) -> ExactVector | None:
+        """e^{N t} z = sum_j N^j z t^j / j! exactly, on a polynomial phase from an exact start at
+        an exactly known time t (rational or algebraic); None otherwise."""
+        z = self.exact_start
+        if z is None:
+            return None
+        tq = t.known_rational()
+        nil = self.spectrum.nilpotent
+        if tq is not None and isinstance(z, fmpq_mat):
+            out, tp = nil[0] * z, fmpq(1)
+            for P in nil[1:]:
+                tp *= tq
+                out = out + P * z * tp
+            return RationalVector(out, self.policy)
+        tc = t.known_ca()
+        if tc is None:
+            return None
+        zc = z if not isinstance(z, fmpq_mat) else [calcium.Ca(z[i, 0]) for i in range(z.nrows())]
+        acc = None
+        for P in reversed(nil):  # Horner in t: ((N^2/2 z) t + N z) t + z
+            term = ca_matvec(P, zc)
+            acc = term if acc is None else [a * tc + b for a, b in zip(acc, term)]
+        return algebraic_vector(acc, zero_forms, self.policy)
 
     def event_state(self, theta: RootReal, zero_forms: fmpq_mat | None = None) -> ExactVector:
         """x(theta-) at the end of the phase (theta a root of a constraint of this phase), with
@@ -186,7 +222,9 @@ class Phase:
         zf = self.zero_forms
         if zero_forms is not None and zero_forms.nrows():
             zf = row_basis(zf, zero_forms) if zf.nrows() else row_basis(zero_forms)
-        x = EventState(self, theta, zf)
+        x = self._exact_state(theta, zf)
+        if x is None:
+            x = EventState(self, theta, zf)
         return ScaledVector(self.scale, x, self.policy) if self.scale is not None else x
 
     def proportional(self, ga: fmpq_mat, gb: fmpq_mat) -> bool:

@@ -32,15 +32,15 @@ from typing import Any, Callable, Iterator
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_form_arb, decide_sign,
-                    digits_to_bits, workprec)
-from .errors import NotRational, ShapeError, UnresolvedSign
+                    digits_to_bits, dyadic_lower, dyadic_upper, workprec)
+from .errors import LCSError, NotRational, ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of
 from .rational import is_zero, to_fmpq, to_int, to_matrix, to_vector, vector_entries, zeros
 from .subspaces import in_row_span, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
 __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
-           "ExactVector", "RationalVector", "ScaledVector", "ExpVector", "ProjectedVector",
-           "ComponentsVector", "as_real", "as_exact_vector", "expm_action", "evaluate",
+           "AlgebraicReal", "ExactVector", "RationalVector", "ScaledVector", "ExpVector", "ProjectedVector",
+           "ComponentsVector", "AlgebraicVector", "algebraic_vector", "ca_matvec", "radical_form", "as_real", "as_exact_vector", "expm_action", "evaluate",
            "homogenized", "orbit_start", "format_form", "decimal_of_fmpq", "decimal_of_ball"]
 
 
@@ -169,6 +169,15 @@ class Real(_Node):
         """The value as a Calcium number (exact), or None when no closed form is known."""
         return None
 
+    def known_ca(self):
+        """The value as a Calcium number when it is already known exactly as a rational or an
+        algebraic number (cheap: never derives a closed form), else None."""
+        q = self.known_rational()
+        if q is not None:
+            from . import calcium
+            return calcium.Ca(q) if calcium.available() else None
+        return None
+
     # --- evaluation ---------------------------------------------------------------------------
     def ball(self, digits: int = 30) -> arb:
         """An arb ball containing the value with relative radius < 10^-digits (absolute for a
@@ -208,6 +217,11 @@ class Real(_Node):
         q = self.known_rational()
         if q is not None:
             return (q > 0) - (q < 0)
+        c = self.known_ca()
+        if c is not None:  # an algebraic number: Calcium decides its sign exactly
+            s = c.sign()
+            if s is not None:
+                return s
         return decide_sign(self.arb, policy=self.policy, what=lambda: f"the real {self!r}",
                            start=max(64, self._prec), prove_zero=self._prove_zero)
 
@@ -326,12 +340,31 @@ def linear_terms(r: Real) -> tuple[fmpq, list[tuple[fmpq, Real]]]:
 
 class _Linear(Real):
     """A rational linear combination of reals (sums and multiples): closed forms, Calcium numbers
-    and rationality are derived from :func:`linear_terms`, never by recursion."""
+    and rationality are derived from :func:`linear_terms`, never by recursion.  When the parts
+    are exact algebraic numbers, so is the combination: its Calcium number is formed at
+    construction from theirs (``_kca``, O(1) per node, so a sum of 10,000 event times costs no
+    recursion)."""
 
     _q = None
+    _kca = None
 
     def known_rational(self):
         return self._q
+
+    def known_ca(self):
+        if self._kca is not None:
+            return self._kca
+        return super().known_ca()
+
+    def _set_known_ca(self, parts: list, combine) -> None:
+        """Set ``_kca`` from the known Calcium numbers of ``parts`` when one of them is an
+        algebraic irrational (rational-only combinations stay rational and need none)."""
+        if self._q is not None or all(getattr(x, "_kca", None) is None and not isinstance(x, AlgebraicReal)
+                                      for x in parts):
+            return
+        cas = [x.known_ca() for x in parts]
+        if all(c is not None for c in cas):
+            self._kca = combine(*cas)
 
     def rational(self):
         if self._q is None and self.policy.closed_forms != "off":
@@ -375,6 +408,7 @@ class SumReal(_Linear):
         qa, qb = a.known_rational(), b.known_rational()  # O(1): cached in the parts
         if qa is not None and qb is not None:
             self._q = qa + qb if sign == 1 else qa - qb
+        self._set_known_ca([a, b], (lambda x, y: x + y) if sign == 1 else (lambda x, y: x - y))
 
     def _deps(self):
         return (self.a, self.b)
@@ -393,6 +427,7 @@ class ScaledReal(_Linear):
         qa = a.known_rational()
         if qa is not None or q == 0:
             self._q = fmpq(0) if q == 0 else qa * q
+        self._set_known_ca([a], lambda x: x * q)
 
     def _deps(self):
         return (self.a,)
@@ -471,6 +506,137 @@ class ComponentReal(Real):
         v = self.vec.to_ca()
         return None if v is None else v[self.i]
 
+    def known_ca(self):
+        v = self.vec.known_ca()
+        return None if v is None else v[self.i]
+
+
+def _ca_state(c) -> tuple:
+    """A picklable exact description of an algebraic Calcium number: (minimal polynomial, an
+    isolating rational interval as ((p, q), (p, q))), rebuilt by :func:`_ca_from_state`."""
+    coeffs = c.minimal_polynomial()
+    if coeffs is None:
+        raise LCSError("internal inconsistency: an algebraic number without a minimal polynomial")
+    with workprec(256):
+        r = c.enclosure(256).real
+        a, b = dyadic_lower(r), dyadic_upper(r)
+    return (tuple(coeffs), ((int(a.p), int(a.q)), (int(b.p), int(b.q))))
+
+
+def _ca_from_state(state: tuple):
+    from . import calcium
+    coeffs, ((ap, aq), (bp, bq)) = state
+    with workprec(256):
+        ball = arb(fmpq(ap, aq)).union(arb(fmpq(bp, bq)))
+    return calcium.Ca.algebraic(list(coeffs), ball)
+
+
+def radical_form(c):
+    """A SymPy closed form of the real algebraic number c (a Calcium number), proven equal to it
+    by Calcium: the rational itself, or a root of its minimal polynomial in radicals (degree <= 4)
+    selected by c's enclosure; None otherwise."""
+    import sympy
+    q = c.to_fmpq()
+    if q is not None:
+        return sympy.Rational(int(q.p), int(q.q))
+    coeffs = c.minimal_polynomial()
+    if coeffs is None or len(coeffs) - 1 > 4:
+        return None
+    x = sympy.Symbol("x")
+    poly = sympy.Poly(list(reversed(coeffs)), x)
+    from . import calcium
+    with workprec(128):
+        target = c.enclosure(128).real
+        for r in sympy.roots(poly, multiple=True):
+            if not r.is_real:
+                continue
+            try:
+                if not closed_form_arb(r).overlaps(target):
+                    continue
+            except Exception:  # noqa: BLE001 - an expression the ball evaluator cannot read
+                continue
+            rc = calcium.from_sympy(r)
+            if rc is not None and (rc - c).is_zero() is True:
+                return sympy.radsimp(r) if len(str(r)) > 40 else r
+    return None
+
+
+class AlgebraicReal(Real):
+    """An exact real algebraic number, held as a Calcium number (a root of a polynomial phase,
+    the event time of a free fall, sqrt(2 h / g)): signs and equalities are decided exactly,
+    balls come from Calcium's enclosures at any precision, and ``closed_form`` gives radicals
+    where the degree allows (proven).  ``lo`` / ``hi`` are dyadic bounds (rational brackets, as
+    for a root found by isolation).
+
+    >>> from lcs_exact.calcium import Ca
+    >>> r = AlgebraicReal(Ca(2).sqrt())
+    >>> r.sign(), r.closed_form, r.decimal(20)
+    (1, sqrt(2), '1.4142135623730950488 +/- 1.71e-21')
+    """
+
+    def __init__(self, ca: Any, policy: Policy | None = None):
+        super().__init__(policy)
+        self.ca = ca
+        self._q = ca.to_fmpq()
+        self._bounds = None
+        if self._q is not None and self._q.q == 1:
+            self._ball, self._prec = arb(self._q), 1 << 30
+
+    def _compute(self, prec):
+        if self._q is not None:
+            return arb(self._q)
+        return self.ca.enclosure(prec + 8).real
+
+    def known_rational(self):
+        return self._q
+
+    def known_ca(self):
+        return self.ca
+
+    def to_ca(self):
+        return self.ca
+
+    def sign(self) -> int:
+        if self._q is not None:
+            return (self._q > 0) - (self._q < 0)
+        s = self.ca.sign()
+        return s if s is not None else super().sign()
+
+    def interval(self) -> tuple[fmpq, fmpq]:
+        """Dyadic rationals lo <= value <= hi (exactly the value when it is rational)."""
+        if self._q is not None:
+            return self._q, self._q
+        if self._bounds is None:
+            with workprec(128):
+                b = self.ca.enclosure(128).real
+                self._bounds = (dyadic_lower(b), dyadic_upper(b))
+        return self._bounds
+
+    @property
+    def lo(self) -> fmpq:
+        return self.interval()[0]
+
+    @property
+    def hi(self) -> fmpq:
+        return self.interval()[1]
+
+    def _closed_form(self):
+        return radical_form(self.ca)
+
+    def __getstate__(self):
+        state = super().__getstate__()
+        state["ca"] = _ca_state(self.ca) if self._q is None else None
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        self.ca = _ca_from_state(state["ca"]) if state["ca"] is not None else _rational_ca(self._q)
+
+
+def _rational_ca(q):
+    from . import calcium
+    return calcium.Ca(q)
+
 
 # ---------------------------------------------------------------------------------------------
 # exact vectors
@@ -539,6 +705,15 @@ class ExactVector(_Node):
         if self._twin is not None:
             return self._twin.closed_form(derive)
         return None
+
+    def known_ca(self) -> list | None:
+        """The components as Calcium numbers when the vector is already known exactly (rational,
+        or algebraic: :class:`AlgebraicVector`); cheap, never derives a closed form."""
+        q = self.known_rational()
+        if q is None:
+            return None
+        from . import calcium
+        return [calcium.Ca(q[i, 0]) for i in range(self.n)] if calcium.available() else None
 
     def to_ca(self) -> list | None:
         """The components as Calcium numbers (exact), or None (cached)."""
@@ -671,6 +846,12 @@ class ScaledVector(ExactVector):
     def _structural_sign(self, form):
         return self.v.sign_of_form(form)  # c > 0
 
+    def known_ca(self):
+        if "_kca" not in self.__dict__:
+            cc, cv = self.c.known_ca(), self.v.known_ca()
+            self._kca = None if cc is None or cv is None else [x * cc for x in cv]
+        return self._kca
+
     def proven_zero(self, i: int) -> bool:
         return self.v.proven_zero(i)
 
@@ -716,6 +897,13 @@ class ProjectedVector(ExactVector):
 
     def _structural_sign(self, form):
         return self.v.sign_of_form(form * self.P)
+
+    def known_ca(self):
+        if "_kca" not in self.__dict__:
+            if self.known_rational() is not None:
+                return super().known_ca()
+            self._kca = ca_matvec(self.P, self.v.known_ca())
+        return self._kca
 
     def _exact_rational(self, depth):
         q = self.v.exact_rational(depth)
@@ -873,6 +1061,101 @@ class ComponentsVector(ExactVector):
         cs = [c.to_ca() for c in self.comps]
         return None if any(c is None for c in cs) else cs
 
+    def known_ca(self):
+        cs = [c.known_ca() for c in self.comps]
+        return None if any(c is None for c in cs) else cs
+
+
+def ca_matvec(P: fmpq_mat, xs: list | None) -> list | None:
+    """P x for a rational matrix P and a vector of Calcium numbers (None stays None)."""
+    if xs is None:
+        return None
+    from . import calcium
+    out = []
+    for i in range(P.nrows()):
+        acc = calcium.Ca(0)
+        for j in range(P.ncols()):
+            if P[i, j] != 0:
+                acc = acc + xs[j] * calcium.Ca(P[i, j])
+        out.append(acc)
+    return out
+
+
+class AlgebraicVector(ExactVector):
+    """A vector of exact real algebraic numbers (Calcium numbers): the state at an event of a
+    polynomial phase (a free fall, a relay's constant field) whose time is algebraic.  Every sign
+    of a rational form is decided exactly (Calcium decides algebraic numbers); balls come from
+    Calcium's enclosures at any precision.  Rational components stay rational
+    (``known_rational`` when all are).
+
+    >>> from lcs_exact.calcium import Ca
+    >>> x = AlgebraicVector([Ca(2).sqrt(), Ca(1)])
+    >>> x.sign_of_form(fmpq_mat([[1, -2]])), x[0].closed_form
+    (-1, sqrt(2))
+    """
+
+    def __init__(self, comps: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None):
+        super().__init__(len(comps), zero_forms, policy)
+        self.comps = list(comps)
+        qs = [c.to_fmpq() for c in self.comps]
+        self._q = fmpq_mat(self.n, 1, qs) if all(q is not None for q in qs) else None
+
+    def _compute(self, prec):
+        if self._q is not None:
+            return arb_mat(self._q)
+        return arb_mat([[c.enclosure(prec + 8).real] for c in self.comps])
+
+    def known_rational(self):
+        return self._q if self._q is not None else super().known_rational()
+
+    def known_ca(self):
+        return self.comps
+
+    def _to_ca(self):
+        return self.comps
+
+    def _structural_sign(self, form):
+        from . import calcium
+        acc = calcium.Ca(0)
+        for j in range(self.n):
+            if form[0, j] != 0:
+                acc = acc + self.comps[j] * calcium.Ca(form[0, j])
+        return acc.sign()
+
+    def proven_zero(self, i: int) -> bool:
+        return self.comps[i].is_zero() is True or super().proven_zero(i)
+
+    def closed_form(self, derive: bool = True):
+        if self._q is not None:
+            return RationalVector(self._q).closed_form()
+        if not derive:
+            return None
+        cs = [radical_form(c) for c in self.comps]
+        if any(c is None for c in cs):
+            return None
+        import sympy
+        return sympy.Matrix(cs)
+
+    def __getstate__(self):
+        state = super().__getstate__()
+        state["comps"] = None if self._q is not None else [_ca_state(c) for c in self.comps]
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        if state["comps"] is None:
+            self.comps = [_rational_ca(self._q[i, 0]) for i in range(self.n)]
+        else:
+            self.comps = [_ca_from_state(c) for c in state["comps"]]
+
+
+def algebraic_vector(xs: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None) -> ExactVector:
+    """A RationalVector when every Calcium number of xs is rational, else an AlgebraicVector."""
+    qs = [c.to_fmpq() for c in xs]
+    if all(q is not None for q in qs):
+        return RationalVector(fmpq_mat(len(xs), 1, qs), policy)
+    return AlgebraicVector(xs, zero_forms, policy)
+
 
 def _tidy(e):
     """Light SymPy clean-up of a closed-form entry (no simplify: it costs seconds)."""
@@ -934,7 +1217,8 @@ def orbit_start(v: ExactVector, M: fmpq_mat) -> tuple[ExactVector, Real | None]:
 def homogenized(x: ExactVector) -> ExactVector:
     """x itself, or c q (c > 0 certified, q rational) when the forms proven to vanish on x leave
     a single direction q (rank n - 1): then every sign at x is the sign at q, exactly."""
-    if x.known_rational() is not None or isinstance(x, ScaledVector) or x.zero_forms.nrows() != x.n - 1:
+    if x.known_rational() is not None or isinstance(x, (ScaledVector, AlgebraicVector)) or \
+            x.zero_forms.nrows() != x.n - 1:
         return x
     q = kernel(x.zero_forms)
     i = next(i for i in range(x.n) if q[i, 0] != 0)

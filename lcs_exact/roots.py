@@ -34,7 +34,7 @@ from typing import Callable, Protocol
 
 from flint import acb, arb, fmpq
 
-from .balls import Policy, ball_sign, workprec
+from .balls import Policy, ball_sign, dyadic, dyadic_lower, dyadic_upper, workprec
 from .reals import Real
 
 __all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic", "newton_ball"]
@@ -159,13 +159,6 @@ class Bracket:
     lo: fmpq
     hi: fmpq
     simple: bool
-
-
-def dyadic(x: arb) -> fmpq:
-    """The exact midpoint of a ball as fmpq."""
-    m, e = x.mid().man_exp()
-    m, e = int(m), int(e)
-    return fmpq(m * 2 ** e) if e >= 0 else fmpq(m, 2 ** (-e))
 
 
 def _split_point(f: ExpSum, lo: fmpq, hi: fmpq) -> tuple[fmpq, int] | None:
@@ -471,13 +464,3 @@ def newton_ball(f: ExpSum, X: arb, steps: int = 60) -> arb:
                 return Y
             X = Y
         return X
-
-
-def dyadic_lower(x: arb) -> fmpq:
-    """A dyadic rational <= every point of the ball."""
-    return dyadic(x.lower())
-
-
-def dyadic_upper(x: arb) -> fmpq:
-    """A dyadic rational >= every point of the ball."""
-    return dyadic(x.upper())

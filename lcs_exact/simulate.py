@@ -25,12 +25,12 @@ from typing import Any
 
 from flint import arb
 
-from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, workprec
+from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, workprec
 from .errors import (Deadlock, IllPosed, InvalidArgument, LCSError, LimitExceeded, ShapeError, UnresolvedSign,
                      ZenoDetected)
 from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
 from .flow import next_event
-from .roots import dyadic_lower
+from .impacts import newton_impact
 from .phase import Phase
 from .rational import submatrix, vstack
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
@@ -313,28 +313,26 @@ class _Run:
         """The proven geometric law of the last events when it accumulates before t_end
         (:mod:`lcs_exact.accumulation`), else None; with ``zeno="stop"`` a proven law stops the
         run with ZenoDetected at its exact time."""
-        if t.known_rational() is None or len(self.events) < 3:
+        if len(self.events) < 3 or (t.known_rational() is None and t.known_ca() is None):
             return None
         if self.symmetry is False:
             self.symmetry = symmetry_exponents(self.lcs)
-        law = geometric_law(self.lcs, self.events, self.symmetry)
+        law = geometric_law(self.lcs, self.events, self.symmetry, policy=self.policy)
         if law is None or (self.T - law.time).sign() < 0:
             return None
         if self.zeno == "stop":
-            raise ZenoDetected(f"event times accumulate at exactly t = {law.time} (a proven geometric law: "
+            lo, hi = law.time.interval() if hasattr(law.time, "interval") else (law.time.known_rational(),) * 2
+            raise ZenoDetected(f"event times accumulate at exactly t = {law.time.label()} (a proven geometric law: "
                                f"cycles of {law.period} events, each {law.ratio} times the previous; "
-                               f"Remark 4.11); zeno='stop'", lower=law.time, upper=law.time,
-                               time=RationalReal(law.time, self.policy))
+                               f"Remark 4.11); zeno='stop'", lower=lo, upper=hi, time=law.time)
         return law
 
     def cross(self, law, t, mode):
         """Cross a proven accumulation point: the motion on [t_k, T*) is the law's scaled cycles
         (:class:`~lcs_exact.accumulation.ScaledCycle`), x(T*-) its exact limit; the run goes on
         from there as Definition 4.10 prescribes (item 2: the limit state, then selection)."""
-        T_star = RationalReal(law.time, self.policy)
-        limit = RationalVector(law.limit, self.policy)
-        t_k = t.known_rational()
-        cycle = ScaledCycle(law, _ReferenceStates(self), t_k, mode, self.events[-1].state_after)
+        T_star, limit = law.time, law.limit
+        cycle = ScaledCycle(law, _ReferenceStates(self), t, mode, self.events[-1].state_after)
         self.phases.append(PhaseRecord(t, T_star, mode.index_set, cycle))
         self.accumulations.append(Accumulation(T_star, limit, law.period, law.ratio, law.start))
         self.durations.clear()
@@ -367,6 +365,11 @@ class _Run:
         """Steps one to three; returns (mode, chain of jump modes, state after, impulse)."""
         lcs = self.lcs
         chain, impulse = [], {}
+        hit = newton_impact(lcs, z.known_rational() if z.known_rational() is not None else z)
+        if hit is not None:  # Newton's law (restitution) instead of P_I: one jump of the velocities
+            chain.append(hit.active)
+            impulse = {0: _apply_forms(hit.impulse_forms, z)}
+            z = _apply_forms(hit.jump, z)
         cap = 2 ** lcs.k + lcs.n + 1
         for _ in range(cap):
             q = z.known_rational()
@@ -523,6 +526,12 @@ def _project(mode, z: ExactVector) -> ExactVector:
     if q is not None:
         return RationalVector(P * q, z.policy)
     return ProjectedVector(P, z)
+
+
+def _apply_forms(P, z: ExactVector) -> ExactVector:
+    """P z for a rational matrix P (rational stays rational)."""
+    q = z.known_rational()
+    return RationalVector(P * q, z.policy) if q is not None else ProjectedVector(P, z)
 
 
 def _impulse(mode, z: ExactVector) -> dict:

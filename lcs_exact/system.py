@@ -17,13 +17,13 @@ from dataclasses import dataclass, field
 from itertools import islice
 from typing import Any, Iterable
 
-from flint import fmpq_mat, fmpq_poly
+from flint import fmpq, fmpq_mat, fmpq_poly
 
 from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
 from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, RationalFunction, RationalMatrix,
-                       adjugate_coefficients, eigenvalue_moduli, mat_rows, matrix_to_sympy, submatrix, to_int,
-                       to_matrix, to_short, to_vector)
+                       adjugate_coefficients, eigenvalue_moduli, mat_rows, matrix_to_sympy, submatrix, to_fmpq,
+                       to_int, to_matrix, to_short, to_vector)
 
 __all__ = ["LCS", "WellPosedness", "LATEX_MAX_CHARS"]
 
@@ -89,6 +89,13 @@ class LCS:
         Set by builders that append states (:func:`lcs_exact.models.relay` appends the constant
         relay level c): maps a state of the modelled system to the full initial state, see
         :meth:`embed`.  Default: none (``embed`` reads x as it is).
+    restitution : rational or sequence of k rationals in [0, 1], optional
+        Newton's impact law, generalised by Moreau to simultaneous impacts (DESIGN.md section
+        7; :mod:`lcs_exact.impacts`): at a state where closed constraints (y_i = 0) approach
+        (y_i' < 0), the velocities jump by the impact LCP E q'+ + e E q'- >= 0 ⊥ impulse >= 0
+        instead of the paper's P_I.  Needs every constraint of relative degree 2 (D = 0,
+        C B = 0, and C A B a P-matrix: mechanical contacts).  e = 0 gives exactly the paper's
+        re-initialization (Theorem 8.2); None (default) is the paper's LCS.
 
     Names must be distinct nonempty strings; they are stored as tuples.
 
@@ -107,7 +114,8 @@ class LCS:
     """
 
     def __init__(self, A: Any, B: Any, C: Any, D: Any, *, name: str | None = None,
-                 state_names: Any = None, constraint_names: Any = None, embedding: Any = None):
+                 state_names: Any = None, constraint_names: Any = None, embedding: Any = None,
+                 restitution: Any = None):
         self.A = to_matrix(A, "A")
         n = self.A.nrows()
         if n == 0 or self.A.ncols() != n:
@@ -133,6 +141,39 @@ class LCS:
         self._apow_b: list[fmpq_mat] = [self.B]  # A^i B
         self._modes: dict[frozenset, Any] = {}
         self._cache: dict[str, Any] = {}
+        self.restitution = self._restitution(restitution)
+
+    def _restitution(self, e: Any) -> tuple | None:
+        """Validated restitution coefficients (one fmpq per constraint), or None (DESIGN.md 7)."""
+        if e is None:
+            return None
+        if isinstance(e, (list, tuple)) or hasattr(e, "tolist"):
+            e = list(e.tolist() if hasattr(e, "tolist") else e)
+            if len(e) != self.k:
+                raise ShapeError(f"restitution has {len(e)} coefficients, expected one per constraint (k = {self.k})")
+            es = tuple(fmpq(0) if x is None else to_fmpq(x, f"restitution[{i}]") for i, x in enumerate(e))
+        else:
+            es = (to_fmpq(e, "restitution"),) * self.k
+        for i, x in enumerate(es):
+            if not 0 <= x <= 1:
+                raise InvalidArgument(f"restitution coefficient of constraint {self.constraint_names[i]!r} must be "
+                                      f"in [0, 1], got {x}")
+        # Newton's law acts on velocities: y = C x, y' = C A x, the impulse jumps x by B lambda
+        # and y' by C A B lambda (relative degree 2: D = 0, C B = 0, as for (8.3))
+        CB = self.C * self.B
+        for i in range(self.k):
+            what = f"restitution needs every constraint of relative degree 2 (mechanical contacts: D = 0, C B = 0)"
+            if any(self.D[i, j] != 0 or self.D[j, i] != 0 for j in range(self.k)):
+                raise InvalidArgument(f"{what}; constraint {self.constraint_names[i]!r} has a nonzero entry in D")
+            if any(CB[i, j] != 0 or CB[j, i] != 0 for j in range(self.k)):
+                raise InvalidArgument(f"{what}; constraint {self.constraint_names[i]!r} has a nonzero entry in C B")
+        W = self.C * self.A * self.B
+        bad = p_matrix_violation(W)
+        if bad is not None:
+            raise InvalidArgument(f"restitution needs C A B (the Delassus matrix E M^-1 E^T of (8.7)) to be a "
+                                  f"P-matrix, so that the impact LCP has one solution; its principal minor on "
+                                  f"{set(bad)} is {submatrix(W, bad, bad).det()} <= 0")
+        return es
 
     # --- Markov parameters and transfer matrices --------------------------------------------
     def markov(self, i: int) -> fmpq_mat:
@@ -348,6 +389,10 @@ class LCS:
             extra += f", state_names={self.state_names!r}"
         if self.constraint_names != _names(None, self.k, "", ""):
             extra += f", constraint_names={self.constraint_names!r}"
+        if self.restitution is not None:
+            es = self.restitution
+            extra += f", restitution={q(es[0])}" if len(set(es)) == 1 else \
+                f", restitution=[{', '.join(q(e) for e in es)}]"
         return f"LCS(A={f(self.A)}, B={f(self.B)}, C={f(self.C)}, D={f(self.D)}{extra})"
 
     def __str__(self):

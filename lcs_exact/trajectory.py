@@ -221,7 +221,7 @@ class Trajectory:
                 x = phase.z.arb(prec)
                 return [x[i, 0] for i in range(x.nrows())]
             if not hasattr(phase, "spectrum"):  # an accumulation window: exact states
-                x = phase.state(tq - rec.t0.known_rational()).arb(prec)
+                x = phase.state(as_real(tq) - rec.t0).arb(prec)
                 return [x[i, 0] for i in range(x.nrows())]
             dt = arb(tq) - rec.t0.arb(prec)
             x = phase.spectrum.apply(dt, phase.base.arb(prec), prec, phase.modal(prec))

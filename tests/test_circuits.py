@@ -59,7 +59,7 @@ def test_netlist_syntax():
 
 @pytest.mark.parametrize("net, match", [
     ("", "no elements"),
-    ("X1 1 0 1", "must start with R, L, C or D"),
+    ("X1 1 0 1", "must start with R, L, C, D, V or I"),
     ("C1 1 0", "needs exactly one value"),
     ("C1 1 0 1 2", "needs exactly one value"),
     ("D1 1 0 1\nC1 1 0 1", "takes no value"),

@@ -1,0 +1,133 @@
+"""Newton's impact law with Moreau's generalisation (lcs_exact.impacts; DESIGN.md section 7).
+
+Oracles derived here: with e = 0 the law is (8.7)-(8.8), so every run must equal the paper's run
+(P_I) event by event; with e = 1 a single impact reverses the normal velocity, which keeps the
+energy 1/2 q'^T M q' + 1/2 q^T K q (computed here from M and K); the bouncing ball's impact times
+and velocities follow from free fall: launched upwards at v0 from the floor under gravity g, it
+lands at 2 v0 / g with velocity -v0 and leaves at e v0, so t_k = (2 v0 / g)(1 + e + ... + e^(k-1)).
+"""
+from __future__ import annotations
+
+import pytest
+from flint import arb, fmpq, fmpq_mat
+
+from lcs_exact.balls import workprec
+from lcs_exact import InvalidArgument, LCS, ShapeError, expm_action, simulate
+from lcs_exact.examples import cart_chain, two_carts, two_carts_with_hook
+from lcs_exact.impacts import newton_impact
+from lcs_exact.mechanics import mechanical
+
+
+def agree(a, b, digits=40):
+    """Two exact reals agree to ``digits`` digits (balls overlap at that accuracy)."""
+    return a.ball(digits).overlaps(b.ball(digits))
+
+
+def same_run(ta, tb):
+    assert len(ta.events) == len(tb.events) and ta.status == tb.status
+    for ea, eb in zip(ta.events, tb.events):
+        assert agree(ea.time, eb.time)
+        assert (ea.mode_before, ea.mode_after) == (eb.mode_before, eb.mode_after)
+        qa, qb = ea.state_after.known_rational(), eb.state_after.known_rational()
+        if qa is not None or qb is not None:
+            assert qa == qb
+        assert all(agree(x, y) for x, y in zip(ea.state_after, eb.state_after))
+        assert all(agree(x, y) for x, y in zip(ea.state_before, eb.state_before))
+
+
+def with_restitution(lcs, e):
+    return LCS(lcs.A, lcs.B, lcs.C, lcs.D, restitution=e)
+
+
+def test_validation():
+    with pytest.raises(InvalidArgument, match=r"in \[0, 1\]"):
+        LCS([[0, 1], [0, 0]], [[0], [1]], [[1, 0]], [[0]], restitution="3/2")
+    with pytest.raises(ShapeError, match="one per constraint"):
+        LCS([[0, 1], [0, 0]], [[0], [1]], [[1, 0]], [[0]], restitution=[0, 1])
+    with pytest.raises(InvalidArgument, match="relative degree 2"):
+        LCS([[-1]], [[1]], [[1]], [[1]], restitution=0)  # a diode: D != 0
+    with pytest.raises(InvalidArgument, match="relative degree 2"):
+        LCS([[0]], [[1]], [[1]], [[0]], restitution=0)  # C B != 0: relative degree 1
+    assert "restitution='1/2'" in repr(LCS([[0, 1], [0, 0]], [[0], [1]], [[1, 0]], [[0]], restitution="1/2"))
+
+
+def test_the_impact_lcp():
+    # two unit carts, stop on q0 and hook q0 - q1 >= 0 (Example 8.3) at q = 0, both closed
+    hook = with_restitution(two_carts_with_hook(), "1/2")
+    z = fmpq_mat([[0], [0], [-2], [1]])
+    imp = newton_impact(hook, z)
+    # y' = (v0, v0 - v1) = (-2, -3); W = E E^T = [[1, 1], [1, 2]]; the LCP on (1 + e) y' = (-3, -9/2):
+    # both impulses positive: y'(+) = -e y'(-) = (1, 3/2), so v0 = 1, v1 = v0 - 3/2 = -1/2
+    after = imp.jump * z
+    assert imp.closed == frozenset({0, 1}) and imp.active == frozenset({0, 1})
+    assert [after[i, 0] for i in range(4)] == [0, 0, 1, fmpq(-1, 2)]
+    assert newton_impact(hook, fmpq_mat([[1], [0], [-2], [1]])) is None  # stop open, hook y = 1 > 0
+    assert newton_impact(hook, fmpq_mat([[0], [-1], [1], [0]])) is None  # closed but separating
+    assert newton_impact(hook, fmpq_mat([[-1], [0], [-2], [1]])) is None  # infeasible: the paper's rule
+
+
+def test_restitution_zero_is_the_paper_run():
+    carts = two_carts()
+    x0 = expm_action(carts.A, -1, [0, -1, -1, 0])
+    same_run(simulate(carts, x0, 3), simulate(with_restitution(carts, 0), x0, 3))
+    hook = two_carts_with_hook()
+    for x in ([1, 1, -1, 2], [0, 0, -1, 2], ["1/2", 0, -1, "-1/3"]):
+        same_run(simulate(hook, x, 4), simulate(with_restitution(hook, 0), x, 4))
+    chain = cart_chain(4)
+    q0 = ["1/2", "-1/2", "1/2", "-1/2", 0, 0, 0, 0]
+    same_run(simulate(chain, q0, 4), simulate(with_restitution(chain, [0, 0]), q0, 4))
+
+
+def energy(x, M, K):
+    """1/2 q'^T M q' + 1/2 q^T K q of a state x = (q, q') as a ball (from certified components)."""
+    m = len(M)
+    b = [c.ball(40) for c in x][:2 * m]
+    q, v = b[:m], b[m:]
+    with workprec(200):
+        out = arb(0)
+        for i in range(m):
+            for j in range(m):
+                out += (v[i] * M[i][j] * v[j] + q[i] * K[i][j] * q[j]) / 2
+    return out
+
+
+def test_elastic_impacts_keep_the_energy():
+    M, K = [[1, 0], [0, 1]], [[2, -1], [-1, 1]]
+    carts = mechanical(M, K, [[1, 0]], restitution=1)
+    x0 = expm_action(carts.A, -1, [0, -1, -1, 0])
+    tr = simulate(carts, x0, 12)
+    impacts = [e for e in tr.events if e.modes]
+    assert len(impacts) >= 3
+    first = impacts[0]
+    assert first.state_before.rational() == fmpq_mat([[0], [-1], [-1], [0]])
+    assert first.state_after.rational() == fmpq_mat([[0], [-1], [1], [0]])  # v0 reversed, exactly
+    for e in impacts:
+        before, after = energy(e.state_before, M, K), energy(e.state_after, M, K)
+        with workprec(200):
+            assert before.overlaps(after) and abs(before - after) < arb(10) ** -35
+    # and the energy of x0 is that of every impact state (no loss anywhere)
+    assert energy(x0, M, K).overlaps(energy(impacts[-1].state_after, M, K))
+
+
+def test_partially_elastic_impacts_lose_energy():
+    M, K = [[1, 0], [0, 1]], [[2, -1], [-1, 1]]
+    carts = mechanical(M, K, [[1, 0]], restitution="1/2")
+    tr = simulate(carts, [0, -1, -1, 0], 1)
+    e0 = tr.events[0]  # at t = 0: v0 = -1 -> +1/2, energy 1 -> 5/8 (q^T K q / 2 = 1/2)
+    assert e0.state_after.known_rational() == fmpq_mat([[0], [-1], [fmpq(1, 2)], [0]])
+    assert e0.modes == (frozenset({0}),) and e0.mode_after == frozenset()
+
+
+def test_bouncing_ball_times_and_velocities():
+    g, v0, e = fmpq(10), fmpq(10), fmpq(1, 2)
+    ball = mechanical([[1]], [[0]], [[1]], force=[-g], restitution=e, q_names=["h"])
+    tr = simulate(ball, ball.embed([0, v0]), fmpq(39, 10))
+    t, v = fmpq(0), v0
+    assert len(tr.events) == 5
+    for ev in tr.events:
+        t += 2 * v / g  # free flight from the floor at speed v
+        assert ev.time.ball(40).overlaps(arb(t))
+        assert all(a.ball(40).overlaps(arb(b)) for a, b in zip(ev.state_before, (0, -v, 1)))
+        v = e * v
+        assert all(a.ball(40).overlaps(arb(b)) for a, b in zip(ev.state_after, (0, v, 1)))
+        assert ev.mode_before == ev.mode_after == frozenset() and ev.modes == (frozenset({0}),)
