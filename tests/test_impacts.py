@@ -131,3 +131,41 @@ def test_bouncing_ball_times_and_velocities():
         v = e * v
         assert all(a.ball(40).overlaps(arb(b)) for a, b in zip(ev.state_after, (0, v, 1)))
         assert ev.mode_before == ev.mode_after == frozenset() and ev.modes == (frozenset({0}),)
+
+
+def test_bouncing_ball_dropped_from_rest_crosses_its_accumulation_exactly():
+    """h = 1, g = 981/100, e = 9/10 (Siconos' BouncingBallTS): t1 = sqrt(2 h / g) is irrational;
+    the impacts are at t1 (1 + 2 e + ... + 2 e^(k-1)), the velocity after impact k is
+    e^k g t1, and the impacts accumulate at t* = t1 (1 + e) / (1 - e), after which the ball
+    rests on the floor (the contact force equals the weight)."""
+    import sympy
+    h, g, e = sympy.Integer(1), sympy.Rational(981, 100), sympy.Rational(9, 10)
+    ball = mechanical([[1]], [[0]], [[1]], force=["-981/100"], restitution="9/10", q_names=["h"])
+    tr = simulate(ball, ball.embed([1, 0]), 10)
+    assert tr.certified and not tr.partial
+    t1 = sympy.sqrt(2 * h / g)
+    t = t1
+    for k, ev in enumerate(tr.events, start=1):
+        assert sympy.simplify(ev.time.closed_form - t) == 0  # exact, proven closed form
+        v_after = ev.state_after.closed_form()[1]
+        assert sympy.simplify(v_after - e ** k * g * t1) == 0
+        t += 2 * e ** k * t1
+    (acc,) = tr.accumulations
+    assert sympy.simplify(acc.time.closed_form - t1 * (1 + e) / (1 - e)) == 0
+    assert acc.state.known_rational() == fmpq_mat([[0], [0], [1]]) and acc.ratio == fmpq(9, 10)
+    assert tr.state(10).known_rational() == fmpq_mat([[0], [0], [1]])
+    assert tr.u(10).known_rational() == fmpq_mat([[fmpq(981, 100)]])  # resting: u = m g
+    # inside the window: just before t*, the ball is airborne and below its last apex
+    x = tr.state(acc.time * fmpq(99, 100))
+    assert x[0].sign() > 0 and x[0].ball(30) < arb(1) / 100
+
+
+def test_restitution_with_the_law_refused_when_a_gap_breaks_the_symmetry():
+    """y = q - 1/10 (a gap) has no scaling symmetry: the accumulation is reported, never crossed
+    on a guess (the impacts before it are exact)."""
+    from lcs_exact import ZenoDetected
+    ball = mechanical([[1]], [[0]], [[1]], force=[-10], gap=["-1/10"], restitution="1/2")
+    with pytest.raises(ZenoDetected) as err:
+        simulate(ball, ball.embed(["3/10", 0]), 10)
+    first = err.value.trajectory.events[0]
+    assert first.time.known_rational() == fmpq(1, 5)  # 3/10 - 1/10 = 5 t^2
