@@ -34,23 +34,73 @@ from typing import Any, Sequence
 from flint import fmpq, fmpq_mat
 
 from . import calcium
-from .reals import AlgebraicReal, ExactVector, RationalReal, RationalVector, Real, algebraic_vector
+from .rational import submatrix
+from .subspaces import solve_any
+from .reals import AlgebraicReal, ExactVector, RationalReal, RationalVector, Real, algebraic_vector, ca_matvec
 
 __all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle"]
 
 
 def symmetry_exponents(lcs) -> dict | None:
     """Exponents of the scaling symmetries of the LCS (see the module docstring):
-    ``{"x": [...], "u": [...], "y": [...], "component": {node: id}}`` with one solution per
-    connected component (add any integer to a whole component), or None when the nonzero pattern
-    admits none.
+    ``{"x": [...], "u": [...], "y": [...], "component": {node: id}, "T": T}`` with one solution
+    per connected component (add any integer to a whole component), or None when the nonzero
+    pattern admits none.  ``T`` (None, or an n x n rational matrix) is a change of coordinates
+    x~ = T x in which the symmetry holds: constant offsets (a gap y = q - r, a floor at height r)
+    are moved onto the states by x~ = x - alpha c, c a state that never changes (an exosystem
+    constant), alpha chosen so that y no longer reads c (:func:`_offset_transform`).
 
     >>> from lcs_exact import LCS
     >>> s = symmetry_exponents(LCS([[0, -1], [0, 0]], [[1], [0]], [[1, 0]], [[0]]))  # x' = u - c
     >>> s["x"], s["u"], s["y"]          # up to a shift: x like t, c constant, u like c, y like x
     ([0, -1], [-1], [0])
     """
-    n, k = lcs.n, lcs.k
+    plain = _pattern_exponents(lcs.A, lcs.B, lcs.C, lcs.D)
+    if plain is not None:
+        return {**plain, "T": None}
+    moved = _offset_transform(lcs)
+    if moved is None:
+        return None
+    T, At, Ct = moved
+    shifted = _pattern_exponents(At, lcs.B, Ct, lcs.D)
+    return None if shifted is None else {**shifted, "T": T}
+
+
+def _offset_transform(lcs):
+    """(T, A~, C~) for x~ = T x = x - alpha c, with c the constant states (zero rows of A and B)
+    and alpha (zero on the constant states) solving C alpha_c = -C_{.c}: in x~, y = C~ x~ has no
+    constant term.  None when there is no constant state or no such alpha."""
+    n = lcs.n
+    consts = [i for i in range(n) if all(lcs.A[i, j] == 0 for j in range(n)) and
+              all(lcs.B[i, j] == 0 for j in range(lcs.k))]
+    others = [i for i in range(n) if i not in consts]
+    if not consts or not others:
+        return None
+    Co = submatrix(lcs.C, None, others)
+    T = fmpq_mat(n, n)
+    for i in range(n):
+        T[i, i] = 1
+    At, Ct = fmpq_mat(lcs.A), fmpq_mat(lcs.C)
+    for c in consts:
+        a = solve_any(Co, -submatrix(lcs.C, None, [c]))
+        if a is None:
+            return None
+        alpha = fmpq_mat(n, 1)
+        for r, i in enumerate(others):
+            alpha[i, 0] = a[r, 0]
+            T[i, c] = -a[r, 0]
+        col_A = lcs.A * alpha
+        col_C = lcs.C * alpha
+        for i in range(n):
+            At[i, c] = lcs.A[i, c] + col_A[i, 0]
+        for i in range(lcs.k):
+            Ct[i, c] = lcs.C[i, c] + col_C[i, 0]
+    return T, At, Ct
+
+
+def _pattern_exponents(A, B, C, D) -> dict | None:
+    """The difference constraints of the nonzero pattern of (A, B, C, D), solved (module docstring)."""
+    n, k = A.nrows(), B.ncols()
     edges: dict = {}
 
     def link(a, b, w):  # value(b) = value(a) + w
@@ -59,17 +109,17 @@ def symmetry_exponents(lcs) -> dict | None:
 
     for i in range(n):
         for j in range(n):
-            if lcs.A[i, j] != 0:
+            if A[i, j] != 0:
                 link(("x", i), ("x", j), -1)
         for j in range(k):
-            if lcs.B[i, j] != 0:
+            if B[i, j] != 0:
                 link(("x", i), ("u", j), -1)
     for i in range(k):
         for j in range(n):
-            if lcs.C[i, j] != 0:
+            if C[i, j] != 0:
                 link(("x", j), ("y", i), 0)
         for j in range(k):
-            if lcs.D[i, j] != 0:
+            if D[i, j] != 0:
                 link(("u", j), ("y", i), 0)
     nodes = [("x", i) for i in range(n)] + [("u", j) for j in range(k)] + [("y", i) for i in range(k)]
     value: dict = {}
@@ -151,6 +201,21 @@ class GeometricLaw:
     limit: ExactVector  # the limit state x(T*-)
     input_exponents: tuple = ()  # a_j of u_j (u scales by rho^a_j)
     output_exponents: tuple = ()  # b_i of y_i
+    transform: fmpq_mat | None = None  # x~ = T x, the coordinates of the symmetry (None: x itself)
+
+
+def _transform(T: fmpq_mat, z):
+    """T z for a rational column or a list of Calcium numbers."""
+    if isinstance(z, fmpq_mat):
+        return T * z
+    return ca_matvec(T, z)
+
+
+def _transform_vector(T: fmpq_mat, v: ExactVector) -> ExactVector:
+    q = v.known_rational()
+    if q is not None:
+        return RationalVector(T * q)
+    return algebraic_vector(ca_matvec(T, v.known_ca()))
 
 
 def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int = 8,
@@ -184,13 +249,18 @@ def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int 
         z1, z2 = _exact_state(events[K - p].state_after), _exact_state(events[K].state_after)
         if z1 is None or z2 is None:
             continue
+        T = symmetry.get("T")
+        if T is not None:  # the symmetry holds in x~ = T x (constant offsets moved)
+            z1, z2 = _transform(T, z1), _transform(T, z2)
         law = _exponents_of(lcs, symmetry, rho, z1, z2)
         if law is None:
             continue
         exps, limit, ua, yb = law
+        if T is not None:
+            limit = _transform_vector(T.inv(), limit)
         T_star = times[-1] + T2 * (rho / (1 - rho))
         return GeometricLaw(p, rho, tuple(exps), K - p + 1, _real(times[p], policy), _real(T2, policy),
-                            _real(T_star, policy), limit, tuple(ua), tuple(yb))
+                            _real(T_star, policy), limit, tuple(ua), tuple(yb), T)
     return None
 
 
@@ -309,7 +379,11 @@ class ScaledCycle:
 
     def state(self, dt: Any) -> ExactVector:
         t_ref, scale = self._map(dt)
-        return self._scaled(_exact(self.reference(t_ref, "x")), scale, self.law.exponents)
+        T = self.law.transform
+        x = _exact(self.reference(t_ref, "x"))
+        if T is None:
+            return self._scaled(x, scale, self.law.exponents)
+        return _transform_vector(T.inv(), self._scaled(_transform(T, x), scale, self.law.exponents))
 
     def output(self, dt: Any, kind: str) -> ExactVector:
         """u (``kind`` "u") or y ("y") at t_k + dt, scaled from the reference cycle."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 __all__ = [
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
-    "Unsupported", "InvalidArgument",
+    "Unsupported", "InvalidArgument", "Undetermined",
 ]
 
 
@@ -87,3 +87,9 @@ class InvalidArgument(LCSError, ValueError, TypeError):
     """An argument has a wrong type or value that is not a matter of shape or exactness (names,
     options, a malformed constraint); the message names the argument.  Also a ValueError and a
     TypeError, so code catching either keeps working."""
+
+
+class Undetermined(LCSError, ValueError):
+    """A value the solution does not determine was asked for: an input u_j (or an output y_i that
+    depends on it) on a phase where it is free - the potential of a floating node while all its
+    diodes block.  The state is unique there; this number is not (DESIGN.md section 7)."""

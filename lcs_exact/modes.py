@@ -10,6 +10,14 @@ For the quadruple (K, L, M, N) = (A, B_{.I}, C_{I.}, D_{II}) this module compute
 * a feedback F_I with u_I = F_I x on V_I (section 4.1), chosen with F_I T_I = 0, and the
   closed-loop matrix A_I = A + B_{.I} F_I, so that x(t) = e^{A_I t} z for z in V_I.
 
+Beyond Assumption 4.1 (DESIGN.md section 7): a mode that is not autonomous only because some
+inputs do nothing to the state - Ker[B_I; D_II] != {0} (the *free inputs*: a floating node's
+potential, a current that circulates in a loop of diodes) - while V_I ⊕ T_I = Q^n still holds, is
+*state-determined*: every solution of (4.2) from a state has the same x, and P_I, F_I and A_I are
+defined as above (F_I is one particular feedback: the free inputs w with B_I w = 0, D_II w = 0
+may be added to u_I without changing x or y_I).  Such a mode can be followed; the free part of
+u is undetermined (:attr:`Mode.free_inputs`).
+
 A Mode is created by ``lcs.mode(I)`` and cached there; all data are computed on first use.
 Indices are 0-based.
 """
@@ -164,24 +172,49 @@ class Mode:
         if not self.is_autonomous:
             raise NotAutonomous(f"mode {format_mode(self.I)} is not autonomous: {self.autonomy_reason}")
 
+    def free_inputs(self) -> fmpq_mat:
+        """A basis (columns, |I| x d) of Ker[B_I; D_II]: directions of u_I that change neither
+        the state nor y_I (d = 0 for an autonomous mode)."""
+        if "free" not in self._cache:
+            m = len(self.I)
+            self._cache["free"] = kernel(vstack(self._L, self._N, ncols=m)) if m else zeros(0, 0)
+        return self._cache["free"]
+
+    @property
+    def is_state_determined(self) -> bool:
+        """True when the state of every solution of (4.2) is unique and P_I is defined: autonomous,
+        or V_I ⊕ T_I = Q^n with only free inputs left undetermined (module docstring)."""
+        if self.is_autonomous:
+            return True
+        if "det" not in self._cache:
+            V, T = self.consistent_subspace(), self.jump_space()
+            self._cache["det"] = (V.ncols() + T.ncols() == self.lcs.n and intersection(V, T).ncols() == 0)
+        return self._cache["det"]
+
+    def require_state_determined(self) -> None:
+        if not self.is_state_determined:
+            raise NotAutonomous(f"mode {format_mode(self.I)} is not autonomous ({self.autonomy_reason}) and the "
+                                f"state is not determined in it (V_I ⊕ T_I != Q^{self.lcs.n})")
+
     # --- P_I, F_I, A_I ------------------------------------------------------------------------
     def projection(self) -> fmpq_mat:
         """P_I: projection onto V_I along T_I (section 4.2); x(0+) = P_I x0."""
         if "P" not in self._cache:
-            self.require_autonomous()
+            self.require_state_determined()
             self._cache["P"] = projection(self.consistent_subspace(), self.jump_space())
         return self._cache["P"]
 
     def feedback(self) -> fmpq_mat:
         """F_I (|I| x n): u_I = F_I x keeps x in V_I and y_I = 0 (section 4.1); F_I T_I = 0."""
         if "F" not in self._cache:
-            self.require_autonomous()
+            self.require_state_determined()
             n, m = self.lcs.n, len(self.I)
             V, T, W = self.consistent_subspace(), self.jump_space(), self.annihilator()
             if m == 0:
                 self._cache["F"] = zeros(0, n)
                 return self._cache["F"]
-            # for each basis vector v of V: [W L; N] u = -[W A; M] v  (unique: mode autonomous)
+            # for each basis vector v of V: [W L; N] u = -[W A; M] v (unique when the mode is
+            # autonomous; otherwise one solution, up to the free inputs, which change nothing in x)
             lhs = vstack(W * self._L, self._N, ncols=m)
             rhs = -(vstack(W * self.lcs.A, self._M, ncols=n) * V)
             U = solve_any(lhs, rhs)

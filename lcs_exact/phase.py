@@ -25,7 +25,8 @@ from . import calcium
 from .balls import Policy, workprec
 from .reals import (ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, as_real, ca_matvec,
                     orbit_start)
-from .rational import submatrix, vstack, zeros
+from .polyhedra import eliminate
+from .rational import is_zero, submatrix, vstack, zeros
 from .roots import ExpSum, RootReal, newton_ball
 from .subspaces import in_row_span, invariant_forms, orbit_zero_forms, rank, row_basis
 
@@ -34,15 +35,18 @@ __all__ = ["Constraint", "Phase", "PhaseFunction", "EventState"]
 
 @dataclass(frozen=True)
 class Constraint:
-    """One monitored function of a phase: ``kind`` 'u' or 'y', constraint ``index``, row ``g``."""
+    """One monitored function of a phase: ``kind`` 'u' or 'y', constraint ``index``, row ``g``.
+    In a mode that is not autonomous, ``kind`` 'c' is a condition on the state left by
+    eliminating the free inputs (``label`` names the rows it combines, e.g. ``"u_1 & y_0"``)."""
 
     kind: str
     index: int
     g: fmpq_mat
+    label: str = ""
 
     @property
     def name(self) -> str:
-        return f"{self.kind}_{self.index}"
+        return self.label or f"{self.kind}_{self.index}"
 
 
 class PhaseFunction:
@@ -115,6 +119,8 @@ class Phase:
             inv = invariant_forms(self.base.zero_forms, self.M) if self.base.zero_forms.nrows() else W
             self.zero_forms = row_basis(W, inv) if W.nrows() or inv.nrows() else zeros(0, self.M.nrows())
         self.constraints = self._constraints()
+        q0 = self.base.known_rational()
+        self.equilibrium = q0 is not None and is_zero(self.M * q0)  # A_I z = 0: x(t) = z throughout
         # a polynomial phase (A_I nilpotent) from an exactly known start: exact roots and states
         self.exact_start = None
         if self.spectrum.nilpotent_only:
@@ -134,7 +140,28 @@ class Phase:
             if mode.I:
                 g = g + submatrix(D, [i], mode.I) * F
             cons.append(Constraint("y", i, g))
-        return cons
+        W = mode.free_inputs() if mode.I else None
+        if W is None or W.ncols() == 0:
+            return cons
+        # a state-determined mode with free inputs b (u_I = F x + W b): the phase lasts while
+        # some b keeps u_I >= 0 and y_Ic >= 0, i.e. while the rows left by Fourier-Motzkin hold
+        d = W.ncols()
+        rows = []
+        for r, c in enumerate(cons):
+            if c.kind == "u":
+                h = [W[r, j] for j in range(d)]
+            else:
+                DW = submatrix(D, [c.index], mode.I) * W
+                h = [DW[0, j] for j in range(d)]
+            rows.append(([c.g[0, j] for j in range(c.g.ncols())], h, frozenset({c.name})))
+        out = []
+        for k, (g, label) in enumerate(eliminate(rows, d)):
+            names = sorted(label)
+            kind, _, idx = names[0].partition("_")
+            row = fmpq_mat(1, len(g), g)
+            out.append(Constraint(kind, int(idx), row) if len(names) == 1 else
+                       Constraint("c", k, row, " & ".join(names)))
+        return out
 
     def __getstate__(self):
         return {**self.__dict__, "_modal": None, "_modal_prec": 0}  # ball caches, as above
@@ -185,7 +212,7 @@ class Phase:
         zf = self.zero_forms
         if extra_zero_forms is not None and extra_zero_forms.nrows():
             zf = row_basis(zf, extra_zero_forms) if zf.nrows() else row_basis(extra_zero_forms)
-        if t.known_rational() == 0:
+        if t.known_rational() == 0 or self.equilibrium:
             return self.z
         x = self._exact_state(t, zf)
         if x is None:

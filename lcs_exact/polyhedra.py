@@ -22,7 +22,7 @@ from flint import fmpq
 from .errors import InvalidArgument, LCSError
 from .rational import pivot_tableau, to_fmpq
 
-__all__ = ["Constraint", "find_point", "is_feasible", "RELATIONS"]
+__all__ = ["Constraint", "find_point", "is_feasible", "RELATIONS", "eliminate"]
 
 RELATIONS = ("=", ">", ">=")
 
@@ -139,3 +139,46 @@ def is_feasible(nvars: int, constraints: Sequence[Any]) -> bool:
     False
     """
     return find_point(nvars, constraints) is not None
+
+
+def eliminate(rows: Sequence[tuple], d: int) -> list[tuple]:
+    """Fourier-Motzkin elimination over Q of d variables b from the inequalities
+    g_r . x + h_r . b >= 0: the rows (g, label) with g . x >= 0 iff some b satisfies them all.
+
+    ``rows`` are (g, h, label): g a sequence of rationals (the x part), h a sequence of d
+    rationals, label a frozenset naming the original rows (combined rows carry the union).  A
+    positive combination of valid inequalities is valid, and conversely over any ordered field
+    the largest lower bound of b_j is below its smallest upper bound when the eliminated rows
+    hold, so the answer is exact.  Duplicate and trivial (0 >= 0) rows are dropped.
+
+    >>> # b >= -x0, b <= x1 (i.e. x1 - b >= 0): feasible iff x0 + x1 >= 0
+    >>> eliminate([([1, 0], [1], frozenset({"a"})), ([0, 1], [-1], frozenset({"b"}))], 1)
+    [([1, 1], frozenset({'a', 'b'}))]
+    """
+    cur = []
+    for g, h, label in rows:
+        cur.append(([to_fmpq(x) for x in g], [to_fmpq(x) for x in h], frozenset(label)))
+    for j in range(d):
+        pos = [r for r in cur if r[1][j] > 0]
+        neg = [r for r in cur if r[1][j] < 0]
+        nxt = [r for r in cur if r[1][j] == 0]
+        for gp, hp, lp in pos:
+            for gn, hn, ln in neg:
+                a, b = -hn[j], hp[j]  # positive multipliers: a row_p + b row_n has no b_j
+                nxt.append(([a * x + b * y for x, y in zip(gp, gn)], [a * x + b * y for x, y in zip(hp, hn)], lp | ln))
+        cur = _dedupe(nxt)
+    return [(g, label) for g, _, label in cur if any(x != 0 for x in g)]
+
+
+def _dedupe(rows: list) -> list:
+    """Rows scaled to a leading entry of absolute value 1, duplicates (by coefficients) dropped."""
+    seen: dict = {}
+    for g, h, label in rows:
+        lead = next((x for x in list(g) + list(h) if x != 0), None)
+        if lead is None:
+            continue  # 0 >= 0
+        sc = 1 / abs(lead)
+        key = tuple(x * sc for x in list(g) + list(h))
+        if key not in seen:
+            seen[key] = ([x * sc for x in g], [x * sc for x in h], label)
+    return list(seen.values())

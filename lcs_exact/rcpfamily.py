@@ -240,6 +240,16 @@ class RCPFamily:
         self._conditions: tuple | None = None
         self._lcs_R, self._lcs_G, self._Ic, self._Q = R, G, Ic, Q
 
+    @property
+    def particular(self) -> RationalMatrix:
+        """a(s) (|Q| x n): u_Q = a(s) x0 + E(s) v, u_F = v (the pivot inputs of the family)."""
+        return self._a
+
+    @property
+    def directions(self) -> RationalMatrix:
+        """E(s) (|Q| x |F|): how the pivot inputs move with the free inputs v."""
+        return self._E
+
     # --- the sign rows alpha x0 + beta v >= 0 and their elimination -----------------------------
     def _sign_rows(self) -> list[tuple[list, list]]:
         """u_F = v >= 0, u_Q = a x0 + E v >= 0, y_Ic = (R_Ic + G_IcQ a) x0 + (G_IcQ E + G_IcF) v >= 0."""

@@ -17,9 +17,13 @@ exactly as well: RCP(x0) in such a mode is an affine family of u_I(s) over Q(s),
 :mod:`lcs_exact.rcpfamily` decides whether some member satisfies the sign conditions (consistency
 of G_II u_I = -R_I x0, then Fourier-Motzkin over the ordered field Q(s)).  A mode that is never
 admissible (the relay LCS of :mod:`lcs_exact.relays`) no longer blocks selection.  When such a
-mode *is* admissible, its initial solution is not unique and the paper's continuation (P_I, F_I,
-Definitions 4.2 and 4.10) is not defined there: :func:`select_modes` raises
-:class:`~lcs_exact.errors.NotAutonomous` unless asked to ``include`` it.
+mode *is* admissible, its initial solution is not unique.  If only inputs that do nothing to the
+state are free (a *state-determined* mode, :attr:`~lcs_exact.modes.Mode.is_state_determined`:
+a floating diode bridge whose four diodes block) and every admissible mode gives the same state
+(:func:`state_groups`: equal B u(s), so equal x(s)), the state is unique and the run goes on;
+the inputs that differ or are free are *undetermined* (:func:`undetermined_inputs`).  Otherwise
+the continuation is not defined: :func:`select_modes` raises
+:class:`~lcs_exact.errors.NotAutonomous` unless asked to ``include`` such modes.
 
 Results: :func:`rcp` -> list of :class:`RCPSolution`; :func:`ldcp` -> :class:`LDCPSolution`;
 :func:`select_modes` -> S(x0), a set of frozensets; :func:`initial_solution` ->
@@ -43,7 +47,8 @@ from .rational import (MAX_KAPPA, RationalFunction, RationalMatrix, check_enumer
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "ldcp_modes", "LDCPSolution", "select_modes",
            "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data",
-           "admissibility_forms", "admissibility_conditions", "NONAUTONOMOUS"]
+           "admissibility_forms", "admissibility_conditions", "NONAUTONOMOUS", "state_response",
+           "state_groups", "undetermined_inputs"]
 
 #: what :func:`select_modes` may do when a mode that is not autonomous is admissible at x0
 NONAUTONOMOUS = ("raise", "include")
@@ -492,13 +497,16 @@ def select_modes(lcs, x0: Any, method: str = "auto", *, nonautonomous: str = "ra
     S = {I for I in _all_modes(lcs.k) if mode_admissible(lcs.mode(I), x)}
     bad = sorted((I for I in S if not lcs.mode(I).is_autonomous), key=lambda m: (len(m), sorted(m)))
     if bad and nonautonomous == "raise":
-        m = lcs.mode(bad[0])
-        raise NotAutonomous(
-            f"mode {format_mode(bad[0])} is not autonomous ({m.autonomy_reason}) and RCP(x0) has "
-            f"solutions in it at x0 = {_fmt_state(x)}: u_I(s) is determined only up to Ker G_II(s), "
-            f"so the initial solution is not unique (Definition 3.2) and the continuation (P_I, F_I; "
-            f"Definitions 4.2, 4.10, Assumption 4.1) is not defined; S_RCP(x0) = "
-            f"{sorted(format_mode(I) for I in S)} (select_modes(x0, nonautonomous='include'))")
+        undetermined = [I for I in bad if not _state_determined(lcs.mode(I))]
+        if undetermined or len(state_groups(lcs, x, S)) > 1:
+            I0 = undetermined[0] if undetermined else bad[0]
+            m = lcs.mode(I0)
+            raise NotAutonomous(
+                f"mode {format_mode(I0)} is not autonomous ({m.autonomy_reason}) and RCP(x0) has "
+                f"solutions in it at x0 = {_fmt_state(x)} that differ in the state: u_I(s) is determined only "
+                f"up to Ker G_II(s), so the state after x0 is not unique (Definition 3.2) and the continuation "
+                f"(P_I, F_I; Definitions 4.2, 4.10) is not defined; S_RCP(x0) = "
+                f"{sorted(format_mode(I) for I in S)} (select_modes(x0, nonautonomous='include'))")
     return S
 
 
@@ -639,3 +647,111 @@ def initial_solution_groups(lcs, x0: Any, modes) -> list[list[frozenset]]:
         else:
             groups.append([I])
     return groups
+
+
+# ---------------------------------------------------------------------------------------------
+# modes that are not autonomous: the state they give, the inputs they leave undetermined
+# ---------------------------------------------------------------------------------------------
+
+
+def _state_determined(mode) -> bool:
+    """State-determined (modes.py) and the family's free inputs leave B u(s) unchanged."""
+    return mode.is_state_determined and state_response(mode) is not None
+
+
+def _rmat(m: fmpq_mat) -> RationalMatrix:
+    return RationalMatrix([[m[i, j] for j in range(m.ncols())] for i in range(m.nrows())])
+
+
+def state_response(mode) -> RationalMatrix | None:
+    """X_I(s) (n x n over Q(s)) with B u(s) = X_I(s) x0 for every solution (u(s), y(s)) of
+    RCP(x0) in mode I, so that x(s) = (sI - A)^{-1} (x0 + X_I(s) x0) (5.1); None when the free
+    inputs of a mode that is not autonomous do move the state (then the state is not unique)."""
+    def build():
+        lcs = mode.lcs
+        n = lcs.n
+        if not mode.I:
+            return _rmat(zeros(n, n))
+        if mode.is_autonomous:
+            return _rmat(submatrix(lcs.B, None, mode.I)) * rcp_data(mode)["W"]
+        fam = family(mode)
+        Q, F = list(fam.pivot_cols), list(fam.free)
+        if F:
+            moved = _rmat(submatrix(lcs.B, None, F))
+            if Q:
+                moved = moved + _rmat(submatrix(lcs.B, None, Q)) * fam.directions
+            if any(not e.is_zero() for r in moved.rows for e in r):
+                return None
+        return _rmat(submatrix(lcs.B, None, Q)) * fam.particular if Q else _rmat(zeros(n, n))
+    return mode.memo("state-response", build)
+
+
+def _equal_at(X: RationalMatrix, Y: RationalMatrix, x) -> bool:
+    """X(s) x0 == Y(s) x0 as rational vectors (every Laurent numerator form vanishes at x0)."""
+    D = X - Y
+    for r in range(D.shape[0]):
+        coeffs, _ = D.row_forms(r)
+        if any(sign_of_form(c, x) != 0 for c in coeffs):
+            return False
+    return True
+
+
+def state_groups(lcs, x0: Any, modes) -> list[list[frozenset]]:
+    """The admissible modes grouped by the state of their initial solutions (equal B u(s) at x0,
+    smallest modes first); one group means the state after x0 is unique whatever mode and free
+    inputs are chosen.  A mode whose free inputs move the state is a group of its own."""
+    x = as_state(lcs, x0)
+    groups: list[list[frozenset]] = []
+    for I in sorted(modes, key=lambda m: (len(m), sorted(m))):
+        X = state_response(lcs.mode(I))
+        for g in groups:
+            Y = state_response(lcs.mode(g[0]))
+            if X is not None and Y is not None and _equal_at(X, Y, x):
+                g.append(I)
+                break
+        else:
+            groups.append([I])
+    return groups
+
+
+def _input_rows(mode) -> tuple[RationalMatrix, frozenset]:
+    """(U(s), free): u(s) = U(s) x0 (k x n, zero rows off I) for the rows that the family fixes,
+    and the inputs a free direction moves (none for an autonomous mode)."""
+    def build():
+        lcs = mode.lcs
+        n, k = lcs.n, lcs.k
+        rows = [[RationalFunction(0)] * n for _ in range(k)]
+        free: set = set()
+        if mode.is_autonomous:
+            W = rcp_data(mode)["W"]
+            for r, i in enumerate(mode.I):
+                rows[i] = list(W.rows[r])
+        else:
+            fam = family(mode)
+            free |= set(fam.free)
+            for r, i in enumerate(fam.pivot_cols):
+                rows[i] = list(fam.particular.rows[r])
+                if fam.free and any(not e.is_zero() for e in fam.directions.rows[r]):
+                    free.add(i)
+        return RationalMatrix(rows), frozenset(free)
+    return mode.memo("input-rows", build)
+
+
+def undetermined_inputs(lcs, x0: Any, modes) -> frozenset:
+    """The inputs u_j not determined by the state among the admissible ``modes`` of one state
+    group: free in a mode that is not autonomous, or different between two of the modes."""
+    x = as_state(lcs, x0)
+    out: set = set()
+    data = [_input_rows(lcs.mode(I)) for I in modes]
+    for U, free in data:
+        out |= free
+    U0 = data[0][0]
+    for U, _ in data[1:]:
+        D = U - U0
+        for j in range(lcs.k):
+            if j in out:
+                continue
+            coeffs, _ = D.row_forms(j)
+            if any(sign_of_form(c, x) != 0 for c in coeffs):
+                out.add(j)
+    return frozenset(out)

@@ -34,7 +34,8 @@ from .impacts import newton_impact
 from .phase import Phase
 from .rational import submatrix, vstack
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
-from .selection import initial_solution, initial_solution_groups, rcp_data, select_modes
+from .selection import (initial_solution, initial_solution_groups, rcp_data, select_modes, state_groups,
+                        undetermined_inputs)
 from .modes import format_mode
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory, full_feedback
 
@@ -257,6 +258,7 @@ class _Run:
         self.forced: list = []  # the choices this branch must take (indices into the groups)
         self.choices: list = []  # (time, mode) of the choices taken
         self.unique_by_theorem = bool(lcs.well_posedness())  # Theorem 6.3: one initial solution
+        self.undetermined: frozenset = frozenset()  # inputs the state leaves free on the next phase
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
         if status is Status.EVENT_LIMIT and reason and "time_limit" in reason:
@@ -290,7 +292,7 @@ class _Run:
             phase = Phase(mode, homogenized(z), policy)
             H = self.T - t
             if H.sign() == 0:
-                self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase))
+                self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase, self.undetermined))
                 return
             _check_phase_horizon(phase, H, t)
             try:
@@ -298,13 +300,13 @@ class _Run:
             except (UnresolvedSign, LCSError) as e:
                 self.cascade_or_raise(e, t)
             if hit is None:
-                self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase))
+                self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase, self.undetermined))
                 return
             theta, cons = hit
             t_new = t + theta
             z = phase.event_state(theta, vstack(*[c.g for c in cons]))
             self.anchor(theta, z, prec)
-            self.phases.append(PhaseRecord(t, t_new, mode.index_set, phase))
+            self.phases.append(PhaseRecord(t, t_new, mode.index_set, phase, self.undetermined))
             self.durations.append(theta)
             self.check_accumulation(t_new)
             mode_before, triggers, t = mode.index_set, tuple(c.name for c in cons), t_new
@@ -391,13 +393,21 @@ class _Run:
         """The mode to continue in: the smallest of S(z) (Remark 4.8) when all of S(z) carries one
         initial solution; otherwise a choice that changes the trajectory (outside Theorem 6.3):
         ``branches="unique"`` raises IllPosed with the alternatives, ``"all"`` takes the forced
-        choice of this branch or forks."""
+        choice of this branch or forks.  When S(z) holds modes that are not autonomous (a
+        floating network), the modes are grouped by the state they give: one group means the
+        state is unique, and the inputs that differ or are free are recorded as undetermined
+        on the phase (``self.undetermined``)."""
         smallest = min(S, key=lambda m: (len(m), sorted(m)))
-        if len(S) == 1 or self.unique_by_theorem:
+        self.undetermined = frozenset()
+        nonautonomous = not self.unique_by_theorem and any(not self.lcs.mode(I).is_autonomous for I in S)
+        if not nonautonomous and (len(S) == 1 or self.unique_by_theorem):
             return smallest
         q = z.known_rational()
-        groups = initial_solution_groups(self.lcs, q if q is not None else z, S)
+        x = q if q is not None else z
+        groups = state_groups(self.lcs, x, S) if nonautonomous else initial_solution_groups(self.lcs, x, S)
         if len(groups) == 1:
+            if nonautonomous:
+                self.undetermined = undetermined_inputs(self.lcs, x, groups[0])
             return smallest
         i = len(self.choices)
         if i < len(self.forced):
@@ -535,8 +545,11 @@ def _apply_forms(P, z: ExactVector) -> ExactVector:
 
 
 def _impulse(mode, z: ExactVector) -> dict:
-    """{i: u^{-i}} of the initial solution in mode I from z (nonzero terms only)."""
+    """{i: u^{-i}} of the initial solution in mode I from z (nonzero terms only); empty for a
+    mode that is not autonomous (its impulse is not unique, only the jump P_I z is)."""
     out = {}
+    if not mode.is_autonomous:
+        return out
     for i, U in enumerate(rcp_data(mode)["impulse"]):
         if any(e != 0 for e in U.entries()):
             q = z.known_rational()

@@ -76,12 +76,15 @@ class Event:
 
 @dataclass(frozen=True)
 class PhaseRecord:
-    """A continuous phase on [t0, t1] in ``mode`` (``phase`` evaluates x(t - t0))."""
+    """A continuous phase on [t0, t1] in ``mode`` (``phase`` evaluates x(t - t0)).
+    ``undetermined``: the inputs u_j that the state does not determine on it (a floating
+    network, DESIGN.md section 7); they are reported as undetermined, never chosen."""
 
     t0: Real
     t1: Real
     mode: frozenset
     phase: Any
+    undetermined: frozenset = frozenset()
 
 
 class Trajectory:
@@ -166,21 +169,39 @@ class Trajectory:
         return rec.phase.state(t - rec.t0)
 
     def u(self, t: Any) -> ExactVector:
-        """u(t) on a continuous phase (u_I = F_I x, zero off I)."""
+        """u(t) on a continuous phase (u_I = F_I x, zero off I).  An input that the state does
+        not determine there (:meth:`undetermined`) is reported as such: its component is an
+        :class:`UndeterminedReal` (printed ``undetermined``; asking it for digits raises
+        :class:`~lcs_exact.errors.Undetermined`)."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
         if hasattr(rec.phase, "output"):  # an accumulation window (accumulation.ScaledCycle)
             return rec.phase.output(t - rec.t0, "u")
-        return ProjectedVector(full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
+        v = ProjectedVector(full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
+        return PartlyUndetermined(v, rec.undetermined, "u") if rec.undetermined else v
 
     def y(self, t: Any) -> ExactVector:
-        """y(t) = C x + D u on a continuous phase."""
+        """y(t) = C x + D u on a continuous phase (components that depend on an undetermined
+        input are undetermined, as for :meth:`u`)."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
         if hasattr(rec.phase, "output"):  # an accumulation window (accumulation.ScaledCycle)
             return rec.phase.output(t - rec.t0, "y")
         lcs = self.lcs
-        return ProjectedVector(lcs.C + lcs.D * full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
+        v = ProjectedVector(lcs.C + lcs.D * full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
+        free = frozenset(i for i in range(lcs.k) if any(lcs.D[i, j] != 0 for j in rec.undetermined))
+        return PartlyUndetermined(v, free, "y") if free else v
+
+    def undetermined(self, t: Any) -> frozenset:
+        """The inputs u_j that the state does not determine at t (empty unless the mode there
+        is not autonomous but the state is unique: a floating diode bridge).
+
+        >>> from lcs_exact.models import two_carts
+        >>> from lcs_exact import simulate
+        >>> simulate(two_carts(), [0, 1, -1, 0], 1).undetermined(1)
+        frozenset()
+        """
+        return self._phase_at(as_real(t, self.policy)).undetermined
 
     def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list[arb]]:
         """Certified balls of x(t) for every t in ``ts`` (rationals), each component to ``digits``
@@ -272,6 +293,77 @@ class Trajectory:
         if len(self.events) > 50:
             body += "\n" + rf"\multicolumn{{4}}{{l}}{{\text{{... {len(self.events) - 50} more events}}}} \\"
         return r"$\begin{array}{llll} t & I^- & I^+ & m \\ \hline " + body + r"\end{array}$"
+
+
+class UndeterminedReal(Real):
+    """A component the solution does not determine (an input left free by the state, or an
+    output depending on one): it has no value to give.  Its ball is the whole real line (it
+    contains every admissible value); digits, signs and closed forms raise
+    :class:`~lcs_exact.errors.Undetermined`."""
+
+    def __init__(self, name: str, policy: Policy | None = None):
+        super().__init__(policy)
+        self.name = name
+
+    def _compute(self, prec):
+        return arb(0, "inf")
+
+    def _refuse(self, *args, **kw):
+        from .errors import Undetermined
+        raise Undetermined(f"{self.name} is not determined by the state here: any value that keeps the "
+                           "complementarity conditions solves the LCS (a free input of a mode that is not "
+                           "autonomous, e.g. the potential of a floating node)")
+
+    ball = decimal = sign = _refuse
+
+    def __float__(self):
+        return float("nan")
+
+    def label(self) -> str:
+        return "undetermined"
+
+    def __repr__(self):
+        return "undetermined"
+
+    def _closed_form(self):
+        return None
+
+
+class PartlyUndetermined(ExactVector):
+    """u(t) or y(t) with some components undetermined (:class:`UndeterminedReal`); the others
+    are those of ``v``.  Its ball has infinite radius in the undetermined components."""
+
+    def __init__(self, v: ExactVector, undetermined: frozenset, kind: str):
+        super().__init__(v.n, None, v.policy)
+        self.v, self.free, self.kind = v, frozenset(undetermined), kind
+
+    def _deps(self):
+        return (self.v,)
+
+    def _compute(self, prec):
+        from flint import arb_mat
+        b = self.v.arb(prec)
+        return arb_mat([[arb(0, "inf") if i in self.free else b[i, 0]] for i in range(self.n)])
+
+    def _structural_sign(self, form):
+        if any(form[0, j] != 0 for j in self.free):
+            UndeterminedReal(f"a form in {self.kind}").sign()
+        return self.v.sign_of_form(form)
+
+    def known_rational(self):
+        return None
+
+    def __getitem__(self, i: int) -> Real:
+        if not -self.n <= i < self.n:
+            raise IndexError(f"component {i} of a vector of length {self.n}")
+        i %= self.n
+        return UndeterminedReal(f"{self.kind}_{i}", self.policy) if i in self.free else self.v[i]
+
+    def __iter__(self):
+        return (self[i] for i in range(self.n))
+
+    def __repr__(self):
+        return "(" + ", ".join(c.label() for c in self) + ")"
 
 
 def _accurate(b: arb, need: int) -> bool:

@@ -160,12 +160,20 @@ def test_bouncing_ball_dropped_from_rest_crosses_its_accumulation_exactly():
     assert x[0].sign() > 0 and x[0].ball(30) < arb(1) / 100
 
 
-def test_restitution_with_the_law_refused_when_a_gap_breaks_the_symmetry():
-    """y = q - 1/10 (a gap) has no scaling symmetry: the accumulation is reported, never crossed
-    on a guess (the impacts before it are exact)."""
-    from lcs_exact import ZenoDetected
+def test_a_ball_with_a_radius_rests_on_the_floor_after_its_accumulation():
+    """y = q - 1/10 (a ball of radius 1/10, a gap): the symmetry holds in the coordinates
+    q - 1/10 (lcs_exact.accumulation moves the constant offset onto the state).  Dropped from
+    q = 3/10 under g = 10: 3/10 - 1/10 = 5 t1^2, t1 = 1/5, impacts at t1 (1 + 2e + ...), with
+    e = 1/2 the accumulation is at t1 (1 + e)/(1 - e) = 3/5, where the ball rests at q = 1/10."""
     ball = mechanical([[1]], [[0]], [[1]], force=[-10], gap=["-1/10"], restitution="1/2")
-    with pytest.raises(ZenoDetected) as err:
-        simulate(ball, ball.embed(["3/10", 0]), 10)
-    first = err.value.trajectory.events[0]
-    assert first.time.known_rational() == fmpq(1, 5)  # 3/10 - 1/10 = 5 t^2
+    tr = simulate(ball, ball.embed(["3/10", 0]), 10)
+    assert [e.time.known_rational() for e in tr.events] == [fmpq(1, 5), fmpq(2, 5), fmpq(1, 2)]
+    (acc,) = tr.accumulations
+    assert acc.time.known_rational() == fmpq(3, 5)
+    assert acc.state.known_rational() == fmpq_mat([[fmpq(1, 10)], [0], [1]])
+    assert tr.state(10).known_rational() == fmpq_mat([[fmpq(1, 10)], [0], [1]])
+    # inside the window, the state at t = 1/2 + 1/8 (the apex of the 4th flight, the reference
+    # flight scaled by 1/2): q = 1/10 + 5 (1/20)^2 ... from v = 1/4 after the 3rd impact
+    x = tr.state(fmpq(1, 2) + fmpq(1, 40))
+    assert x.known_rational() == fmpq_mat([[fmpq(1, 10) + fmpq(1, 4) * fmpq(1, 40) - 5 * fmpq(1, 40) ** 2],
+                                           [0], [1]])

@@ -16,7 +16,7 @@ from lcs_exact import RationalFunction, RationalMatrix
 from lcs_exact import rcpfamily
 from lcs_exact.errors import LCSError, NotAutonomous, UnresolvedSign, Unsupported
 from lcs_exact.rcpfamily import family
-from lcs_exact.selection import admissibility_conditions, mode_admissible
+from lcs_exact.selection import admissibility_conditions, mode_admissible, state_groups, undetermined_inputs
 
 s = RationalFunction.s()
 
@@ -76,8 +76,14 @@ def test_twins_every_solution_violates_a_sign_for_positive_x():
     assert not fam.admissible(v1(1)) and fam.admissible(v1(-2)) and fam.admissible(v1(0))
     assert lcs.select_modes([1]) == modes([])  # no raise: the non-autonomous mode is not admissible
     assert lcs.select_modes([-2], nonautonomous="include") == modes([0], [1], [0, 1])
-    with pytest.raises(NotAutonomous, match=r"mode \{0, 1\} is not autonomous .* at x0 = \(-2\)"):
-        lcs.select_modes([-2])
+    # every admissible mode jumps x to 0 (u0 + u1 = 2 delta, split freely): the state is unique,
+    # the split is not (DESIGN.md section 7), so selection goes on and reports u0, u1 undetermined
+    S = lcs.select_modes([-2])
+    assert S == modes([0], [1], [0, 1])
+    assert len(state_groups(lcs, v1(-2), S)) == 1 and undetermined_inputs(lcs, v1(-2), S) == {0, 1}
+    tr = L.simulate(lcs, [-2], 1)
+    assert tr.events[0].state_after.known_rational() == v1(0) and tr.state(1).known_rational() == v1(0)
+    assert tr.undetermined("1/2") == {0, 1} and repr(tr.u("1/2")) == "(undetermined, undetermined)"
     u, y = fam.solution(v1(-2))  # one member: u0 + u1 = 2, both >= 0
     assert u[0] + u[1] == 2 and all(f.sign_at_infinity() >= 0 for f in u) and y == []
     sols = {sol.mode: sol for sol in lcs.rcp([-2])}
@@ -213,5 +219,8 @@ def test_ideal_diode_bridge_runs_past_its_singular_modes():
     for k, e in enumerate(tr.events, 1):
         assert close(num(e.time), k * 2 * mp.pi / root3)
         assert close(num(e.state_after[1]), (-1) ** (k + 1) * mp.exp(-k * mp.pi / root3))
-    with pytest.raises(NotAutonomous, match=r"mode \{0\}"):  # at rest: RCP has a family in mode {0}
-        ideal.select_modes([0, 0])
+    # at rest, RCP has a family in mode {0} (a current circulating in the loop of diodes, a
+    # floating tank potential): the state stays at rest whatever it is, so the run goes on
+    rest = L.simulate(ideal, [0, 0], 1)
+    assert rest.certified and rest.events == () and rest.state(1).known_rational() == fmpq_mat(2, 1)
+    assert rest.undetermined(1)
