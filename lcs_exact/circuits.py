@@ -367,7 +367,12 @@ def circuit(netlist: Any, *, name: str | None = None) -> LCS:
             F[p, j] = sign * Z[row, ns + k + j]
     names = tuple(f"v({e.name})" if e.kind == "C" else f"i({e.name})" for e in states)
     cnames = tuple(p.name for p in ports)
+    # in the mode (y = 0): a current port's reverse voltage is 0 (conducting), a voltage port's
+    # current is 0 (blocking)
+    roles = tuple((p.u, p.y, "conducting", "blocking") if p.kind == "current" else (p.u, p.y, "blocking", "conducting")
+                  for p in ports)
     if nw == 0:
-        return LCS(A, B, Cm, Dm, name=name, state_names=names, constraint_names=cnames)
+        return LCS(A, B, Cm, Dm, name=name, state_names=names, constraint_names=cnames, roles=roles)
     ex = exosystem([e.value for e in srcs])
-    return extend(A, B, Cm, Dm, E * ex.W, F * ex.W, ex, name=name, state_names=names, constraint_names=cnames)
+    return extend(A, B, Cm, Dm, E * ex.W, F * ex.W, ex, name=name, state_names=names, constraint_names=cnames,
+                  roles=roles)

@@ -3,7 +3,11 @@
 * :func:`two_carts` - section 2, (2.1); :func:`two_carts_with_hook` - Example 8.3, (8.12);
 * :func:`half_wave_rectifier`, :func:`diode_bridge` - LC tanks rectified by ideal diodes;
 * :func:`filippov_spiral` - (4.12), a relay system (:func:`lcs_exact.relays.relay`);
-* :func:`cart_chain` - N unit carts on springs with stops, the (8.3) system of the benchmarks.
+* :func:`cart_chain` - N unit carts on springs with stops, the (8.3) system of the benchmarks;
+* the standard scenes beyond the paper (DESIGN.md section 7; Siconos' tutorials): :func:`bouncing_ball`,
+  :func:`ball_on_spring`, :func:`ball_column`, :func:`newtons_cradle` (restitution, gravity, gaps),
+  :func:`sine_rectifier` (half- and full-wave, a sine source), :func:`diode_bridge_cap_filter`
+  (Siconos' DiodeBridgeCapFilter: a floating tank).
 
 Indices are 0-based (the paper's x_1 and mode {1} are ``x_0`` and ``{0}`` here).  Mechanical
 examples name their states q_0, q_1, q_0', q_1' (positions, velocities): the paper's x1..x4.
@@ -16,11 +20,13 @@ from .circuits import circuit
 from .errors import InvalidArgument
 from .mechanics import mechanical
 from .rational import to_fmpq
+from .sources import sine
 from .relays import relay
 from .system import LCS
 
 __all__ = ["two_carts", "two_carts_with_hook", "half_wave_rectifier", "diode_bridge", "filippov_spiral",
-           "cart_chain"]
+           "cart_chain", "bouncing_ball", "ball_on_spring", "ball_column", "newtons_cradle", "sine_rectifier",
+           "diode_bridge_cap_filter"]
 
 
 def two_carts() -> LCS:
@@ -154,3 +160,124 @@ def cart_chain(N: int, stops: Any = None) -> LCS:
     E = [[int(j == i) for j in range(N)] for i in stops]
     return mechanical([[int(i == j) for j in range(N)] for i in range(N)], K, E,
                       name=f"chain of {N} carts", constraint_names=[f"stop_{i}" for i in stops])
+
+
+# ---------------------------------------------------------------------------------------------
+# scenes beyond the paper: restitution, gravity, gaps, sources, floating networks
+# ---------------------------------------------------------------------------------------------
+
+
+def bouncing_ball(g: Any = "981/100", e: Any = "9/10", radius: Any = 0, mass: Any = 1) -> LCS:
+    """A ball of ``mass`` falling under gravity ``g`` onto a floor, Newton's impact law with
+    restitution ``e`` (Siconos' BouncingBall: g = 9.81, e = 0.9).  The constraint is the height
+    of the ball's lowest point, y = q - radius >= 0.  State (q, q', 1) (the last state carries
+    gravity); ``ball.embed([h, v0])`` is the full initial state.
+
+    Dropped from rest at h: impacts at t1 (1 + 2e + ... + 2e^(k-1)), t1 = sqrt(2 (h - r) / g),
+    accumulating at t* = t1 (1 + e) / (1 - e), after which it rests (``traj.accumulations``).
+
+    >>> ball = bouncing_ball(g=10, e="1/2")
+    >>> ball.state_names, ball.restitution, ball.embed([5, 0]).transpose()
+    (('q', "q'", '1'), (1/2,), [5, 0, 1])
+    """
+    m, gg = to_fmpq(mass, "mass"), to_fmpq(g, "g")
+    return mechanical([[m]], [[0]], [[1]], force=[-m * gg], gap=[-to_fmpq(radius, "radius")], restitution=e,
+                      name="bouncing ball", q_names=["q"], constraint_names=["floor"])
+
+
+def ball_on_spring(k: Any = 1, mass: Any = 1, g: Any = 10, e: Any = "1/2", rest: Any = 12) -> LCS:
+    """A ball hanging on a spring (stiffness k, anchored so that without gravity it rests at
+    height ``rest``) above a floor q >= 0, with restitution e.  Its free motion oscillates about
+    q_eq = rest - m g / k (2 with the defaults); started high enough it hits the floor, and each
+    impact takes energy until the oscillation clears the floor: then it oscillates forever.
+    State (q, q', 1).
+
+    >>> spring = ball_on_spring()
+    >>> spring.A
+    [ 0, 1, 0]
+    [-1, 0, 2]
+    [ 0, 0, 0]
+    """
+    kk, m, gg = to_fmpq(k, "k"), to_fmpq(mass, "mass"), to_fmpq(g, "g")
+    return mechanical([[m]], [[kk]], [[1]], force=[kk * to_fmpq(rest, "rest") - m * gg], restitution=e,
+                      name="ball on a spring above a floor", q_names=["q"], constraint_names=["floor"])
+
+
+def ball_column(N: int = 3, g: Any = 10, e: Any = "1/2", radius: Any = "1/20", mass: Any = 1) -> LCS:
+    """N beads of one radius stacked on a floor under gravity (Siconos' column of beads,
+    Newton's law at every contact): q_i is the height of bead i's centre, the contacts are the
+    floor y_0 = q_0 - r and neighbours y_i = q_i - q_(i-1) - 2r.  State (q, q', 1).
+
+    >>> col = ball_column(3)
+    >>> col.constraint_names, col.C
+    (('floor', 'beads 0-1', 'beads 1-2'), [ 1,  0, 0, 0, 0, 0, -1/20]
+    [-1,  1, 0, 0, 0, 0, -1/10]
+    [ 0, -1, 1, 0, 0, 0, -1/10])
+    """
+    if isinstance(N, bool) or not isinstance(N, int) or N < 1:
+        raise InvalidArgument(f"N must be a positive int, got {N!r}")
+    r, m, gg = to_fmpq(radius, "radius"), to_fmpq(mass, "mass"), to_fmpq(g, "g")
+    E = [[int(j == 0) for j in range(N)]] + [[-1 if j == i - 1 else 1 if j == i else 0 for j in range(N)]
+                                              for i in range(1, N)]
+    return mechanical([[m if i == j else 0 for j in range(N)] for i in range(N)], [[0] * N for _ in range(N)], E,
+                      force=[-m * gg] * N, gap=[-r] + [-2 * r] * (N - 1), restitution=e,
+                      name=f"column of {N} beads", q_names=[f"q_{i}" for i in range(N)],
+                      constraint_names=["floor"] + [f"beads {i - 1}-{i}" for i in range(1, N)])
+
+
+def newtons_cradle(N: int = 3, e: Any = 1, gap: Any = 0) -> LCS:
+    """N unit balls in a row on a line, no gravity, contacts between neighbours
+    y_i = q_(i+1) - q_i - gap >= 0 with restitution e (a Newton's cradle hit by ball 0).
+    State (q, q') (with a constant state '1' when gap != 0).
+
+    >>> cradle = newtons_cradle(3)
+    >>> cradle.constraint_names, cradle.n
+    (('0-1', '1-2'), 6)
+    """
+    if isinstance(N, bool) or not isinstance(N, int) or N < 2:
+        raise InvalidArgument(f"N must be an int >= 2, got {N!r}")
+    E = [[-1 if j == i else 1 if j == i + 1 else 0 for j in range(N)] for i in range(N - 1)]
+    gq = to_fmpq(gap, "gap")
+    return mechanical([[int(i == j) for j in range(N)] for i in range(N)], [[0] * N for _ in range(N)], E,
+                      gap=None if gq == 0 else [-gq] * (N - 1), restitution=e, name=f"Newton's cradle of {N} balls",
+                      q_names=[f"q_{i}" for i in range(N)], constraint_names=[f"{i}-{i + 1}" for i in range(N - 1)])
+
+
+def sine_rectifier(omega: Any = 1, amplitude: Any = 1, R: Any = 1, C: Any = 1, full_wave: bool = False) -> LCS:
+    """A sine source amplitude * sin(omega t) rectified into a capacitor C with a load R.
+
+    Half-wave (default): ``V1 in 0``, ``D1 in out``, ``R1 out 0``, ``C1 out 0``: while D1
+    conducts v(C1) follows the source; it turns off where the diode current C v' + v / R
+    vanishes (t = 3 pi / 4 for omega = R = C = 1, from v = 0).  Full-wave: a floating source
+    feeding a four-diode bridge (``D1 a p``, ``D2 b p``, ``D3 0 a``, ``D4 0 b``): while all diodes
+    block, the source's potential against ground is undetermined (the state is not).  State
+    (v(C1), sin(omega t), cos(omega t)); start from ``rect.embed([v0])``.
+
+    >>> rect = sine_rectifier()
+    >>> rect.state_names, rect.constraint_names
+    (('v(C1)', 'sin(t)', 'cos(t)'), ('D1',))
+    """
+    src = sine(omega, amplitude)
+    Rq, Cq = to_fmpq(R, "R"), to_fmpq(C, "C")
+    if not full_wave:
+        net = [("V1", "in", "0", src), ("D1", "in", "out"), ("R1", "out", "0", Rq), ("C1", "out", "0", Cq)]
+        return circuit(net, name="half-wave rectifier, sine source")
+    net = [("V1", "a", "b", src), ("D1", "a", "p"), ("D2", "b", "p"), ("D3", "0", "a"), ("D4", "0", "b"),
+           ("R1", "p", "0", Rq), ("C1", "p", "0", Cq)]
+    return circuit(net, name="full-wave bridge rectifier, sine source")
+
+
+def diode_bridge_cap_filter(L: Any = "1/100", C: Any = "1/1000000", Cf: Any = "3/10000000", R: Any = 1000) -> LCS:
+    """Siconos' DiodeBridgeCapFilter: an LC tank (L = 10 mH, C = 1 uF) feeding a four-diode bridge
+    with a filter capacitor Cf = 300 nF and a load R = 1 kOhm; x0 = (10, 0, 0), t_end = 5 ms in
+    the tutorial.  The tank floats: while all four diodes block its potential against ground is
+    undetermined, the state (v(C1), i(L1), v(Cf)) is not (DESIGN.md section 7).
+
+    >>> bridge = diode_bridge_cap_filter()
+    >>> bridge.state_names, bridge.constraint_names
+    (('v(C1)', 'i(L1)', 'v(Cf)'), ('D1', 'D2', 'D3', 'D4'))
+    """
+    Lq, Cq, Cfq, Rq = (to_fmpq(v, nm) for v, nm in ((L, "L"), (C, "C"), (Cf, "Cf"), (R, "R")))
+    net = [("C1", "a", "b", Cq), ("L1", "a", "b", Lq), ("D1", "a", "p"), ("D2", "b", "p"), ("D3", "0", "a"),
+           ("D4", "0", "b"), ("Cf", "p", "0", Cfq), ("R1", "p", "0", Rq)]
+    return circuit(net, name="diode bridge with capacitor filter (Siconos)")

@@ -125,11 +125,13 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
     B = vstack(zeros(m, k), Minv * Em.transpose())
     C = hstack(Em, zeros(k, m))
     names = q_names + tuple(f"{q}'" for q in q_names)
+    cn = tuple(constraint_names) if constraint_names is not None else tuple(str(i) for i in range(k))
+    roles = tuple((f"force ({c})", f"gap ({c})", "contact", "open") for c in cn)
     forces = _sources(force, m, "force", "coordinate")
     gaps = _sources(gap, k, "gap", "constraint")
     if forces is None and gaps is None:
         return LCS(A, B, C, zeros(k, k), name=name, state_names=names, constraint_names=constraint_names,
-                   restitution=restitution)
+                   restitution=restitution, roles=roles)
     forces = forces or [0] * m
     gaps = gaps or [0] * k
     ex = exosystem(forces + gaps)
@@ -137,7 +139,7 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
     Wg = submatrix(ex.W, range(m, m + k), None)
     EW = vstack(zeros(m, ex.size), Minv * Wf)  # q'' gets M^{-1} f
     return extend(A, B, C, zeros(k, k), EW, Wg, ex, name=name, state_names=names,
-                  constraint_names=constraint_names, restitution=restitution)
+                  constraint_names=constraint_names, restitution=restitution, roles=roles)
 
 
 def _sources(values: Any, count: int, what: str, per: str) -> list | None:

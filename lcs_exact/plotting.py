@@ -35,7 +35,7 @@ from typing import Any, Sequence
 
 from flint import fmpq
 
-from .errors import InvalidArgument
+from .errors import InvalidArgument, LCSError
 from .modes import format_mode
 
 __all__ = ["plot_trajectory", "plot_mode_map", "phase_intervals", "PhaseInterval"]
@@ -49,10 +49,23 @@ def _is_default(names: Sequence[str], prefix: str) -> bool:
 
 
 def _pair_label(lcs, which: str, i: int) -> str:
+    roles = getattr(lcs, "roles", None)
+    if roles is not None:  # the builder's words: "force (floor)", "i(D1)"
+        return roles[i][0 if which == "u" else 1]
     names = getattr(lcs, "constraint_names", None) or tuple(str(j) for j in range(lcs.k))
     if _is_default(names, ""):
         return f"${which}_{{{i}}}$"
     return f"{which} ({names[i]})"
+
+
+def _mode_label(lcs, m) -> str:
+    """The legend text of a mode: the builder's words when it gave roles (a long text is cut)."""
+    if m is None:
+        return "mode ?"
+    if getattr(lcs, "roles", None) is None or not hasattr(lcs, "describe_mode"):
+        return f"mode {format_mode(m)}"
+    text = lcs.describe_mode(m)
+    return text if len(text) <= 48 else f"mode {format_mode(m)}: " + text[:40] + "…"
 
 
 def _state_label(lcs, i: int) -> str:
@@ -161,6 +174,16 @@ def _pair_maps(lcs, mode):
             for j in range(lcs.n):
                 Fu[i, j] = F[r, j]
     return Fu, lcs.C + lcs.D * Fu
+
+
+def _undetermined(traj, ph) -> frozenset:
+    """The inputs left free by the state on the phase interval ``ph`` (a floating network)."""
+    if not hasattr(traj, "undetermined"):
+        return frozenset()
+    try:
+        return traj.undetermined(_frac((float(ph.start) + float(ph.end)) / 2))
+    except LCSError:
+        return frozenset()
 
 
 def _apply(F, rows: list, zero: Sequence[int] = ()) -> list[list[float]]:
@@ -280,6 +303,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     colors = {m: _MODE_COLORS[i % len(_MODE_COLORS)] for i, m in enumerate(ordered)}
     colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
     pair_ends = []  # per phase: (u, y) at its start and at its end, exact, for the jump markers
+    any_free = False
     for ph in phases:
         fa, fb = float(ph.start), float(ph.end)
         for ax in axes:
@@ -303,11 +327,16 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
         # (u(τ+) at the start, u(τ-) at the end: the values the jump markers compare)
         ends = tuple((ProjectedVector(maps[0], z), ProjectedVector(maps[1], z)) for z in (first, last))
         pair_ends.append(ends)
+        free = _undetermined(traj, ph)  # inputs the state leaves free here: not drawn (no value)
+        free_y = {i for i in range(lcs.k) if any(lcs.D[i, j] != 0 for j in free)}
         for w, which in enumerate(("u", "y")):
             if which in ax_of:
                 vals = ([[float(c) for c in ends[0][w]]] + _apply(maps[w], balls, ph.mode if w else ())
                         + [[float(c) for c in ends[1][w]]])
                 for pos, i in enumerate(cidx):
+                    if i in (free if w == 0 else free_y):
+                        any_free = True
+                        continue
                     ax_of[which].plot(tt, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
 
     evs = sorted(traj.events, key=lambda e: float(e.time))
@@ -396,11 +425,13 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
                        for pos, i in enumerate(cidx)]
             if p == "u" and any_impulse:
                 handles.append(Line2D([], [], color="0.3", ls=":", marker="^", ms=5, label="impulse (weight·δ)"))
+            if any_free:
+                handles.append(Line2D([], [], color="none", label="(gaps: not determined by the state)"))
         if ax is axes[0]:
             if any_jump:
                 handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="left limit (τ−)"),
                             Line2D([], [], ls="", marker="o", color="0.3", label="right limit (τ+)")]
-            handles += [Patch(color=colors[m], alpha=0.3, label=f"mode {format_mode(m) if m is not None else '?'}")
+            handles += [Patch(color=colors[m], alpha=0.3, label=_mode_label(lcs, m))
                         for m in sorted(colors, key=lambda m: (m is None, len(m or ()), sorted(m or ())))]
         # a long legend in columns: it must not be taller than its panel
         ncol = 1 + (len(handles) - 1) // 12

@@ -96,6 +96,11 @@ class LCS:
         instead of the paper's P_I.  Needs every constraint of relative degree 2 (D = 0,
         C B = 0, and C A B a P-matrix: mechanical contacts).  e = 0 gives exactly the paper's
         re-initialization (Theorem 8.2); None (default) is the paper's LCS.
+    roles : sequence of k (u_label, y_label, in_word, out_word), optional
+        What each pair means, set by the builders so that results and plots speak their
+        language: a contact is ``("force (floor)", "gap (floor)", "contact", "open")``, a diode
+        ``("i(D1)", "-v(D1)", "conducting", "blocking")`` (``in_word`` describes i in the mode,
+        y_i = 0; ``out_word`` i outside it, u_i = 0).  See :meth:`describe_mode`.
 
     Names must be distinct nonempty strings; they are stored as tuples.
 
@@ -115,7 +120,7 @@ class LCS:
 
     def __init__(self, A: Any, B: Any, C: Any, D: Any, *, name: str | None = None,
                  state_names: Any = None, constraint_names: Any = None, embedding: Any = None,
-                 restitution: Any = None):
+                 restitution: Any = None, roles: Any = None):
         self.A = to_matrix(A, "A")
         n = self.A.nrows()
         if n == 0 or self.A.ncols() != n:
@@ -142,6 +147,36 @@ class LCS:
         self._modes: dict[frozenset, Any] = {}
         self._cache: dict[str, Any] = {}
         self.restitution = self._restitution(restitution)
+        self.roles = self._roles(roles)
+
+    def _roles(self, roles: Any) -> tuple | None:
+        if roles is None:
+            return None
+        try:
+            out = tuple(tuple(str(w) for w in r) for r in roles)
+        except TypeError:
+            raise InvalidArgument("roles must be a sequence of k tuples (u_label, y_label, in_word, out_word)") from None
+        if len(out) != self.k or any(len(r) != 4 for r in out):
+            raise ShapeError(f"roles must be {self.k} tuples (u_label, y_label, in_word, out_word)")
+        return out
+
+    def describe_mode(self, I: Iterable[int]) -> str:
+        """A mode in the builder's words (``"D1, D4 conducting; D2, D3 blocking"``, ``"floor
+        contact"``), or ``{0, 2}`` when the LCS has no roles.
+
+        >>> from lcs_exact.examples import two_carts
+        >>> two_carts().describe_mode({0}), LCS([[0]], [[1]], [[1]], [[0]]).describe_mode({0})
+        ('stop contact', '{0}')
+        """
+        from .modes import format_mode
+        key = self._index_set(I)
+        if self.roles is None:
+            return format_mode(key)
+        groups: dict = {}
+        for j in range(self.k):
+            word = self.roles[j][2] if j in key else self.roles[j][3]
+            groups.setdefault(word, []).append(self.constraint_names[j])
+        return "; ".join(f"{', '.join(names)} {word}" for word, names in groups.items())
 
     def _restitution(self, e: Any) -> tuple | None:
         """Validated restitution coefficients (one fmpq per constraint), or None (DESIGN.md 7)."""
@@ -389,6 +424,8 @@ class LCS:
             extra += f", state_names={self.state_names!r}"
         if self.constraint_names != _names(None, self.k, "", ""):
             extra += f", constraint_names={self.constraint_names!r}"
+        if self.roles is not None:
+            extra += f", roles={self.roles!r}"
         if self.restitution is not None:
             es = self.restitution
             extra += f", restitution={q(es[0])}" if len(set(es)) == 1 else \

@@ -78,8 +78,9 @@ def test_trajectory_figure(impact):
                    if isinstance(p, Rectangle))
     assert spans == [(0.0, 1.0), (1.0, round(events[1], 9)), (round(events[1], 9), 3.0)]
     labels = [t.get_text() for t in ax_x.get_legend().get_texts()]
-    assert labels[:4] == ["q_0", "q_1", "q_0'", "q_1'"] and "mode {0}" in labels and "left limit (τ−)" in labels
-    assert [t.get_text() for t in ax_u.get_legend().get_texts()] == ["u (stop)", "impulse (weight·δ)"]
+    # modes and pairs in the builder's words (mechanical: contact forces and gaps)
+    assert labels[:4] == ["q_0", "q_1", "q_0'", "q_1'"] and "stop contact" in labels and "left limit (τ−)" in labels
+    assert [t.get_text() for t in ax_u.get_legend().get_texts()] == ["force (stop)", "impulse (weight·δ)"]
     # u jumps from u(1-) = 0 to u(1+) = cos(0) = 1 when the stop engages, and is continuous at the
     # lift-off (u(1 + pi/2) = cos(pi/2) = 0 on both sides): markers at t = 1 only
     u_marks = [(ln.get_xdata()[0], ln.get_ydata()[0], ln.get_markerfacecolor())
