@@ -1,0 +1,115 @@
+"""The standard scenes of lcs_exact.examples (DESIGN.md section 7), each against an answer derived
+here: free fall and Newton's law by hand, the generalised Newton law's impact LCP solved by hand,
+oscillations about the spring's equilibrium, the rectifier's conduction and decay, and a grounded
+twin of the floating full-wave bridge."""
+from __future__ import annotations
+
+import mpmath
+import sympy
+from flint import arb, fmpq, fmpq_mat
+
+from lcs_exact import simulate
+from lcs_exact.balls import workprec
+from lcs_exact.circuits import circuit
+from lcs_exact.examples import ball_column, ball_on_spring, newtons_cradle, sine_rectifier
+from lcs_exact.sources import sine
+
+
+def mp(x, digits=40):
+    return mpmath.mpf(x.ball(digits).mid().str(digits + 10, radius=False))
+
+
+def test_ball_on_a_spring_keeps_hitting_the_floor():
+    """q'' = -(q - 12) - 10 + u: oscillation about q_eq = 2.  From q = 6 at rest: q = 2 + 4 cos t
+    reaches the floor when cos t = -1/2, t = 2 pi/3, at speed 4 sin(2 pi/3) = 2 sqrt 3.  From
+    the floor at speed v: q = 2 - 2 cos t + v sin t vanishes again at t = 2 pi - 2 atan(v/2)
+    (sin(t/2) (2 sin(t/2) + v cos(t/2)) = 0), landing at speed v; e = 1/2 halves it."""
+    spring = ball_on_spring()
+    tr = simulate(spring, spring.embed([6, 0]), 25)
+    assert tr.certified
+    t, v = sympy.Rational(0), 2 * sympy.sqrt(3)
+    t = 2 * sympy.pi / 3
+    assert sympy.simplify(tr.events[0].time.closed_form - t) == 0
+    with mpmath.workdps(50):
+        tt, vv = mpmath.mpf(2) * mpmath.pi / 3, 2 * mpmath.sqrt(3)
+        for ev in tr.events:
+            assert abs(mp(ev.time) - tt) < mpmath.mpf(10) ** -35
+            assert abs(mp(ev.state_before[1]) + vv) < mpmath.mpf(10) ** -35
+            vv /= 2
+            assert abs(mp(ev.state_after[1]) - vv) < mpmath.mpf(10) ** -35
+            tt += 2 * mpmath.pi - 2 * mpmath.atan(vv / 2)
+    assert len(tr.events) == 5  # 2.09, 6.95, 12.4, 18.3, 24.3 in [0, 25]
+
+
+def test_the_column_of_beads():
+    """Beads 0 and 1 rest on the floor (r = 1/20: q0 = 1/20, q1 = 3/20); bead 2 falls from 1/2 and
+    touches bead 1 at q2 = 1/4 after t1 = sqrt(2 (1/4) / 10) = sqrt(5)/10, at speed sqrt 5.  All
+    three contacts are closed: with W = E E^T = [[1, -1, 0], [-1, 2, -1], [0, -1, 2]] and
+    q = (1 + e) y'(-) = (0, 0, -3 sqrt(5)/2), lambda = (3 sqrt(5)/2)(1, 1, 1) solves the impact
+    LCP (W lambda = -q), so only bead 2 rebounds, at e sqrt 5: a bouncing ball on a resting
+    stack, accumulating at 3 t1 and resting at (1/20, 3/20, 1/4) after it."""
+    col = ball_column(3)
+    tr = simulate(col, col.embed(["1/20", "3/20", "1/2", 0, 0, 0]), 3)
+    assert tr.certified
+    t1 = sympy.sqrt(5) / 10
+    want = [t1, t1 + t1, t1 + t1 + t1 / 2]
+    assert all(sympy.simplify(e.time.closed_form - w) == 0 for e, w in zip(tr.events, want))
+    ev = tr.events[0]
+    assert sympy.simplify(ev.state_after.closed_form()[5] - sympy.sqrt(5) / 2) == 0
+    assert ev.state_after.closed_form()[3:5] == [0, 0] and ev.modes == (frozenset({0, 1, 2}),)
+    (acc,) = tr.accumulations
+    assert sympy.simplify(acc.time.closed_form - 3 * t1) == 0
+    rest = fmpq_mat([[fmpq(1, 20)], [fmpq(3, 20)], [fmpq(1, 4)], [0], [0], [0], [1]])
+    assert tr.state(3).known_rational() == rest
+
+
+def test_newtons_cradle_touching_and_spaced():
+    """Three unit balls touching, ball 0 at speed 1, e = 1: W = [[2, -1], [-1, 2]] and
+    q = 2 y'(-) = (-2, 0) give lambda = (4/3, 2/3): v(+) = (-1/3, 2/3, 2/3) (momentum 1 and energy
+    1/2 kept; the generalised Newton law is not the 'ideal' cradle).  Spaced by 1 instead, the
+    impacts are single: the speeds are exchanged at t = 1 and t = 2."""
+    cradle = newtons_cradle(3)
+    tr = simulate(cradle, [0, 0, 0, 1, 0, 0], 3)
+    (ev,) = tr.events
+    v = [ev.state_after.known_rational()[3 + i, 0] for i in range(3)]
+    assert v == [fmpq(-1, 3), fmpq(2, 3), fmpq(2, 3)]
+    assert sum(v) == 1 and sum(x * x for x in v) / 2 == fmpq(1, 2)
+    spaced = simulate(cradle, [0, 1, 2, 1, 0, 0], 3)
+    assert [e.time.known_rational() for e in spaced.events] == [1, 2]
+    assert spaced.state(3).known_rational() == fmpq_mat([[1], [2], [3], [0], [0], [1]])  # each stops where hit
+
+
+def test_half_wave_rectifier_with_a_sine_source():
+    """Conducting, v(C) = sin t and the diode current C v' + v/R = cos t + sin t vanishes at
+    3 pi / 4; blocking, v = sin(3 pi/4) e^{-(t - 3 pi/4)} until the source catches up with it,
+    sin t = v (found by mpmath)."""
+    rect = sine_rectifier()
+    tr = simulate(rect, rect.embed([0]), 9)
+    assert tr.events[0].time.closed_form == 3 * sympy.pi / 4
+    with mpmath.workdps(50):
+        t0 = 3 * mpmath.pi / 4
+        t_on = mpmath.findroot(lambda t: mpmath.sin(t) - mpmath.sin(t0) * mpmath.exp(-(t - t0)), 6.4)
+        assert abs(mp(tr.events[1].time) - t_on) < mpmath.mpf(10) ** -35
+        # conducting again: v = sin t there, so the next turn-off is 2 pi after the first
+        assert abs(mp(tr.events[2].time) - (t0 + 2 * mpmath.pi)) < mpmath.mpf(10) ** -35
+
+
+def test_full_wave_bridge_with_a_floating_sine_source():
+    """The source floats between a and b: while the four diodes block, its potential is free.
+    The same bridge with b tied to ground by 10^12 ohm is autonomous in every mode; the states
+    agree to the leak's effect."""
+    floating = sine_rectifier(full_wave=True)
+    src = sine(1)
+    net = [("V1", "a", "b", src), ("D1", "a", "p"), ("D2", "b", "p"), ("D3", "0", "a"), ("D4", "0", "b"),
+           ("R1", "p", "0", 1), ("C1", "p", "0", 1), ("Rg", "b", "0", 10 ** 12)]
+    grounded = circuit(net)
+    ta = simulate(floating, floating.embed([0]), 12)
+    tb = simulate(grounded, grounded.embed([0]), 12)
+    assert ta.certified and tb.certified and any(p.undetermined for p in ta.phases)
+    for k in range(1, 13):
+        a, b = ta.state(k).ball(30), tb.state(k).ball(30)
+        with workprec(128):
+            assert all(abs(x - y) <= arb("1e-9") for x, y in zip(a, b))
+    # the bridge rectifies both half-waves: v(C1) = |sin t| while a pair conducts, so the first
+    # turn-off is where the current cos t + sin t of the load and C vanishes, at 3 pi / 4
+    assert ta.events[0].time.closed_form == 3 * sympy.pi / 4
