@@ -347,10 +347,26 @@ class ScaledCycle:
     and the reference trajectory is scaled there (x by rho^e, u by rho^a, y by rho^b).  Times and
     states are exact (rational or algebraic)."""
 
-    def __init__(self, law: GeometricLaw, reference, t_k: Real, mode, z: ExactVector):
+    def __init__(self, law: GeometricLaw, reference, t_k: Real, mode, z: ExactVector, offsets: Sequence = ()):
         self.law, self.reference, self.t_k = law, reference, t_k
         self.mode = mode  # the mode of the first phase after t_k (reprs only)
         self.z = z  # the state at t_k (after the last computed event)
+        self.offsets = tuple(offsets)  # the reference cycle's event times after its start
+
+    def event_times(self, count: int) -> list:
+        """The first ``count`` event times inside the window (exact reals, increasing): cycle m
+        starts at t_k + T (rho + ... + rho^m) and repeats the reference cycle's events scaled by
+        rho^(m+1).  Needs the reference cycle's ``offsets``."""
+        out: list = []
+        rho, T = self.law.ratio, self.law.cycle_length
+        start, scale = self.t_k, rho
+        while len(out) < count and self.offsets:
+            for d in self.offsets:
+                out.append(start + d * scale)
+                if len(out) >= count:
+                    break
+            start, scale = start + T * scale, scale * rho
+        return out
 
     def _map(self, dt: Any) -> tuple[Real, fmpq]:
         """(t_ref, scale) for a time t_k + dt of the window."""
@@ -362,14 +378,27 @@ class ScaledCycle:
                                   "algebraic) times only")
         law = self.law
         rho, T = law.ratio, law.cycle_length
-        m, start, length = 0, as_real(0), T * rho
-        while (d - (start + length)).sign() >= 0:  # cycle m covers [start, start + T rho^(m+1)) after t_k
-            start, length, m = start + length, length * rho, m + 1
-            if m > 100_000:
-                from .errors import LCSError
-                raise LCSError("internal inconsistency: a time inside an accumulation window beyond its end")
+        # cycle m covers [s_m, s_m + T rho^(m+1)) after t_k, s_m = T rho (1 - rho^m) / (1 - rho):
+        # m from a float estimate, then the two bounds checked exactly (moved by one if needed)
+        import math
+        frac = float(d) / max(float(T) * float(rho) / (1 - float(rho)), 1e-300)
+        m = max(0, int(math.log(max(1e-300, 1 - min(frac, 1 - 1e-16))) / math.log(float(rho)))) if frac > 0 else 0
+
+        def start(j):
+            return T * (rho * (1 - rho ** j) / (1 - rho))
+
+        for _ in range(64):
+            if m > 0 and (d - start(m)).sign() < 0:
+                m -= 1
+            elif (d - start(m + 1)).sign() >= 0:
+                m += 1
+            else:
+                break
+        else:
+            from .errors import LCSError
+            raise LCSError("internal inconsistency: a time inside an accumulation window beyond its end")
         scale = rho ** (m + 1)
-        return law.cycle_start + (d - start) / scale, scale
+        return law.cycle_start + (d - start(m)) / scale, scale
 
     @staticmethod
     def _scaled(v, scale: fmpq, exps: Sequence[int]) -> ExactVector:

@@ -148,7 +148,7 @@ class FixtureTrajectory:
         self.data, self.source = data, source
         sysd = _key(data, "system")
         self.lcs = LCS(_key(sysd, "A", "system"), _key(sysd, "B", "system"), _key(sysd, "C", "system"),
-                       _key(sysd, "D", "system"), name=sysd.get("name"))
+                       _key(sysd, "D", "system"), name=sysd.get("name"), restitution=sysd.get("restitution"))
         self.name = self.lcs.name
         self.digits = _key(data, "digits")
         self.x0 = _balls(_key(data, "x0"), "x0")

@@ -272,7 +272,9 @@ def fixture_dict(traj: Any, digits: int | None = None, sample: Any = None) -> di
     out = {
         "schema": SCHEMA,
         "system": {"A": _matrix(lcs.A), "B": _matrix(lcs.B), "C": _matrix(lcs.C),
-                   "D": _matrix(lcs.D), "name": lcs.name},
+                   "D": _matrix(lcs.D), "name": lcs.name,
+                   # Newton's impact law is part of the system (DESIGN.md 7): the same run needs it
+                   **({"restitution": [str(e) for e in lcs.restitution]} if getattr(lcs, "restitution", None) else {})},
         "x0": _vector(traj.x0, d),
         "t_end": _real_number(traj.t_end, d),
         "digits": d,

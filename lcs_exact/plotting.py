@@ -58,13 +58,14 @@ def _pair_label(lcs, which: str, i: int) -> str:
     return f"{which} ({names[i]})"
 
 
-def _mode_label(lcs, m) -> str:
-    """The legend text of a mode: the builder's words when it gave roles (a long text is cut)."""
+def _mode_label(lcs, m, free=frozenset()) -> str:
+    """The legend text of a mode: the builder's words when it gave roles (a long text is cut);
+    ``free``: inputs left undetermined on its phases."""
     if m is None:
         return "mode ?"
     if getattr(lcs, "roles", None) is None or not hasattr(lcs, "describe_mode"):
-        return f"mode {format_mode(m)}"
-    text = lcs.describe_mode(m)
+        return f"mode {format_mode(m)}" + (f" ({format_mode(free)} undetermined)" if free else "")
+    text = lcs.describe_mode(m, free)
     return text if len(text) <= 48 else f"mode {format_mode(m)}: " + text[:40] + "…"
 
 
@@ -98,6 +99,7 @@ class PhaseInterval:
     mode: frozenset | None
     start_event: Any
     end_event: Any
+    window: Any = None  # an accumulation window (accumulation.ScaledCycle): infinitely many events
 
 
 def _positive(t) -> bool:
@@ -149,7 +151,44 @@ def phase_intervals(traj) -> list[PhaseInterval]:
         mode = min(S, key=lambda m: (len(m), sorted(m))) if S else None
     if float(end) > float(start):
         out.append(PhaseInterval(start, end, mode, start_event, end_event))
+    return _split_at_accumulations(traj, out)
+
+
+def _split_at_accumulations(traj, intervals: list) -> list:
+    """Each accumulation point T* crossed (``traj.accumulations``) splits its interval: the window
+    [t_k, T*) of infinitely many events, then the phase after T* in its own mode (read from the
+    trajectory's phases when it has them)."""
+    accs = list(getattr(traj, "accumulations", ()) or ())
+    if not accs:
+        return intervals
+    windows = {}
+    for rec in getattr(traj, "phases", ()) or ():
+        if hasattr(rec.phase, "offsets"):
+            windows[float(rec.t1)] = rec
+    out = []
+    for ph in intervals:
+        inside = [a for a in accs if float(ph.start) < float(a.time) < float(ph.end) or
+                  (float(a.time) == float(ph.end) and float(a.time) > float(ph.start))]
+        if not inside:
+            out.append(ph)
+            continue
+        a = inside[0]
+        rec = windows.get(float(a.time))
+        out.append(PhaseInterval(ph.start, a.time, ph.mode, ph.start_event, None,
+                                 rec.phase if rec is not None else None))
+        if float(ph.end) > float(a.time):
+            after = _mode_after(traj, a)
+            out.append(PhaseInterval(a.time, ph.end, after, None, ph.end_event))
     return out
+
+
+def _mode_after(traj, acc):
+    """The mode of the phase that starts at the accumulation time (S(x(T*)) otherwise)."""
+    for rec in getattr(traj, "phases", ()) or ():
+        if not hasattr(rec.phase, "offsets") and abs(float(rec.t0) - float(acc.time)) == 0:
+            return rec.mode
+    S = traj.lcs.select_modes(acc.state)
+    return min(S, key=lambda m: (len(m), sorted(m))) if S else None
 
 
 def _component(v, i: int) -> tuple[float, bool]:
@@ -174,6 +213,34 @@ def _pair_maps(lcs, mode):
             for j in range(lcs.n):
                 Fu[i, j] = F[r, j]
     return Fu, lcs.C + lcs.D * Fu
+
+
+def _draw_window(traj, ph, ax_of, sidx, cidx, cyc, sty, npts: int) -> None:
+    """An accumulation window [t_k, T*): the scaled cycles of the proven law, each flight its own
+    line (no segment across an event), until the flights are shorter than the plot resolves;
+    states, u and y are the exact values of the law (``traj.state``, ``traj.u``, ``traj.y``)."""
+    fa, fb = float(ph.start), float(ph.end)
+    width = fb - fa
+    cuts = [fa]
+    for t in ph.window.event_times(400):
+        ft = float(t)
+        if ft >= fb or ft - cuts[-1] < width * 5e-3:
+            break
+        cuts.append(ft)
+    cuts.append(fb)
+    for a, b in zip(cuts, cuts[1:]):
+        m = max(3, int(npts * (b - a) / width))
+        ts = [_frac(a + (b - a) * (j + 0.5) / m) for j in range(m)]
+        tt = [float(t) for t in ts]
+        if "x" in ax_of:
+            rows = [[float(v.mid()) for v in row] for row in traj.sample(ts, 10)]
+            for pos, i in enumerate(sidx):
+                ax_of["x"].plot(tt, [r[i] for r in rows], color=cyc[pos], ls=sty[pos], lw=1.6)
+        for which in ("u", "y"):
+            if which in ax_of:
+                vals = [[float(c) for c in getattr(traj, which)(t)] for t in ts]
+                for pos, i in enumerate(cidx):
+                    ax_of[which].plot(tt, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
 
 
 def _undetermined(traj, ph) -> frozenset:
@@ -304,14 +371,20 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
     pair_ends = []  # per phase: (u, y) at its start and at its end, exact, for the jump markers
     any_free = False
+    free_of: dict = {}  # mode -> inputs undetermined on its phases (legend)
     for ph in phases:
         fa, fb = float(ph.start), float(ph.end)
         for ax in axes:
             ax.axvspan(fa, fb, color=colors[ph.mode], alpha=0.10, lw=0)
         npts = max(6, int(points * (fb - fa) / total))
+        if ph.window is not None:  # infinitely many events: a line per scaled flight, exact values
+            _draw_window(traj, ph, ax_of, sidx, cidx, cyc, sty, npts)
+            pair_ends.append((None, None))
+            continue
         ts = [_frac(fa + (fb - fa) * (j + 0.5) / npts) for j in range(npts)]  # inside the phase
         tt = [fa] + [float(t) for t in ts] + [fb]
-        first = ph.start_event.state_after if ph.start_event is not None else traj.x0
+        first = ph.start_event.state_after if ph.start_event is not None else \
+            (traj.state(ph.start) if float(ph.start) > 0 else traj.x0)  # after an accumulation: x(T*)
         last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
         balls = traj.sample(ts, 10)  # certified, one exponential sum per point
         if "x" in ax_of:
@@ -328,6 +401,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
         ends = tuple((ProjectedVector(maps[0], z), ProjectedVector(maps[1], z)) for z in (first, last))
         pair_ends.append(ends)
         free = _undetermined(traj, ph)  # inputs the state leaves free here: not drawn (no value)
+        free_of[ph.mode] = free_of.get(ph.mode, frozenset()) | free
         free_y = {i for i in range(lcs.k) if any(lcs.D[i, j] != 0 for j in free)}
         for w, which in enumerate(("u", "y")):
             if which in ax_of:
@@ -431,7 +505,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
             if any_jump:
                 handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="left limit (τ−)"),
                             Line2D([], [], ls="", marker="o", color="0.3", label="right limit (τ+)")]
-            handles += [Patch(color=colors[m], alpha=0.3, label=_mode_label(lcs, m))
+            handles += [Patch(color=colors[m], alpha=0.3, label=_mode_label(lcs, m, free_of.get(m, frozenset())))
                         for m in sorted(colors, key=lambda m: (m is None, len(m or ()), sorted(m or ())))]
         # a long legend in columns: it must not be taller than its panel
         ncol = 1 + (len(handles) - 1) // 12

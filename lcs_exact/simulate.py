@@ -334,7 +334,8 @@ class _Run:
         (:class:`~lcs_exact.accumulation.ScaledCycle`), x(T*-) its exact limit; the run goes on
         from there as Definition 4.10 prescribes (item 2: the limit state, then selection)."""
         T_star, limit = law.time, law.limit
-        cycle = ScaledCycle(law, _ReferenceStates(self), t, mode, self.events[-1].state_after)
+        offsets = [self.events[law.start + j].time - law.cycle_start for j in range(law.period)]
+        cycle = ScaledCycle(law, _ReferenceStates(self), t, mode, self.events[-1].state_after, offsets)
         self.phases.append(PhaseRecord(t, T_star, mode.index_set, cycle))
         self.accumulations.append(Accumulation(T_star, limit, law.period, law.ratio, law.start))
         self.durations.clear()

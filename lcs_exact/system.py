@@ -160,9 +160,11 @@ class LCS:
             raise ShapeError(f"roles must be {self.k} tuples (u_label, y_label, in_word, out_word)")
         return out
 
-    def describe_mode(self, I: Iterable[int]) -> str:
+    def describe_mode(self, I: Iterable[int], undetermined: Iterable[int] = ()) -> str:
         """A mode in the builder's words (``"D1, D4 conducting; D2, D3 blocking"``, ``"floor
-        contact"``), or ``{0, 2}`` when the LCS has no roles.
+        contact"``), or ``{0, 2}`` when the LCS has no roles.  Pairs in ``undetermined`` (inputs
+        the state leaves free on a phase, :meth:`Trajectory.undetermined`) are said so
+        (``"D1 undetermined"``): their mode membership is a representative, not a fact.
 
         >>> from lcs_exact.examples import two_carts
         >>> two_carts().describe_mode({0}), LCS([[0]], [[1]], [[1]], [[0]]).describe_mode({0})
@@ -170,11 +172,12 @@ class LCS:
         """
         from .modes import format_mode
         key = self._index_set(I)
+        free = self._index_set(undetermined)
         if self.roles is None:
-            return format_mode(key)
+            return format_mode(key) + (f" ({format_mode(free)} undetermined)" if free else "")
         groups: dict = {}
         for j in range(self.k):
-            word = self.roles[j][2] if j in key else self.roles[j][3]
+            word = "undetermined" if j in free else self.roles[j][2] if j in key else self.roles[j][3]
             groups.setdefault(word, []).append(self.constraint_names[j])
         return "; ".join(f"{', '.join(names)} {word}" for word, names in groups.items())
 

@@ -177,3 +177,20 @@ def test_a_ball_with_a_radius_rests_on_the_floor_after_its_accumulation():
     x = tr.state(fmpq(1, 2) + fmpq(1, 40))
     assert x.known_rational() == fmpq_mat([[fmpq(1, 10) + fmpq(1, 4) * fmpq(1, 40) - 5 * fmpq(1, 40) ** 2],
                                            [0], [1]])
+
+
+def test_fixtures_carry_the_impact_law():
+    """The restitution is part of the system: a fixture keeps it (schema-valid), and reading the
+    fixture back rebuilds the same LCS, so an exact re-run reproduces the bounces."""
+    from lcs_exact import read_fixture, validate_fixture
+    ball = mechanical([[1]], [[0]], [[1]], force=[-10], restitution="1/2")
+    tr = simulate(ball, ball.embed([0, 10]), 4)
+    fx = tr.to_fixture(20, sample="1/2")
+    validate_fixture(fx)
+    assert fx["system"]["restitution"] == ["1/2"] and fx["accumulations"][0]["time"]["exact"] == "4"
+    back = read_fixture(fx)
+    assert back.lcs.restitution == (fmpq(1, 2),)
+    again = simulate(back.lcs, ball.embed([0, 10]), 4)
+    assert [e.time.known_rational() for e in again.events] == [2, 3, fmpq(7, 2)]
+    plain = mechanical([[1]], [[0]], [[1]], force=[-10])
+    assert "restitution" not in simulate(plain, plain.embed([0, 10]), 1).to_fixture(10)["system"]
