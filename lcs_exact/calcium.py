@@ -70,6 +70,7 @@ True
 from __future__ import annotations
 
 import atexit
+import contextlib
 import ctypes
 import threading
 from fractions import Fraction  # noqa: F401 -- used by the doctests
@@ -579,16 +580,10 @@ class Ca:
         ...
         ValueError: approx 0 does not single out one root of s^2 + 1 (2 roots are as near)
         """
-        qs = [to_fmpq(c, "polynomial coefficient") for c in coeffs]
-        while qs and qs[-1] == 0:
-            qs.pop()
-        if len(qs) < 2:
+        ints, qs = _integer_coefficients(coeffs)
+        if len(ints) < 2:
             raise ValueError(f"the polynomial {list(coeffs)!r} has no roots (degree < 1)")
         desc = _poly_str(qs)
-        den = 1
-        for q in qs:
-            den = den * int(q.q) // _gcd(den, int(q.q))
-        ints = [int(q.p) * (den // int(q.q)) for q in qs]
         if isinstance(approx, (acb, arb)):
             target = acb(approx)
             ball_mode = not (target.real.rad() == 0 and target.imag.rad() == 0)
@@ -598,34 +593,11 @@ class Ca:
             except Exception:                   # noqa: BLE001
                 raise TypeError(f"approx {approx!r} is not a number python-flint can read as acb") from None
             target, ball_mode = acb(target.real.mid(), target.imag.mid()), False
-        deg = len(ints) - 1
         b = _get()
-        lib = b.lib
-        qsize = ctypes.sizeof(_qqbar)
-        with b.lock:
-            poly = (_ulong * (2 * ctypes.sizeof(_fmpz_poly) // 8))()
-            lib.fmpz_poly_init(ctypes.addressof(poly))
-            vec = None
-            try:
-                for j, c in enumerate(ints):
-                    with _Fmpz(lib, c) as f:
-                        lib.fmpz_poly_set_coeff_fmpz(ctypes.addressof(poly), j, f)
-                vec = lib._qqbar_vec_init(deg)
-                lib.qqbar_roots_fmpz_poly(vec, ctypes.addressof(poly), 0)
-                roots: list[int] = []           # addresses of the distinct roots
-                for k in range(deg):
-                    at = vec + k * qsize
-                    if not 1 <= lib.qqbar_degree(at) <= deg:
-                        raise RuntimeError("qqbar_roots_fmpz_poly output does not have the expected layout")
-                    if not any(lib.qqbar_equal(at, r) for r in roots):
-                        roots.append(at)
-                chosen = _select_root(lib, roots, target, ball_mode, approx, desc)
-                r = cls._new()
-                lib.ca_set_qqbar(r._ptr, chosen, b.ctx)
-            finally:
-                if vec is not None:
-                    lib._qqbar_vec_clear(vec, deg)
-                lib.fmpz_poly_clear(ctypes.addressof(poly))
+        with b.lock, _distinct_roots(b.lib, ints) as roots:
+            chosen = _select_root(b.lib, roots, target, ball_mode, approx, desc)
+            r = cls._new()
+            b.lib.ca_set_qqbar(r._ptr, chosen, b.ctx)
         return r
 
     # ---- arithmetic -----------------------------------------------------------------------
@@ -975,44 +947,59 @@ def real_roots(coeffs: Sequence[Any]) -> list[Ca]:
     >>> real_roots([1, 0, 1])
     []
     """
+    ints, _ = _integer_coefficients(coeffs)
+    if len(ints) < 2:
+        return []
+    b = _get()
+    out: list[Ca] = []
+    with b.lock, _distinct_roots(b.lib, ints) as roots:
+        for at in roots:
+            if b.lib.qqbar_sgn_im(at) == 0:
+                r = Ca._new()
+                b.lib.ca_set_qqbar(r._ptr, at, b.ctx)
+                out.append(r)
+    return out
+
+
+def _integer_coefficients(coeffs: Sequence[Any]) -> tuple[list[int], list[fmpq]]:
+    """(integer coefficients, rational ones) of a polynomial, trailing zeros removed: the
+    rationals times the lcm of their denominators."""
     qs = [to_fmpq(c, "polynomial coefficient") for c in coeffs]
     while qs and qs[-1] == 0:
         qs.pop()
-    if len(qs) < 2:
-        return []
     den = 1
     for q in qs:
         den = den * int(q.q) // _gcd(den, int(q.q))
-    ints = [int(q.p) * (den // int(q.q)) for q in qs]
+    return [int(q.p) * (den // int(q.q)) for q in qs], qs
+
+
+@contextlib.contextmanager
+def _distinct_roots(lib: ctypes.CDLL, ints: list[int]):
+    """The addresses of the distinct roots (qqbar_t) of the integer polynomial, valid inside the
+    ``with`` block (caller holds the lock); cleared on exit."""
     deg = len(ints) - 1
-    b = _get()
-    lib = b.lib
     qsize = ctypes.sizeof(_qqbar)
-    out: list[Ca] = []
-    with b.lock:
-        poly = (_ulong * (2 * ctypes.sizeof(_fmpz_poly) // 8))()
-        lib.fmpz_poly_init(ctypes.addressof(poly))
-        vec = None
-        try:
-            for j, c in enumerate(ints):
-                with _Fmpz(lib, c) as f:
-                    lib.fmpz_poly_set_coeff_fmpz(ctypes.addressof(poly), j, f)
-            vec = lib._qqbar_vec_init(deg)
-            lib.qqbar_roots_fmpz_poly(vec, ctypes.addressof(poly), 0)
-            seen: list[int] = []
-            for k in range(deg):
-                at = vec + k * qsize
-                if lib.qqbar_sgn_im(at) != 0 or any(lib.qqbar_equal(at, r) for r in seen):
-                    continue
-                seen.append(at)
-                r = Ca._new()
-                lib.ca_set_qqbar(r._ptr, at, b.ctx)
-                out.append(r)
-        finally:
-            if vec is not None:
-                lib._qqbar_vec_clear(vec, deg)
-            lib.fmpz_poly_clear(ctypes.addressof(poly))
-    return out
+    poly = (_ulong * (2 * ctypes.sizeof(_fmpz_poly) // 8))()
+    lib.fmpz_poly_init(ctypes.addressof(poly))
+    vec = None
+    try:
+        for j, c in enumerate(ints):
+            with _Fmpz(lib, c) as f:
+                lib.fmpz_poly_set_coeff_fmpz(ctypes.addressof(poly), j, f)
+        vec = lib._qqbar_vec_init(deg)
+        lib.qqbar_roots_fmpz_poly(vec, ctypes.addressof(poly), 0)
+        roots: list[int] = []
+        for k in range(deg):
+            at = vec + k * qsize
+            if not 1 <= lib.qqbar_degree(at) <= deg:
+                raise RuntimeError("qqbar_roots_fmpz_poly output does not have the expected layout")
+            if not any(lib.qqbar_equal(at, r) for r in roots):
+                roots.append(at)
+        yield roots
+    finally:
+        if vec is not None:
+            lib._qqbar_vec_clear(vec, deg)
+        lib.fmpz_poly_clear(ctypes.addressof(poly))
 
 
 def _gcd(a: int, b: int) -> int:

@@ -89,6 +89,18 @@ def _smallest(roots: list):
     return best
 
 
+def _window(roots: list, horizon: fmpq) -> list | None:
+    """The roots in (0, horizon] (None when a comparison is undecided)."""
+    out = []
+    for r in roots:
+        inside = _in_window(r, horizon)
+        if inside is None:
+            return None
+        if inside:
+            out.append(r)
+    return out
+
+
 def _rational_crossing(p: fmpq_poly, horizon: fmpq) -> list | None:
     """Crossings (odd-multiplicity real roots in (0, horizon]) of a rational polynomial."""
     out = []
@@ -101,12 +113,10 @@ def _rational_crossing(p: fmpq_poly, horizon: fmpq) -> list | None:
             if 0 < r <= horizon:
                 out.append(calcium.Ca(r))
             continue
-        for r in calcium.real_roots(cs):
-            inside = _in_window(r, horizon)
-            if inside is None:
-                return None
-            if inside:
-                out.append(r)
+        inside = _window(calcium.real_roots(cs), horizon)
+        if inside is None:
+            return None
+        out += inside
     return out
 
 
@@ -126,14 +136,7 @@ def _algebraic_crossing(cs: list, horizon: fmpq) -> list | None:
         roots = [(-c1 - sq) / (2 * c2), (-c1 + sq) / (2 * c2)]
     else:
         return None
-    out = []
-    for r in roots:
-        inside = _in_window(r, horizon)
-        if inside is None:
-            return None
-        if inside:
-            out.append(r)
-    return out
+    return _window(roots, horizon)
 
 
 def exact_first_crossing(coeffs: list[Any], horizon: fmpq, policy=None) -> ExactCrossing | None:
