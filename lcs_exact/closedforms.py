@@ -30,6 +30,7 @@ from .errors import LCSError, UnresolvedSign
 from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
 from .rational import matrix_to_sympy
 from .reals import RationalVector, orbit_start
+from .subspaces import in_row_span
 
 __all__ = ["candidates", "prove_root", "prove_zero_at", "function_closed_form", "prove_touch",
            "exp_candidates", "solve_candidates"]
@@ -130,6 +131,13 @@ def prove_zero_at(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, *, derivative: 
         if cand == 0:
             return (gd * q)[0, 0] == 0
         v = RationalVector(q)
+    elif calcium.available():
+        # a (p/q) pi / omega time after an irrational start: when e^{M t*} is a rational matrix E
+        # (proven by Calcium), f(t*) = (g E) v, decided by the relations known on v (the trigger
+        # that started the phase) - no closed form of v is needed
+        proof = _rational_propagator_zero(spectrum, gd, v, cand)
+        if proof is not None:
+            return proof
     if calcium.available():
         try:
             tc = calcium.from_sympy(cand)
@@ -147,6 +155,28 @@ def prove_zero_at(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, *, derivative: 
         except (ValueError, ZeroDivisionError, UnresolvedSign):
             pass  # Calcium could not build f(t*) (an undecided divisor): try SymPy
     return _sympy_vanishes(spectrum, gd, v, cand, deadline)
+
+
+def _rational_propagator_zero(spectrum: Spectrum, g: fmpq_mat, v: Any, cand) -> bool | None:
+    """g e^{M t*} v == 0 through a rational e^{M t*} (e.g. -I at t* = pi for a unit-frequency
+    oscillator): True when g E lies in the span of v's proven zero forms, False when its sign at v
+    is certified nonzero, None otherwise (also when e^{M t*} is not rational)."""
+    import sympy
+    if not (cand.has(sympy.pi) and cand.is_number):
+        return None
+    try:
+        tc = calcium.from_sympy(cand)
+        E = spectrum.exact_at(tc, calcium) if tc is not None else None
+    except (ValueError, ZeroDivisionError, UnresolvedSign):
+        return None
+    if E is None:
+        return None
+    form = g * E
+    if all(form[0, j] == 0 for j in range(form.ncols())):
+        return True
+    if v.zero_forms.nrows() and in_row_span(form, v.zero_forms):
+        return True
+    return None
 
 
 def _sympy_vanishes(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadline) -> bool | None:
@@ -202,7 +232,7 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
     sym = function_closed_form(spectrum, g, v)
     if sym is None:
         return None
-    for more in (exp_candidates, solve_candidates):  # cheap ones first: solve can take 0.2 s
+    for more in (exp_candidates, solve_candidates, harmonic_candidates):  # cheap ones first
         for cand in more(sym, b):
             if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
                 return cand, (calcium.from_sympy(cand) if calcium.available() else None)
@@ -276,34 +306,138 @@ def exp_candidates(sym, b: arb | None = None) -> list:
 
 
 def solve_candidates(sym, b: arb) -> list:
-    """Exact solutions of a one-frequency f = a cos(wt) + b sin(wt) + c (SymPy solve), shifted
-    by multiples of 2 pi / w towards the root ball b."""
+    """Exact solutions of a one-frequency f = a cos(wt) + b sin(wt) + c near the root ball b:
+    with R = sqrt(a^2 + b^2) and phi the angle of (a, b), f = R cos(wt - phi) + c vanishes at
+    wt = phi +- acos(-c / R) + 2 pi k (both branches: SymPy's solve may return one of them only),
+    at wt = atan(-a/b) + pi k when c = 0; SymPy's own solutions come first (candidates only: the
+    caller proves them).
+
+    >>> from lcs_exact.expm import t_symbol
+    >>> import sympy
+    >>> t = t_symbol()
+    >>> solve_candidates(sympy.cos(t) + sympy.sin(t) / 3, arb("1.8925"))   # tan t = -3
+    [pi - atan(3)]
+    >>> solve_candidates(4 * sympy.cos(2 * t) - 1, arb("0.659"))[0]        # cos 2t = 1/4
+    acos(1/4)/2
+    """
     import sympy
     from mpmath import mp, mpf
     t = t_symbol()
     trig = sym.atoms(sympy.sin, sympy.cos)
-    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig or len(sympy.Add.make_args(sym)) > 3:
+    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig:
         return []
-    if sym.xreplace({f: sympy.Dummy() for f in trig}).has(t):
-        return []  # t also outside the trigonometric terms: not one-frequency
     freqs = {sympy.simplify(sympy.diff(f.args[0], t)) for f in trig}
     if len(freqs) != 1:
         return []
     (w,) = freqs
-    if w.has(t) or not all(sympy.diff(f.args[0], t, 2) == 0 for f in trig):
+    if w.has(t) or not all(sympy.diff(f.args[0], t, 2) == 0 or f.args[0] == w * t for f in trig):
         return []
-    try:
-        sols = sympy.solve(sym, t)
-    except Exception:  # SymPy could not solve: no candidates (a heuristic source, never a proof)
+    if any(sympy.simplify(f.args[0] - w * t) != 0 for f in trig):
+        return []  # a phase shift inside the argument: not of the form handled here
+    expanded = sympy.expand(sym)
+    A = expanded.coeff(sympy.cos(w * t))
+    B = expanded.coeff(sympy.sin(w * t))
+    c = sympy.simplify(expanded - A * sympy.cos(w * t) - B * sympy.sin(w * t))
+    if c.has(t) or A.has(t) or B.has(t) or (A == 0 and B == 0):
+        return []
+    times: list = []  # candidate times t, each repeating with period ``step`` / w
+    if c == 0 and B != 0:  # tan(wt) = -A/B: wt = atan(-A/B) + pi k
+        angles, step = [sympy.atan(-A / B)], sympy.pi
+    else:
+        R = sympy.sqrt(sympy.nsimplify(A ** 2 + B ** 2))
+        if A == 0:
+            phi = sympy.pi / 2 if B > 0 else -sympy.pi / 2
+        else:
+            phi = sympy.atan(B / A) + (sympy.pi if A < 0 else 0)
+        ratio = sympy.radsimp(-c / R)
+        try:
+            if abs(float(ratio)) > 1:
+                return []  # R cos(.) = -c has no real solution
+        except TypeError:
+            return []
+        psi = sympy.pi / 2 if ratio == 0 else sympy.acos(ratio)
+        angles, step = [phi - psi, phi + psi], 2 * sympy.pi
+        try:  # SymPy's own forms first (half-angle atan): often simpler, and proven the same way
+            times = [sol for sol in sympy.solve(sym, t) if sol.is_number]
+        except Exception:  # noqa: BLE001 - SymPy could not solve: the explicit branches remain
+            times = []
+    out = []
+    with mp.workdps(30):
+        target = mpf(b.mid().str(30, radius=False))
+        period = mpf(str(sympy.N(step / w, 30)))
+        for tb in times + [a / w for a in angles]:
+            k = int(mp.nint((target - mpf(str(sympy.N(tb, 30)))) / period))
+            cand = sympy.expand(tb + step * k / w)
+            if cand not in out:
+                out.append(cand)
+    return sorted(out, key=lambda e: abs(float(e) - float(target)))
+
+
+def harmonic_candidates(sym, b: arb) -> list:
+    """Roots of f = sum_k (a_k cos(k w t) + b_k sin(k w t)) + c whose frequencies are integer
+    multiples of one w (a spring and its harmonics): with x = cos(wt), cos(kwt) = T_k(x) and
+    sin(kwt) = sin(wt) U_{k-1}(x), so f = P(x) + sin(wt) Q(x) and every root has
+    P(x)^2 = (1 - x^2) Q(x)^2: a polynomial whose roots r in [-1, 1] (in radicals, degree <= 4
+    per factor) give the candidates t = (+-acos(r) + 2 pi m) / w near the ball b, e.g.
+    acos((1 + sqrt(129))/16) (candidates only: the caller proves them).
+
+    >>> from lcs_exact.expm import t_symbol
+    >>> import sympy
+    >>> t = t_symbol()
+    >>> harmonic_candidates(16 * sympy.cos(2 * t) - 2 * sympy.cos(t) + 8, arb("0.67"))[0]  # 32x^2 - 2x - 8
+    acos(1/32 + sqrt(257)/32)
+    """
+    import sympy
+    from mpmath import mp, mpf
+    t = t_symbol()
+    trig = sym.atoms(sympy.sin, sympy.cos)
+    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or len(trig) < 2:
+        return []
+    freqs = set()
+    for f in trig:
+        k = sympy.simplify(sympy.diff(f.args[0], t))
+        if k.has(t) or sympy.simplify(f.args[0] - k * t) != 0:
+            return []
+        freqs.add(k)
+    base = min(freqs, key=lambda v: float(v))
+    mult = {}
+    for v in freqs:
+        r = sympy.nsimplify(sympy.simplify(v / base))
+        if not r.is_Integer or r > 8:
+            return []
+        mult[v] = int(r)
+    x = sympy.Symbol("x")
+    expanded = sympy.expand(sym)
+    P, Q = sympy.Integer(0), sympy.Integer(0)
+    rest = expanded
+    for v, k in mult.items():
+        a = expanded.coeff(sympy.cos(v * t))
+        bb = expanded.coeff(sympy.sin(v * t))
+        rest = rest - a * sympy.cos(v * t) - bb * sympy.sin(v * t)
+        P += a * sympy.chebyshevt(k, x)
+        Q += bb * (sympy.chebyshevu(k - 1, x) if k >= 1 else 0)
+    rest = sympy.simplify(rest)
+    if rest.has(t):
+        return []
+    P += rest
+    poly = sympy.Poly(sympy.expand(P ** 2 - (1 - x ** 2) * Q ** 2) if Q != 0 else sympy.expand(P), x)
+    if poly.degree() < 1 or poly.degree() > 16:
         return []
     out = []
     with mp.workdps(30):
         target = mpf(b.mid().str(30, radius=False))
-        period = 2 * mp.pi / mpf(str(sympy.N(w, 30)))
-        for sol in sols:
-            val = sympy.N(sol, 30) if not isinstance(sol, dict) else None
-            if val is None or not val.is_Number or not val.is_real:
+        wv = mpf(str(sympy.N(base, 30)))
+        for factor, _ in sympy.factor_list(poly)[1]:
+            fp = sympy.Poly(factor, x)
+            if fp.degree() > 4:
                 continue
-            k = int(mp.nint((target - mpf(str(val))) / period))
-            out.append(sympy.simplify(sol + k * 2 * sympy.pi / w))
-    return out
+            for r in sympy.roots(fp, multiple=True):
+                if not r.is_real or abs(float(r)) > 1:
+                    continue
+                for branch in (sympy.acos(r), -sympy.acos(r)):
+                    val = mpf(str(sympy.N(branch, 30))) / wv
+                    m = int(mp.nint((target - val) / (2 * mp.pi / wv)))
+                    cand = (branch + 2 * sympy.pi * m) / base
+                    if cand not in out:
+                        out.append(cand)
+    return sorted(out, key=lambda e: abs(float(e) - float(target)))

@@ -91,3 +91,33 @@ def test_touch_at_sqrt2_from_a_shifted_start_is_proven():
     graze = L.LCS([[0, 1, 0], [-1, 0, 0], [0, 0, 0]], [[0], [1], [0]], [[1, 0, 1]], [[0]])
     tr = L.simulate(graze, L.expm_action(graze.A, -sp.sqrt(2), [-1, 0, 1]), 3)
     assert tr.events == () and tr.certified
+
+
+def test_atan_forms_and_pi_after_an_irrational_start():
+    """q'' = -q with a stop q >= 0 and e = 1/2 (mechanical), from (1, 1/3): q = cos t + sin(t)/3
+    reaches the stop where tan t = -3, t1 = pi - atan(3) (the branch SymPy's solve misses);
+    the bounce leaves from q = 0, and the next return is half a period later: t1 + pi exactly,
+    proven through e^{A pi} = -I and the relation q = 0 on the start (no closed form of it needed)."""
+    import sympy
+    from lcs_exact import simulate
+    from lcs_exact.mechanics import mechanical
+    osc = mechanical([[1]], [[1]], [[1]], restitution="1/2")
+    tr = simulate(osc, [1, "1/3"], 8)
+    t1 = sympy.pi - sympy.atan(3)
+    assert sympy.simplify(tr.events[0].time.closed_form - t1) == 0
+    assert sympy.simplify(tr.events[1].time.closed_form - (t1 + sympy.pi)) == 0
+
+
+def test_acos_of_a_quadratic_in_cos_t_two_harmonics():
+    """Two oscillators of frequencies 1 and 2 and a stop on q0 + q1 + 8 >= 0 (a gap), from
+    q = (-2, 16) at rest: y = -2 cos t + 16 cos 2t + 8 = 32 x^2 - 2x - 8 with x = cos t, so the
+    stop is reached at t = acos((1 + sqrt 257)/32), the root of the quadratic in [-1, 1] that
+    cos t meets first (by hand)."""
+    import sympy
+    from lcs_exact import simulate
+    from lcs_exact.mechanics import mechanical
+    two = mechanical([[1, 0], [0, 1]], [[1, 0], [0, 4]], [[1, 1]], gap=[8])
+    tr = simulate(two, two.embed([-2, 16, 0, 0]), 2)
+    want = sympy.acos((1 + sympy.sqrt(257)) / 32)
+    assert sympy.simplify(sympy.cos(tr.events[0].time.closed_form) - sympy.cos(want)) == 0
+    assert abs(float(tr.events[0].time.closed_form) - float(want)) < 1e-15
