@@ -36,12 +36,12 @@ from flint import fmpq, fmpq_mat
 from . import calcium
 from .rational import submatrix
 from .subspaces import solve_any
-from .reals import AlgebraicReal, ExactVector, RationalReal, RationalVector, Real, algebraic_vector, ca_matvec
+from .reals import ExactVector, RationalVector, Real, algebraic_vector, ca_matvec
 
 __all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle"]
 
 
-def symmetry_exponents(lcs) -> dict | None:
+def symmetry_exponents(lcs, active: Sequence[int] | None = None) -> dict | None:
     """Exponents of the scaling symmetries of the LCS (see the module docstring):
     ``{"x": [...], "u": [...], "y": [...], "component": {node: id}, "T": T}`` with one solution
     per connected component (add any integer to a whole component), or None when the nonzero
@@ -54,47 +54,69 @@ def symmetry_exponents(lcs) -> dict | None:
     >>> s = symmetry_exponents(LCS([[0, -1], [0, 0]], [[1], [0]], [[1, 0]], [[0]]))  # x' = u - c
     >>> s["x"], s["u"], s["y"]          # up to a shift: x like t, c constant, u like c, y like x
     ([0, -1], [-1], [0])
+
+    ``active``: the symmetry of the system restricted to these constraints (the others dropped:
+    their rows of C, D and columns of B, D), for a cycle in which the others never act; their
+    u and y get exponent 0 (unused: u = 0 there, and y is recomputed from x).
     """
-    plain = _pattern_exponents(lcs.A, lcs.B, lcs.C, lcs.D)
+    A, B, C, D = lcs.A, lcs.B, lcs.C, lcs.D
+    if active is not None:
+        J = sorted(set(active))
+        B, C, D = submatrix(B, None, J), submatrix(C, J, None), submatrix(D, J, J)
+    out = _symmetry(lcs.n, A, B, C, D)
+    if out is None or active is None:
+        return out
+    full = {"u": [0] * lcs.k, "y": [0] * lcs.k}
+    comp = dict(out["component"])
+    for r, j in enumerate(J):
+        full["u"][j], full["y"][j] = out["u"][r], out["y"][r]
+        comp[("u", j)], comp[("y", j)] = out["component"][("u", r)], out["component"][("y", r)]
+    for j in range(lcs.k):
+        if j not in J:
+            comp[("u", j)] = comp[("y", j)] = -1  # no component: its shift is 0
+    return {"x": out["x"], "u": full["u"], "y": full["y"], "component": comp, "T": out["T"], "active": J}
+
+
+def _symmetry(n: int, A, B, C, D) -> dict | None:
+    plain = _pattern_exponents(A, B, C, D)
     if plain is not None:
         return {**plain, "T": None}
-    moved = _offset_transform(lcs)
+    moved = _offset_transform(n, A, B, C)
     if moved is None:
         return None
     T, At, Ct = moved
-    shifted = _pattern_exponents(At, lcs.B, Ct, lcs.D)
+    shifted = _pattern_exponents(At, B, Ct, D)
     return None if shifted is None else {**shifted, "T": T}
 
 
-def _offset_transform(lcs):
+def _offset_transform(n: int, A, B, C):
     """(T, A~, C~) for x~ = T x = x - alpha c, with c the constant states (zero rows of A and B)
     and alpha (zero on the constant states) solving C alpha_c = -C_{.c}: in x~, y = C~ x~ has no
     constant term.  None when there is no constant state or no such alpha."""
-    n = lcs.n
-    consts = [i for i in range(n) if all(lcs.A[i, j] == 0 for j in range(n)) and
-              all(lcs.B[i, j] == 0 for j in range(lcs.k))]
+    k = B.ncols()
+    consts = [i for i in range(n) if all(A[i, j] == 0 for j in range(n)) and all(B[i, j] == 0 for j in range(k))]
     others = [i for i in range(n) if i not in consts]
     if not consts or not others:
         return None
-    Co = submatrix(lcs.C, None, others)
+    Co = submatrix(C, None, others)
     T = fmpq_mat(n, n)
     for i in range(n):
         T[i, i] = 1
-    At, Ct = fmpq_mat(lcs.A), fmpq_mat(lcs.C)
+    At, Ct = fmpq_mat(A), fmpq_mat(C)
     for c in consts:
-        a = solve_any(Co, -submatrix(lcs.C, None, [c]))
+        a = solve_any(Co, -submatrix(C, None, [c]))
         if a is None:
             return None
         alpha = fmpq_mat(n, 1)
         for r, i in enumerate(others):
             alpha[i, 0] = a[r, 0]
             T[i, c] = -a[r, 0]
-        col_A = lcs.A * alpha
-        col_C = lcs.C * alpha
+        col_A = A * alpha
+        col_C = C * alpha
         for i in range(n):
-            At[i, c] = lcs.A[i, c] + col_A[i, 0]
-        for i in range(lcs.k):
-            Ct[i, c] = lcs.C[i, c] + col_C[i, 0]
+            At[i, c] = A[i, c] + col_A[i, 0]
+        for i in range(C.nrows()):
+            Ct[i, c] = C[i, c] + col_C[i, 0]
     return T, At, Ct
 
 
@@ -218,19 +240,43 @@ def _transform_vector(T: fmpq_mat, v: ExactVector) -> ExactVector:
     return algebraic_vector(ca_matvec(T, v.known_ca()))
 
 
+def _acting(events: Sequence, k: int) -> frozenset:
+    """The constraints that act in these events: in a mode before, in the chain or after, or a
+    trigger (``y_0``, ``u_1``, ``u_1 & y_0``)."""
+    out: set = set()
+    for e in events:
+        out |= set(e.mode_before or ()) | set(e.mode_after)
+        for m in e.modes:
+            out |= set(m)
+        for name in e.triggers:
+            for part in str(name).split("&"):
+                idx = part.strip().rpartition("_")[2]
+                if idx.isdigit():
+                    out.add(int(idx))
+    return frozenset(i for i in out if 0 <= i < k)
+
+
 def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int = 8,
-                  policy=None) -> GeometricLaw | None:
+                  enclose=None) -> GeometricLaw | None:
     """The geometric law that the last events satisfy, proven exactly, or None.
 
     ``events`` are :class:`~lcs_exact.trajectory.Event` objects; their times and states must be
-    known exactly (rational, or algebraic numbers) for a law to be proven."""
-    if symmetry is None:
-        return None
+    known exactly (rational, or algebraic numbers) for a law to be proven.  When the system has
+    no symmetry but the constraints acting in the cycle do (a ball bouncing on a floor below a
+    ceiling it no longer reaches), the law is proven for those, provided every other constraint
+    is certified positive on all the scaled cycles: ``enclose(form, t0, t1)``, an arb enclosure of
+    form . x(t) over [t0, t1] of the computed run, bounds it over the reference cycle."""
     K = len(events) - 1
     for p in range(1, max_period + 1):
         if K - 2 * p < 0:
             break
         if any(_signature(events[K - j]) != _signature(events[K - p - j]) for j in range(p)):
+            continue
+        sym = symmetry
+        active = _acting(events[K - 2 * p:], lcs.k)
+        if (sym is None or lcs.k > len(active)) and enclose is not None and active:
+            sym = symmetry_exponents(lcs, active) if sym is None or len(active) < lcs.k else sym
+        if sym is None:
             continue
         times = [_exact_number(events[K - 2 * p + j].time) for j in range(2 * p + 1)]
         if any(t is None for t in times):
@@ -249,18 +295,23 @@ def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int 
         z1, z2 = _exact_state(events[K - p].state_after), _exact_state(events[K].state_after)
         if z1 is None or z2 is None:
             continue
-        T = symmetry.get("T")
+        T = sym.get("T")
         if T is not None:  # the symmetry holds in x~ = T x (constant offsets moved)
             z1, z2 = _transform(T, z1), _transform(T, z2)
-        law = _exponents_of(lcs, symmetry, rho, z1, z2)
+        law = _exponents_of(lcs, sym, rho, z1, z2)
         if law is None:
             continue
         exps, limit, ua, yb = law
+        if "active" in sym and not _inactive_stay_positive(lcs, sym["active"], exps, T, rho, enclose,
+                                                           events[K - p].time, events[K].time):
+            continue
         if T is not None:
             limit = _transform_vector(T.inv(), limit)
-        T_star = times[-1] + T2 * (rho / (1 - rho))
-        return GeometricLaw(p, rho, tuple(exps), K - p + 1, _real(times[p], policy), _real(T2, policy),
-                            _real(T_star, policy), limit, tuple(ua), tuple(yb), T)
+        # the law's times as exact reals built from the events' own (closed forms derive from them)
+        t_ref, t_end = events[K - p].time, events[K].time
+        length = t_end - t_ref
+        T_star = t_end + length * (rho / (1 - rho))
+        return GeometricLaw(p, rho, tuple(exps), K - p + 1, t_ref, length, T_star, limit, tuple(ua), tuple(yb), T)
     return None
 
 
@@ -268,8 +319,44 @@ def _sign(x) -> int | None:
     return (x > 0) - (x < 0) if isinstance(x, fmpq) else x.sign()
 
 
-def _real(x, policy) -> Real:
-    return RationalReal(x, policy) if isinstance(x, fmpq) else AlgebraicReal(x, policy)
+def _inactive_stay_positive(lcs, active, exps, T, rho: fmpq, enclose, t0: Real, t1: Real) -> bool:
+    """Every constraint j outside ``active`` stays positive on all later (scaled) cycles: with
+    L = C_j T^{-1} in the symmetry's coordinates, y_j = sum_i L_i rho^{m e_i} x~_i(t') over the
+    reference cycle t' in [t0, t1], so for m >= 1
+        y_j >= inf (sum_{e_i = 0} L_i x~_i) - sum_{e_i > 0} |L_i| rho^{e_i} sup |x~_i| > 0
+    is certified from enclosures of the computed reference cycle.  D_jJ must vanish (y_j reads
+    the state only) and no component with e_i < 0 may enter."""
+    from flint import arb
+    from .balls import workprec
+    if enclose is None:
+        return False
+    n = lcs.n
+    Tinv = T.inv() if T is not None else None
+    for j in range(lcs.k):
+        if j in active:
+            continue
+        if any(lcs.D[j, a] != 0 for a in active):
+            return False
+        Cj = submatrix(lcs.C, [j], None)
+        L = Cj * Tinv if Tinv is not None else Cj
+        base = fmpq_mat(1, n)
+        for i in range(n):
+            if exps[i] < 0 and L[0, i] != 0:
+                return False
+            if exps[i] == 0:
+                base[0, i] = L[0, i]
+        Tm = T if T is not None else None
+        with workprec(128):
+            low = enclose(base * Tm if Tm is not None else base, t0, t1)
+            slack = arb(0)
+            for i in range(n):
+                if exps[i] > 0 and L[0, i] != 0:
+                    row = fmpq_mat(1, n, [int(c == i) for c in range(n)])
+                    xi = enclose(row * Tm if Tm is not None else row, t0, t1)
+                    slack += abs(arb(L[0, i])) * arb(rho) ** exps[i] * abs(xi).upper()
+            if not (low - slack).lower() > 0:
+                return False
+    return True
 
 
 def _entries(z) -> list:
@@ -415,10 +502,19 @@ class ScaledCycle:
         return _transform_vector(T.inv(), self._scaled(_transform(T, x), scale, self.law.exponents))
 
     def output(self, dt: Any, kind: str) -> ExactVector:
-        """u (``kind`` "u") or y ("y") at t_k + dt, scaled from the reference cycle."""
+        """u (``kind`` "u") or y ("y") at t_k + dt: u scaled from the reference cycle (rho^a_j),
+        y = C x + D u from the scaled state and input."""
         t_ref, scale = self._map(dt)
-        exps = self.law.input_exponents if kind == "u" else self.law.output_exponents
-        return self._scaled(_exact(self.reference(t_ref, kind)), scale, exps)
+        u = self._scaled(_exact(self.reference(t_ref, "u")), scale, self.law.input_exponents)
+        if kind == "u":
+            return u
+        x = self.state(dt)
+        lcs = self.reference.lcs
+        xq, uq = x.known_rational(), u.known_rational()
+        if xq is not None and uq is not None:
+            return RationalVector(lcs.C * xq + lcs.D * uq)
+        cx, cu = ca_matvec(lcs.C, x.known_ca()), ca_matvec(lcs.D, u.known_ca())
+        return algebraic_vector([a + b for a, b in zip(cx, cu)])
 
 
 def _exact(v: ExactVector):

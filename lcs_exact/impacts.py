@@ -9,7 +9,9 @@ state z (y = C z >= 0) whose closed constraints J = {i : y_i = 0} approach (some
     x+ = z + B_J lambda,   y'_J(+) = y'_J(-) + W_JJ lambda,   W = C A B  (= E M^-1 E^T),
     0 <= y'_J(+) + e_J y'_J(-)  ⊥  lambda >= 0,
 
-an LCP in lambda with the P-matrix W_JJ: LCP((1 + e_J) y'_J(-), W_JJ), unique (Theorem 3.4).
+an LCP in lambda with the P-matrix W_JJ: LCP((1 + e_J) y'_J(-), W_JJ), unique (Theorem 3.4);
+contacts that cannot close together (a floor and a ceiling) may have dependent rows, so W_JJ is
+checked on each closed set J (IllPosed when it is not a P-matrix).
 With e = 0 it is (8.7)-(8.8), so it gives exactly the paper's jump P_I z (Theorem 8.2).  It is
 solved by Murty's method on linear forms in z (:func:`~lcs_exact.lcp.murty`): every sign is exact
 for a rational z and certified (or refused) for an exact-real one, and the jump is the rational
@@ -31,7 +33,8 @@ from typing import Any
 
 from flint import fmpq_mat
 
-from .lcp import murty
+from .errors import IllPosed
+from .lcp import murty, p_matrix_violation
 from .rational import identity, sign_of_form, submatrix, zeros
 
 __all__ = ["Impact", "newton_impact", "delassus"]
@@ -87,6 +90,12 @@ def newton_impact(lcs, z: Any) -> Impact | None:
         for c in range(n):
             q[r, c] = (1 + e[i]) * CA[i, c]
     W = submatrix(delassus(lcs), closed, closed)
+    bad = p_matrix_violation(W)
+    if bad is not None:
+        names = [lcs.constraint_names[closed[i]] for i in bad]
+        raise IllPosed(f"contacts {names} close together but their Delassus matrix E M^-1 E^T is not a P-matrix "
+                       f"(principal minor {submatrix(W, bad, bad).det()} <= 0): the impact LCP (8.7) has no unique "
+                       "solution (dependent constraints)")
     _, U, _ = murty(W, q, z)
     forms = zeros(k, n)
     for r, i in enumerate(closed):

@@ -152,8 +152,8 @@ def eliminate(rows: Sequence[tuple], d: int) -> list[tuple]:
     hold, so the answer is exact.  Duplicate and trivial (0 >= 0) rows are dropped.
 
     >>> # b >= -x0, b <= x1 (i.e. x1 - b >= 0): feasible iff x0 + x1 >= 0
-    >>> eliminate([([1, 0], [1], frozenset({"a"})), ([0, 1], [-1], frozenset({"b"}))], 1)
-    [([1, 1], frozenset({'a', 'b'}))]
+    >>> [(g, sorted(label)) for g, label in eliminate([([1, 0], [1], {"a"}), ([0, 1], [-1], {"b"})], 1)]
+    [([1, 1], ['a', 'b'])]
     """
     cur = []
     for g, h, label in rows:

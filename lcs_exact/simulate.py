@@ -23,15 +23,15 @@ from __future__ import annotations
 import time as _time
 from typing import Any
 
-from flint import arb
+from flint import arb, fmpq
 
-from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, workprec
+from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, dyadic_upper, workprec
 from .errors import (Deadlock, IllPosed, InvalidArgument, LCSError, LimitExceeded, ShapeError, UnresolvedSign,
                      ZenoDetected)
 from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
 from .flow import next_event
 from .impacts import newton_impact
-from .phase import Phase
+from .phase import Phase, PhaseFunction
 from .rational import submatrix, vstack
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
 from .selection import (initial_solution, initial_solution_groups, rcp_data, select_modes, state_groups,
@@ -319,7 +319,7 @@ class _Run:
             return None
         if self.symmetry is False:
             self.symmetry = symmetry_exponents(self.lcs)
-        law = geometric_law(self.lcs, self.events, self.symmetry, policy=self.policy)
+        law = geometric_law(self.lcs, self.events, self.symmetry, enclose=self.enclose)
         if law is None or (self.T - law.time).sign() < 0:
             return None
         if self.zeno == "stop":
@@ -328,6 +328,30 @@ class _Run:
                                f"cycles of {law.period} events, each {law.ratio} times the previous; "
                                f"Remark 4.11); zeno='stop'", lower=lo, upper=hi, time=law.time)
         return law
+
+    def enclose(self, form, t0, t1):
+        """An arb enclosure of form . x(t) over [t0, t1] (exact reals inside the computed run),
+        from the phases' exponential sums over their (outer, rational) time intervals."""
+        from flint import arb, fmpq
+        from .phase import PhaseFunction
+        prec = 128
+        out = None
+        with workprec(prec):
+            a, b = dyadic_lower(t0.arb(prec)), dyadic_upper(t1.arb(prec))
+            for rec in self.phases:
+                if not hasattr(rec.phase, "spectrum"):
+                    continue
+                r0, r1 = dyadic_lower(rec.t0.arb(prec)), dyadic_upper(rec.t1.arb(prec))
+                lo, hi = max(a, r0), min(b, r1)
+                if lo > hi:
+                    continue
+                f = PhaseFunction(rec.phase, form, "bound").at(prec)
+                base = dyadic_lower(rec.t0.arb(prec))
+                e = f.enclose(max(lo - base, fmpq(0)), hi - base)
+                if rec.phase.scale is not None:
+                    e = e * rec.phase.scale.arb(prec)
+                out = e if out is None else out.union(e)
+        return out if out is not None else arb(0, "inf")
 
     def cross(self, law, t, mode):
         """Cross a proven accumulation point: the motion on [t_k, T*) is the law's scaled cycles
@@ -478,6 +502,10 @@ class _ReferenceStates:
 
     def __init__(self, run: _Run):
         self.run = run
+
+    @property
+    def lcs(self):
+        return self.run.lcs
 
     def __call__(self, t_ref, kind: str = "x"):
         from .reals import as_real

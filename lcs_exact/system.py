@@ -205,12 +205,15 @@ class LCS:
                 raise InvalidArgument(f"{what}; constraint {self.constraint_names[i]!r} has a nonzero entry in D")
             if any(CB[i, j] != 0 or CB[j, i] != 0 for j in range(self.k)):
                 raise InvalidArgument(f"{what}; constraint {self.constraint_names[i]!r} has a nonzero entry in C B")
+        # each contact alone must be able to take an impulse (W_ii > 0); contacts that can close
+        # together need W_JJ to be a P-matrix, checked at the impact (impacts.newton_impact):
+        # a floor and a ceiling (dependent rows of E) never close together
         W = self.C * self.A * self.B
-        bad = p_matrix_violation(W)
-        if bad is not None:
-            raise InvalidArgument(f"restitution needs C A B (the Delassus matrix E M^-1 E^T of (8.7)) to be a "
-                                  f"P-matrix, so that the impact LCP has one solution; its principal minor on "
-                                  f"{set(bad)} is {submatrix(W, bad, bad).det()} <= 0")
+        for i in range(self.k):
+            if W[i, i] <= 0:
+                raise InvalidArgument(f"restitution needs C A B (the Delassus matrix E M^-1 E^T of (8.7)) to have a "
+                                      f"positive diagonal; entry ({i}, {i}) of constraint "
+                                      f"{self.constraint_names[i]!r} is {W[i, i]}")
         return es
 
     # --- Markov parameters and transfer matrices --------------------------------------------

@@ -48,6 +48,8 @@ def test_validation():
         LCS([[-1]], [[1]], [[1]], [[1]], restitution=0)  # a diode: D != 0
     with pytest.raises(InvalidArgument, match="relative degree 2"):
         LCS([[0]], [[1]], [[1]], [[0]], restitution=0)  # C B != 0: relative degree 1
+    with pytest.raises(InvalidArgument, match="positive diagonal"):
+        LCS([[0, 1, 0], [0, 0, 1], [0, 0, 0]], [[0], [0], [1]], [[1, 0, 0]], [[0]], restitution=0)  # degree 3
     assert "restitution='1/2'" in repr(LCS([[0, 1], [0, 0]], [[0], [1]], [[1, 0]], [[0]], restitution="1/2"))
 
 
@@ -194,3 +196,40 @@ def test_fixtures_carry_the_impact_law():
     assert [e.time.known_rational() for e in again.events] == [2, 3, fmpq(7, 2)]
     plain = mechanical([[1]], [[0]], [[1]], force=[-10])
     assert "restitution" not in simulate(plain, plain.embed([0, 10]), 1).to_fixture(10)["system"]
+
+
+def test_two_contact_ball_accumulates_on_the_floor_below_its_ceiling():
+    """Siconos' BouncingBallED-TwoContacts: g = 10, e = 4/5, floor q >= 0 and ceiling 3/2 - q >= 0,
+    from q = 1 moving up at 10.  By hand (sympy, here): flights between the contacts under
+    gravity, Newton's law at each; once the ball no longer reaches the ceiling (v^2 / 2g < 3/2
+    after a floor impact at speed v) its impacts accumulate at t + 2v / (g (1 - e)).  The
+    ceiling never acts in that cycle, and it is certified positive on all the scaled flights."""
+    import sympy as sp
+    g, e, top = sp.Integer(10), sp.Rational(4, 5), sp.Rational(3, 2)
+    ball = mechanical([[1]], [[0]], [[1], [-1]], force=[-10], gap=[0, "3/2"], restitution="4/5",
+                      constraint_names=["floor", "ceiling"])
+    tr = simulate(ball, ball.embed([1, 10]), 10)
+    assert tr.certified and not tr.partial
+    t, q, v = sp.Integer(0), sp.Integer(1), sp.Integer(10)
+    hand = []
+    while True:
+        # next contact: the ceiling if the apex reaches it, else the floor
+        s = sp.Symbol("s", positive=True)
+        if v > 0 and q + v ** 2 / (2 * g) >= top:
+            dt = min(r for r in sp.solve(q + v * s - g * s ** 2 / 2 - top, s) if r.is_positive)
+            which = "ceiling"
+        else:
+            dt = max(sp.solve(q + v * s - g * s ** 2 / 2, s))
+            which = "floor"
+        t, v = sp.simplify(t + dt), sp.simplify(-e * (v - g * dt))
+        q = top if which == "ceiling" else 0
+        hand.append((t, which))
+        if which == "floor" and v ** 2 / (2 * g) < top and len(hand) >= 4:
+            break
+    for ev, (th, which) in zip(tr.events, hand):
+        assert sp.simplify(ev.time.closed_form - th) == 0
+        assert ev.triggers == ((f"y_{0 if which == 'floor' else 1}"),)
+    t_star = hand[-1][0] + 2 * v / (g * (1 - e))
+    (acc,) = tr.accumulations
+    assert sp.simplify(acc.time.closed_form - t_star) == 0
+    assert tr.state(10).known_rational() == fmpq_mat([[0], [0], [1]])
