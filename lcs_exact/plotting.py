@@ -158,7 +158,7 @@ def _split_at_accumulations(traj, intervals: list) -> list:
     """Each accumulation point T* crossed (``traj.accumulations``) splits its interval: the window
     [t_k, T*) of infinitely many events, then the phase after T* in its own mode (read from the
     trajectory's phases when it has them)."""
-    accs = list(getattr(traj, "accumulations", ()) or ())
+    accs = [a for a in (getattr(traj, "accumulations", ()) or ()) if hasattr(a, "time")]
     if not accs:
         return intervals
     windows = {}
