@@ -323,7 +323,9 @@ class _Run:
         if law is None or (self.T - law.time).sign() < 0:
             return None
         if self.zeno == "stop":
-            lo, hi = law.time.interval() if hasattr(law.time, "interval") else (law.time.known_rational(),) * 2
+            q = law.time.known_rational()
+            with workprec(128):  # a certified rational enclosure (the time itself is exact: .time)
+                lo, hi = (q, q) if q is not None else (dyadic_lower(law.time.arb(128)), dyadic_upper(law.time.arb(128)))
             raise ZenoDetected(f"event times accumulate at exactly t = {law.time.label()} (a proven geometric law: "
                                f"cycles of {law.period} events, each {law.ratio} times the previous; "
                                f"Remark 4.11); zeno='stop'", lower=lo, upper=hi, time=law.time)

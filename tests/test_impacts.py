@@ -233,3 +233,22 @@ def test_two_contact_ball_accumulates_on_the_floor_below_its_ceiling():
     (acc,) = tr.accumulations
     assert sp.simplify(acc.time.closed_form - t_star) == 0
     assert tr.state(10).known_rational() == fmpq_mat([[0], [0], [1]])
+
+
+def test_zeno_stop_reports_the_exact_accumulation_time():
+    """zeno='stop': ZenoDetected carries t* = t1 (1 + e)/(1 - e) exactly (.time) and a certified
+    rational enclosure (.lower <= t* <= .upper)."""
+    import sympy
+    from lcs_exact import ZenoDetected
+    ball = mechanical([[1]], [[0]], [[1]], force=[-10], restitution="1/2")
+    with pytest.raises(ZenoDetected) as err:
+        simulate(ball, ball.embed([5, 0]), 10, zeno="stop")  # t1 = 1, t* = 3
+    z = err.value
+    assert z.time.known_rational() == 3 and z.lower == z.upper == 3
+    ball = mechanical([[1]], [[0]], [[1]], force=[-10], restitution="1/2")
+    with pytest.raises(ZenoDetected) as err:
+        simulate(ball, ball.embed([1, 0]), 10, zeno="stop")  # t1 = 1/sqrt 5, t* = 3/sqrt 5
+    z = err.value
+    assert sympy.simplify(z.time.closed_form - 3 / sympy.sqrt(5)) == 0
+    with workprec(128):
+        assert arb(z.lower) <= z.time.ball(30) <= arb(z.upper) and z.upper - z.lower < fmpq(1, 10 ** 30)
