@@ -154,7 +154,8 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
 
     Accepts int, ``"p/q"`` or decimal strings (``"-1.25e-3"``), Fraction, Decimal, sympy
     Rational, fmpq, fmpz, numpy integers, and floats (read as their shortest decimal repr:
-    ``0.1 -> 1/10``).  Refuses bools, NaN and infinities, complex numbers, SymPy non-rationals
+    ``0.1 -> 1/10``; a numpy float32 or float16 by its own shortest repr, ``np.float32(0.1)`` is
+    also 1/10).  Refuses bools, NaN and infinities, complex numbers, SymPy non-rationals
     (:class:`~lcs_exact.errors.NotRational`, naming ``what``) and numbers whose numerator or
     denominator would exceed :data:`MAX_RATIONAL_BITS` bits
     (:class:`~lcs_exact.errors.InvalidArgument`; checked before a decimal exponent is expanded).
@@ -192,6 +193,10 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
             return _check_bits(int(x.p), int(x.q), what, x)
         raise NotRational(f"{what} {to_short(x)} is a SymPy {type(x).__name__}, not a rational number")
     if mod.startswith("numpy") and hasattr(x, "item") and getattr(x, "ndim", 0) == 0:
+        if type(x).__name__ in ("float32", "float16") and math.isfinite(float(x)):
+            # a float32 is read by its own shortest repr (np.float32(0.1) is 0.1, as typed), not
+            # by the float64 repr of its binary value (0.10000000149011612)
+            return _parse_number(str(x), what)
         v = x.item()
         if type(v) is type(x):  # numpy.longdouble: no Python equivalent; its shortest repr is exact enough
             if not math.isfinite(float(v)) and isinstance(x, Real):

@@ -1199,7 +1199,8 @@ def as_exact_vector(x: Any, n: int | None = None, name: str = "x0", policy: Poli
     if hasattr(x, "tolist") and not _is_sympy(x):
         x = x.tolist()
     flat = vector_entries(x, n, name)
-    if any(_is_sympy(e) and not getattr(e, "is_Rational", False) for e in flat):
+    if any(isinstance(e, Real) or (_is_sympy(e) and not getattr(e, "is_Rational", False)) for e in flat):
+        # the library's own exact reals (a component of traj.state(t)) and SymPy closed forms
         return ComponentsVector([as_real(e, policy) for e in flat], policy)
     return RationalVector(to_vector(flat, len(flat), name), policy)
 

@@ -591,3 +591,18 @@ def test_closed_form_of_a_time_under_a_huge_horizon():
     integ = LCS([[0, 1], [0, 0]], [[0], [1]], [[1, 0]], [[0]])
     assert simulate(integ, [1, -1], 10**100).events[0].time.rational() == 1
     assert simulate(integ, [1, -1], 10**300).events[0].time.rational() == 1
+
+
+def test_exact_reals_and_float32_are_read_exactly():
+    """Issue 15: the library's own exact reals are accepted in x0 (a component of traj.state(t)
+    keeps its exact definition), and a numpy float32 is read by its own shortest repr."""
+    import numpy as np
+    c = carts()
+    tr = simulate(c, [0, 1, -1, 0], 2)
+    x = tr.state(2)
+    again = simulate(c, list(x), 1)  # the same state, component by component
+    direct = simulate(c, x, 1)
+    assert len(again.events) == len(direct.events) == 1
+    assert again.events[0].time.ball(30).overlaps(direct.events[0].time.ball(30))
+    assert to_fmpq(np.float32(0.1)) == fmpq(1, 10) and to_fmpq(np.float16(0.25)) == fmpq(1, 4)
+    assert to_fmpq(np.float32(1e-3)) == fmpq(1, 1000) and to_fmpq(np.float64(0.1)) == fmpq(1, 10)
