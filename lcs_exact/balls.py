@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import sys
 import time
 from dataclasses import dataclass, field
 from typing import Callable, Iterator
@@ -31,7 +32,7 @@ from flint import arb, ctx, fmpq
 
 from .errors import InvalidArgument, LimitExceeded, UnresolvedSign
 
-__all__ = ["Policy", "Deadline", "DEFAULT_POLICY", "workprec", "digits_to_bits", "decide_sign",
+__all__ = ["Policy", "Deadline", "DEFAULT_POLICY", "workprec", "long_int_strings", "digits_to_bits", "decide_sign",
            "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb", "dyadic", "dyadic_lower",
            "dyadic_upper"]
 
@@ -41,9 +42,33 @@ MAX_DIGITS = 10_000
 GUARD_BITS = 16
 
 
+
 def digits_to_bits(digits: int) -> int:
     """Bits needed for ``digits`` decimal digits (ceil(digits log2 10))."""
     return int(math.ceil(digits * 3.3219280948873626)) + 1
+
+
+@contextlib.contextmanager
+def long_int_strings() -> Iterator[None]:
+    """Python's int <-> str conversions without the 4300-digit limit (CPython >= 3.11) inside the
+    block: 10,000 promised digits are longer than that.  Restored in ``finally``.
+
+    >>> import sys
+    >>> with long_int_strings():
+    ...     n = len(str(10 ** 5000))
+    >>> n
+    5001
+    """
+    get = getattr(sys, "get_int_max_str_digits", None)
+    if get is None:
+        yield
+        return
+    old = get()
+    sys.set_int_max_str_digits(0)
+    try:
+        yield
+    finally:
+        sys.set_int_max_str_digits(old)
 
 
 @contextlib.contextmanager

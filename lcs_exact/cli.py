@@ -33,7 +33,7 @@ from typing import Any
 
 from flint import fmpz
 
-from .errors import FormatError, LCSError
+from .errors import FormatError, InvalidArgument, LCSError
 from .modes import format_mode
 from .rational import to_vector
 from .system import LCS
@@ -251,6 +251,8 @@ def print_events(traj, digits: int, out=print) -> None:
         out(f"    x(t-) = {_fmt_exact(e.state_before, digits)}")
         out(f"    x(t+) = {_fmt_exact(e.state_after, digits)}")
     status = "certified" if traj.certified else f"NOT certified: {traj.assumptions}"
+    if traj.partial:  # the computed part is certified (or not), but the run did not reach t_end
+        status = f"PARTIAL ({traj.status.value}, up to t = {_fmt_t(traj.t_last)}); the computed part is {status}"
     out(f"{len(traj.events)} events, {status}, {traj.elapsed:.3f} s")
 
 
@@ -432,9 +434,21 @@ def _simulate(args) -> int:
         _check_strings(args.sample, "--sample")
         from .fixture import sample_grid
         sample_grid(0, args.sample)  # a bad step is an input error before the run, not after it
+    if args.output:
+        _check_writable(args.output)  # before the run: nothing computed is lost to a bad path
     opts = {"digits": args.digits, "max_events": args.max_events, "time_limit": args.time_limit}
     try:
         traj = simulate(lcs, x0, t_end, **opts)
+    except KeyboardInterrupt as e:  # a quick exit: a summary, and the fixture without new closed forms
+        partial = getattr(e, "trajectory", None)
+        if partial is not None:
+            print(f"{len(partial.events)} events, PARTIAL (interrupted, up to t = "
+                  f"{partial.t_last.decimal(15).split(' +/-')[0]})")
+            if args.output:
+                _write_fixture(partial, args, closed_forms=False)
+        print("lcs-exact: interrupted" + (f" (partial fixture written to {args.output})"
+                                          if args.output and partial is not None else ""), file=sys.stderr)
+        return 130
     except LCSError as e:
         partial = getattr(e, "trajectory", None)
         if partial is None:
@@ -470,8 +484,21 @@ def _fmt_t(t) -> str:
     return str(cf) if cf is not None else t.decimal(15).split(" +/-")[0]
 
 
-def _write_fixture(traj, args) -> None:
-    fx = traj.to_fixture(args.digits, sample=args.sample)
+def _check_writable(path: str) -> None:
+    """-o must name a file that can be written: its folder exists and is writable."""
+    import os
+    p = Path(path)
+    folder = p.parent if str(p.parent) else Path(".")
+    if p.is_dir():
+        raise InvalidArgument(f"-o {path}: is a directory; give a file name")
+    if not folder.is_dir():
+        raise InvalidArgument(f"-o {path}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
+        raise InvalidArgument(f"-o {path}: not writable")
+
+
+def _write_fixture(traj, args, closed_forms: bool = True) -> None:
+    fx = traj.to_fixture(args.digits, sample=args.sample, closed_forms=closed_forms)
     Path(args.output).write_text(json.dumps(fx, indent=1) + "\n", encoding="utf-8")
 
 
@@ -504,7 +531,8 @@ def _one_line(e: BaseException) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the command; returns the exit status (0 success, 2 bad input, 3 run stopped early).
+    """Run the command; returns the exit status (0 success, 2 bad input, 3 run stopped early,
+    130 interrupted: Ctrl-C writes the partial fixture of a run, as a stopped run does).
 
     >>> main(["--version"])                      # doctest: +ELLIPSIS
     lcs-exact ...
@@ -512,6 +540,14 @@ def main(argv: list[str] | None = None) -> int:
     >>> main(["simulate", "no-such-model.json"])   # one line on stderr, no traceback
     2
     """
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:  # Ctrl-C outside a run: one line, the shell's 130
+        print("lcs-exact: interrupted", file=sys.stderr)
+        return 130
+
+
+def _main(argv: list[str] | None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
         args = _parser().parse_args(_join_values(argv))

@@ -37,7 +37,7 @@ from typing import Any, Sequence
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
 from .errors import FixtureMismatch, FormatError, LCSError, ShapeError
-from .fixture import SCHEMA, ball_number, number_ball, number_exact, number_rational, validate_fixture
+from .fixture import SCHEMA, ball_number, check_digest, number_ball, number_exact, number_rational, validate_fixture
 from .rational import to_fmpq
 from .system import LCS
 
@@ -145,6 +145,7 @@ class FixtureTrajectory:
             validate_fixture(data)
         except ModuleNotFoundError:  # without jsonschema the reader's own checks below still run
             pass
+        check_digest(data, source)  # an edited fixture is not ground truth
         self.data, self.source = data, source
         sysd = _key(data, "system")
         self.lcs = LCS(_key(sysd, "A", "system"), _key(sysd, "B", "system"), _key(sysd, "C", "system"),
@@ -356,6 +357,9 @@ def read_solution_csv(path: Any) -> tuple[list[str], list[list[str]]]:
             bad = next((f for f in fields if not _is_number(f)), None)
             if bad is not None:
                 raise FormatError(f"{p}: line {lineno}: {bad[:30]!r} is not a number")
+            huge = next((f for f in fields if not math.isfinite(float(f))), None)
+            if huge is not None:  # a solver writes doubles: beyond their range is a broken file
+                raise FormatError(f"{p}: line {lineno}: {huge[:30]!r} is beyond the range of a double")
             t.append(fields[0])
             X.append(fields[1:])
     if len(t) < 2:

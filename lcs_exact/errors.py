@@ -9,7 +9,7 @@ from __future__ import annotations
 __all__ = [
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
-    "Unsupported", "InvalidArgument", "Undetermined",
+    "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied",
 ]
 
 
@@ -93,3 +93,8 @@ class Undetermined(LCSError, ValueError):
     """A value the solution does not determine was asked for: an input u_j (or an output y_i that
     depends on it) on a phase where it is free - the potential of a floating node while all its
     diodes block.  The state is unique there; this number is not (DESIGN.md section 7)."""
+
+
+class WorkerDied(LCSError, RuntimeError):
+    """A sweep's worker process died while running a job (killed by a signal, out of memory), and
+    died again when the job was run alone on a fresh worker; the sweep's other results are kept."""

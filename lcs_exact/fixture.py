@@ -16,6 +16,8 @@ trajectory only through its public interface (duck typing), so it never imports 
 """
 from __future__ import annotations
 
+import contextvars
+import hashlib
 import json
 import re
 from fractions import Fraction
@@ -24,10 +26,10 @@ from typing import Any
 from flint import arb, ctx, fmpq, fmpz
 
 from .balls import MAX_DIGITS
-from .errors import FormatError, LCSError
+from .errors import FixtureMismatch, FormatError, LCSError
 from .rational import to_fmpq
 
-__all__ = ["SCHEMA", "MAX_SAMPLES", "fixture_dict", "sample_grid", "schema", "validate_fixture",
+__all__ = ["content_digest", "check_digest", "SCHEMA", "MAX_SAMPLES", "fixture_dict", "sample_grid", "schema", "validate_fixture",
            "number_ball", "number_exact", "number_rational", "ball_number", "rational_number"]
 
 SCHEMA = "lcs-exact/trajectory/1"
@@ -149,13 +151,19 @@ def ball_number(b: arb, digits: int) -> dict:
     return {"value": _format_decimal(value, e + drop), "error": _bound_text_int(r, e), "exact": None}
 
 
+#: whether the writer derives closed forms (``fixture_dict(..., closed_forms=False)``: only
+#: those already known, for a quick write, e.g. of the partial run of an interrupted command)
+_DERIVE: contextvars.ContextVar = contextvars.ContextVar("lcs_exact_fixture_derive", default=True)
+
+
 def _real_number(r: Any, digits: int, cf: Any = None) -> dict:
     """A fixture number for an exact real: exact rationals as such, others from a certified
     ball (``r.ball``) rounded to ``digits`` digits with the bound; ``exact`` is the closed form."""
-    cf = r.closed_form if cf is None else cf
+    if cf is None:
+        cf = r.closed_form if _DERIVE.get() else getattr(r, "known_closed_form", None)
     if cf is not None and getattr(cf, "is_Rational", False):
         return rational_number(fmpq(int(cf.p), int(cf.q)), digits)
-    out = ball_number(r.ball(digits + 3), digits)
+    out = ball_number(r.ball(min(digits + 3, MAX_DIGITS)), digits)  # the error bound covers the rest
     out["exact"] = None if cf is None else str(cf)
     return out
 
@@ -163,7 +171,7 @@ def _real_number(r: Any, digits: int, cf: Any = None) -> dict:
 def _vector(v: Any, digits: int) -> list:
     # the vector's own closed form may be derived once for all components (fixtures are written once)
     closed = getattr(v, "closed_form", None)
-    cf = closed() if callable(closed) else None
+    cf = closed(_DERIVE.get()) if callable(closed) else None
     return [_real_number(c, digits, None if cf is None else cf[i]) for i, c in enumerate(v)]
 
 
@@ -240,7 +248,17 @@ def _computed_until(traj: Any):
     return traj.events[-1].time if traj.events else None
 
 
-def fixture_dict(traj: Any, digits: int | None = None, sample: Any = None) -> dict:
+def fixture_dict(traj: Any, digits: int | None = None, sample: Any = None, closed_forms: bool = True) -> dict:
+    """See :func:`build_fixture`; ``closed_forms=False`` writes only the closed forms already
+    known (no derivation: a quick write of a long run)."""
+    token = _DERIVE.set(bool(closed_forms))
+    try:
+        return build_fixture(traj, digits, sample)
+    finally:
+        _DERIVE.reset(token)
+
+
+def build_fixture(traj: Any, digits: int | None = None, sample: Any = None) -> dict:
     """The fixture (format ``lcs-exact/trajectory/1``) of a trajectory, as a JSON-ready dict.
 
     Parameters
@@ -298,7 +316,48 @@ def fixture_dict(traj: Any, digits: int | None = None, sample: Any = None) -> di
         rows = traj.sample(grid, d) if grid else []
         out["samples"] = [{"t": rational_number(t, d), "x": [ball_number(b, d) for b in row]}
                           for t, row in zip(grid, rows)]
+    out["digest"] = content_digest(out)
+    if sample is not None:
+        out["samples_digest"] = content_digest(out, samples=True)
     return out
+
+
+_SAMPLE_KEYS = ("samples", "sample_step")
+_DIGEST_KEYS = ("digest", "samples_digest")
+
+
+def content_digest(d: dict, samples: bool = False) -> str:
+    """``sha256:...`` of a fixture's content in canonical JSON: everything but the samples
+    (``samples=False``, the ``digest``) or the samples and their step (the ``samples_digest``).
+    A fixture edited after it was written (an event, a state, a sample changed by hand) no longer
+    matches; the samples may be left out as a whole (with their digest), the rest then still
+    recomputes exactly.
+
+    >>> content_digest({"schema": "lcs-exact/trajectory/1", "digits": 5})[:14]
+    'sha256:b865713'
+    """
+    if samples:
+        body = {k: d.get(k) for k in _SAMPLE_KEYS}
+    else:
+        body = {k: v for k, v in d.items() if k not in _DIGEST_KEYS + _SAMPLE_KEYS}
+    text = json.dumps(body, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
+    return "sha256:" + hashlib.sha256(text.encode("ascii")).hexdigest()
+
+
+def check_digest(d: dict, source: str = "fixture") -> None:
+    """Raise :class:`~lcs_exact.errors.FixtureMismatch` when the fixture carries a digest that its
+    content does not match, or samples without the digest written with them (fixtures written
+    before digests existed carry none and are read as they are)."""
+    if "digest" not in d:
+        return
+    bad = None
+    if content_digest(d) != d["digest"]:
+        bad = "its events, states or system"
+    elif "samples" in d and d.get("samples_digest") != content_digest(d, samples=True):
+        bad = "its samples"
+    if bad is not None:
+        raise FixtureMismatch(f"{source}: {bad} do not match the digest written with them: the fixture was changed "
+                              "after it was written (an edited sample or event is not ground truth)")
 
 
 def _accumulation(a: Any, d: int) -> dict:

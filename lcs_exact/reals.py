@@ -32,7 +32,7 @@ from typing import Any, Callable, Iterator
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_form_arb, decide_sign,
-                    digits_to_bits, dyadic_lower, dyadic_upper, workprec)
+                    digits_to_bits, dyadic_lower, dyadic_upper, long_int_strings, workprec)
 from .errors import LCSError, NotRational, ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of
 from .rational import is_zero, to_fmpq, to_int, to_matrix, to_vector, vector_entries, zeros
@@ -207,7 +207,7 @@ class Real(_Node):
             q = fmpq(int(self._cf.p), int(self._cf.q))  # a closed form already proven rational
         if q is not None:
             return decimal_of_fmpq(q, digits)
-        return decimal_of_ball(self.ball(digits + 2), digits)
+        return decimal_of_ball(self.ball(min(digits + 2, MAX_DIGITS)), digits)  # the bound covers the rest
 
     def __float__(self) -> float:
         return float(self.ball(20).mid())
@@ -863,7 +863,8 @@ class ScaledVector(ExactVector):
         return None
 
     def closed_form(self, derive: bool = True):
-        cc, cv = self.c.closed_form, self.v.closed_form(derive)
+        cv = self.v.closed_form(derive)
+        cc = (self.c.closed_form if derive else self.c.known_closed_form) if cv is not None else None
         return None if cc is None or cv is None else cv * cc
 
     def _to_ca(self):
@@ -1282,6 +1283,11 @@ def _bound_up(err) -> str:
 
 def decimal_of_fmpq(q: fmpq, digits: int) -> str:
     """q to ``digits`` significant digits; exact strings stand alone, rounded ones carry a bound."""
+    with long_int_strings():
+        return _decimal_of_fmpq(q, digits)
+
+
+def _decimal_of_fmpq(q: fmpq, digits: int) -> str:
     from fractions import Fraction
     from mpmath import mp, mpf, nstr
     if q.q == 1 and len(str(abs(int(q.p)))) <= digits:
@@ -1294,6 +1300,11 @@ def decimal_of_fmpq(q: fmpq, digits: int) -> str:
 
 def decimal_of_ball(b: arb, digits: int) -> str:
     """mid rounded to ``digits`` significant digits, with an upper bound on the total error."""
+    with long_int_strings():
+        return _decimal_of_ball(b, digits)
+
+
+def _decimal_of_ball(b: arb, digits: int) -> str:
     from mpmath import mp, mpf, nstr
     mid = b.mid()
     with mp.workdps(digits + 20):

@@ -205,6 +205,10 @@ def _run(lcs, z0, T, digits, max_events, policy, zeno, branches, forced) -> Traj
         status = _STATUS.get(type(e), Status.FAILED)
         e.trajectory = run.result(z0, digits, status, f"{type(e).__name__}: {e}", _time.monotonic() - started)
         raise
+    except KeyboardInterrupt as e:  # Ctrl-C: still an interrupt, carrying what was computed
+        e.trajectory = run.result(z0, digits, Status.INTERRUPTED, "interrupted (KeyboardInterrupt)",
+                                  _time.monotonic() - started)
+        raise
     return run.result(z0, digits, Status.COMPLETE, None, _time.monotonic() - started)
 
 

@@ -303,6 +303,10 @@ def _result(x0, param, lcs, status, payload) -> SweepResult:
         traj = _load_traj(tr_bytes, lcs)
         err = cls(msg, trajectory=traj) if issubclass(cls, _errors.LCSError) else cls(msg)
         return SweepResult(x0, traj, err, param)
+    if status == "died":
+        return SweepResult(x0, None, _errors.WorkerDied(
+            f"the worker process died while running this job (killed by a signal, out of memory?): {payload}"),
+            param)
     return SweepResult(x0, None, pickle.loads(payload), param)
 
 
@@ -327,19 +331,43 @@ def _drive(jobs: list, executor: Executor | None, progress: bool, desc: str) -> 
     # (which serves every worker alone), still enough chunks to balance uneven runs
     size = max(1, len(jobs) // (CHUNKS_PER_CPU * (os.cpu_count() or 1)))
     starts = range(0, len(jobs), size)
+    failed: list = []  # chunks whose future raised: a worker died (BrokenProcessPool), ...
     try:
         futures = {executor.submit(run_jobs, jobs[i:i + size]): i for i in starts}
         for f in as_completed(futures):
-            rs = f.result()
-            out[futures[f]:futures[f] + len(rs)] = rs
+            i = futures[f]
+            try:
+                rs = f.result()
+            except Exception as e:  # noqa: BLE001 - the run's own errors come back as results
+                failed.append((i, jobs[i:i + size], e))
+                continue
+            out[i:i + len(rs)] = rs
             if bar is not None:
                 bar.update(len(rs))
+        # a dead worker breaks its pool and every chunk still pending in it: each of their jobs
+        # is run again, alone, on a fresh one-worker pool; a job that kills its worker again is
+        # reported as failed (WorkerDied) and every other result is kept
+        for i, chunk, e in failed:
+            for j, job in enumerate(chunk):
+                out[i + j] = _rerun(job, e)
+                if bar is not None:
+                    bar.update(1)
     finally:
         if bar is not None:
             bar.close()
         if own:
-            executor.shutdown(wait=True)
+            executor.shutdown(wait=not failed)
     return out
+
+
+def _rerun(job: tuple, first: BaseException) -> tuple:
+    """One job again on a fresh single-worker process pool: its (status, payload), or
+    ("died", reason) when the worker dies again."""
+    try:
+        with ProcessPoolExecutor(max_workers=1) as one:
+            return one.submit(run_job, *job).result()
+    except Exception as e:  # noqa: BLE001
+        return "died", f"{type(first).__name__} ({first}); again on a fresh worker: {type(e).__name__} ({e})"
 
 
 def _options(simulate_options: dict) -> dict:

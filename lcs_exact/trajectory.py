@@ -34,6 +34,7 @@ class Status(str, enum.Enum):
     ZENO = "accumulation of events"
     UNRESOLVED = "unresolved sign"
     ILL_POSED = "ill-posed"
+    INTERRUPTED = "interrupted"
     FAILED = "failed"
 
 
@@ -251,10 +252,11 @@ class Trajectory:
             return [x[i, 0] for i in range(x.nrows())]
 
     # --- export -------------------------------------------------------------------------------
-    def to_fixture(self, digits: int | None = None, sample=None) -> dict:
-        """A dict in the fixture schema ``lcs-exact/trajectory/1`` (see lcs_exact.fixture)."""
+    def to_fixture(self, digits: int | None = None, sample=None, closed_forms: bool = True) -> dict:
+        """A dict in the fixture schema ``lcs-exact/trajectory/1`` (see lcs_exact.fixture);
+        ``closed_forms=False`` writes only the closed forms already derived (a quick write)."""
         from .fixture import fixture_dict
-        return fixture_dict(self, digits, sample)
+        return fixture_dict(self, digits, sample, closed_forms)
 
     def plot(self, **kw):
         """States and u/y against t, events and jumps marked (see lcs_exact.plotting.plot_trajectory)."""

@@ -383,3 +383,57 @@ def test_fuzz_model_reader(tmp_path, capsys, model):
         assert one_line_error(cap.err) and cap.out == ""
     else:
         assert "Theorem 6.3" in cap.out and cap.err == ""
+
+
+# ---------------------------------------------------------------------------------------------
+# issue 15: interrupts, limits at their boundaries, outputs checked before the run
+# ---------------------------------------------------------------------------------------------
+
+def test_sigint_writes_the_partial_fixture(tmp_path):
+    """Ctrl-C during a long run: exit 130, one line on stderr, the partial fixture written."""
+    import signal
+    import time
+    model = write(tmp_path, {**CARTS, "x0": [0, 1, -1, 0], "t_end": 100000})
+    out = tmp_path / "partial.json"
+    # the child must see SIGINT as a terminal does: a parent (a test runner, a process pool) may
+    # have left it ignored, and an ignored signal is inherited across exec
+    p = subprocess.Popen([sys.executable, "-m", "lcs_exact", "simulate", model, "--max-events", "1000000",
+                          "-o", str(out)], cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    time.sleep(4)
+    p.send_signal(signal.SIGINT)
+    try:
+        stdout, stderr = p.communicate(timeout=120)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    assert p.returncode == 130 and one_line_error(stderr) and "interrupted" in stderr
+    fx = json.loads(out.read_text())
+    assert fx["partial"] is True and "interrupted" in fx["stop_reason"] and len(fx["events"]) >= 1
+    assert "PARTIAL (interrupted" in stdout
+
+
+def test_limits_at_their_boundaries_and_outputs_checked_first(tmp_path, capsys):
+    model = write(tmp_path, {**CARTS, "x0": [0, 1, -1, 0], "t_end": 1})
+    # an unwritable output is an input error before the run: nothing is printed of a run
+    assert main(["simulate", model, "-o", str(tmp_path / "no" / "such" / "dir.json")]) == 2
+    cap = capsys.readouterr()
+    assert "does not exist" in cap.err and cap.out == ""
+    # a time limit before the first phase: the partial run says so (not 'certified' alone)
+    assert main(["simulate", model, "--time-limit", "1e-9"]) == 3
+    assert "PARTIAL (time limit" in capsys.readouterr().out
+    # a solution time beyond a double's range is a one-line format error
+    fx = tmp_path / "fx.json"
+    assert main(["simulate", model, "-o", str(fx)]) == 0
+    csv = write(tmp_path, "t,x1,x2,x3,x4\n0,0,1,-1,0\n1e400,0,0,0,0\n", "sol.csv")
+    capsys.readouterr()
+    assert main(["compare", str(fx), csv]) == 2
+    assert "beyond the range of a double" in capsys.readouterr().err
+
+
+def test_the_documented_maximum_of_digits_is_accepted(capsys):
+    assert main(["two-carts", "--digits", str(MAX_DIGITS)]) == 0
+    out = capsys.readouterr().out
+    first = out.split("x(3) = (")[1].split(",")[0]  # 0.0128177824...: all significant digits printed
+    significant = first.replace("-", "").replace(".", "").lstrip("0").split(" ")[0]
+    assert len(significant) == MAX_DIGITS

@@ -143,10 +143,32 @@ def test_fixture_events_and_samples_show_their_digits(osc_fixture):
 def test_recomputation_disagreeing_with_the_fixture(osc_fixture, edit, fragment):
     d = copy.deepcopy(osc_fixture)
     edit(d)
+    d.pop("digest")  # as a fixture without a digest (or re-digested after the edit) would be
     fx = L.read_fixture(d)  # the file is well-formed: the disagreement shows on recomputation
     with pytest.raises(L.FixtureMismatch, match="recomputed") as err:
         fx.exact
     assert fragment in str(err.value)
+
+
+def test_an_edited_fixture_is_refused(osc_fixture, tmp_path):
+    """Issue 15: a fixture carries the digest of its content; one edited sample makes
+    read_fixture (and so compare) refuse it with FixtureMismatch."""
+    d = copy.deepcopy(osc_fixture)
+    assert d["digest"].startswith("sha256:")
+    L.read_fixture(copy.deepcopy(d))  # untouched: accepted
+    d["samples"][3]["x"][0]["value"] = "0.5"
+    with pytest.raises(L.FixtureMismatch, match="samples do not match the digest"):
+        L.read_fixture(d)
+    e = copy.deepcopy(osc_fixture)
+    e["events"][0]["state_after"][1]["value"] = "0.25"
+    with pytest.raises(L.FixtureMismatch, match="events, states or system"):
+        L.read_fixture(e)
+    path = tmp_path / "edited.json"
+    path.write_text(json.dumps(d))
+    csv = tmp_path / "sol.csv"
+    csv.write_text("t,x1,x2\n0,1,0\n1,0.5,-0.8\n")
+    from lcs_exact.cli import main
+    assert main(["compare", str(path), str(csv)]) == 2
 
 
 @pytest.mark.parametrize("bad, fragment", [
@@ -190,7 +212,8 @@ def perturbed_solution():
 @pytest.mark.parametrize("source", ["trajectory", "fixture with samples", "fixture recomputed"])
 def test_compare_reports_a_known_perturbation(osc_run, osc_fixture, source):
     ref = {"trajectory": osc_run, "fixture with samples": osc_fixture,
-           "fixture recomputed": {k: v for k, v in osc_fixture.items() if k not in ("samples", "sample_step")}}[source]
+           "fixture recomputed": {k: v for k, v in osc_fixture.items()
+                                  if k not in ("samples", "sample_step", "samples_digest")}}[source]
     X, worst = perturbed_solution()
     r = L.compare(ref, TIMES, X)
     assert r.reference == ("samples" if source == "fixture with samples" else "exact")

@@ -139,3 +139,27 @@ def test_structural_zero_of_an_exact_start():
     assert close(num(e1.time), 1 + mp.pi / 2) and e1.mode_after == frozenset()
     want = [mp.cos(2) + 2 - mp.pi / 2, 1 - mp.sin(2), mp.cos(2), -mp.sin(2)]
     assert all(close(num(c), w) for c, w in zip(tr.state(3), want))
+
+
+def test_exact_tangential_touches_of_one_frequency_phases():
+    """Issue 15's reproducers: y = 5 + 3 cos 2t + 4 sin 2t = 5 + 5 cos(2t - phi) from the rational
+    state (q, q') = (3, 8) of q'' = -4q touches 0 (a double root) without going below: no event;
+    y = 1 - sin t (q'' = -q from (0, -1)) grazes 0 at t = pi/2: no event.  The states at t_end
+    are the free oscillations, by hand."""
+    import mpmath
+    from lcs_exact.mechanics import mechanical
+    osc = mechanical([[1]], [[4]], [[1]], gap=[5])
+    tr = L.simulate(osc, osc.embed([3, 8]), 3)
+    assert tr.certified and tr.events == ()
+    with mpmath.workdps(40):
+        q = 3 * mpmath.cos(6) + 4 * mpmath.sin(6)
+        v = -6 * mpmath.sin(6) + 8 * mpmath.cos(6)
+        x = tr.state(3)
+        assert abs(mpmath.mpf(x[0].ball(30).mid().str(40, radius=False)) - q) < mpmath.mpf(10) ** -28
+        assert abs(mpmath.mpf(x[1].ball(30).mid().str(40, radius=False)) - v) < mpmath.mpf(10) ** -28
+    graze = mechanical([[1]], [[1]], [[1]], gap=[1])
+    tr = L.simulate(graze, graze.embed([0, -1]), 3)
+    assert tr.certified and tr.events == ()
+    with mpmath.workdps(40):
+        x = tr.state(3)
+        assert abs(mpmath.mpf(x[0].ball(30).mid().str(40, radius=False)) + mpmath.sin(3)) < mpmath.mpf(10) ** -28

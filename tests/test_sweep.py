@@ -165,3 +165,37 @@ def test_dask_local_cluster(monkeypatch):
     for e, r in zip(EPS, rs):
         same_run(r.trajectory, simulate(lcs, hook_x0(e), 3))
     assert isinstance(bad[0].error, LimitExceeded) and len(bad[0].trajectory.events) == 1
+
+
+def test_a_worker_killed_by_a_signal_loses_nothing():
+    """Issue 15: SIGKILL to a worker of the user's pool in the middle of a sweep breaks the pool
+    (BrokenProcessPool for every pending chunk); each of those jobs is run again alone on a fresh
+    worker, so every result is there and equals the sequential run."""
+    import signal
+    import threading
+    import time
+    carts = two_carts()
+    x0s = [[0, 1, -1, 0], [0, -1, -1, 0], [0, 0, 0, 1], [0, 1, 0, -1], [1, 0, 0, 0], [0, 2, -1, 1]]
+    pool = ProcessPoolExecutor(max_workers=2)
+
+    def kill_a_worker():
+        time.sleep(1)
+        pids = list(getattr(pool, "_processes", {}) or {})
+        if pids:
+            os.kill(pids[0], signal.SIGKILL)
+
+    killer = threading.Thread(target=kill_a_worker)
+    killer.start()
+    try:
+        results = sweep(carts, x0s, 150, executor=pool, max_events=100000)
+    finally:
+        killer.join()
+    from concurrent.futures.process import BrokenProcessPool
+    with pytest.raises(BrokenProcessPool):  # the kill did break the pool during the sweep
+        pool.submit(int).result()
+    pool.shutdown(wait=False)
+    assert len(results) == len(x0s) and all(r.error is None for r in results)
+    for x0, r in zip(x0s, results):  # the same answers as sequential runs
+        seq = simulate(carts, x0, 150)
+        assert len(r.trajectory.events) == len(seq.events)
+        assert all(a.ball(20).overlaps(b.ball(20)) for a, b in zip(r.trajectory.state(150), seq.state(150)))
