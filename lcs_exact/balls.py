@@ -97,8 +97,10 @@ def accuracy_bits(b: arb) -> int:
 
 
 class Deadline:
-    """A wall-clock limit (``time_limit`` seconds from :meth:`start`); mutable: a run disarms it
-    when it returns, so later refinements of its results are not interrupted."""
+    """A wall-clock limit (``time_limit`` seconds from its creation); mutable: a run disarms it
+    when it returns, and every later query of its results (``ball``, ``decimal``, ``sample``)
+    re-arms it for its own duration (:meth:`query`), so no query runs longer than the run's
+    ``time_limit`` either: it ends in :class:`LimitExceeded`, never in a hang."""
 
     __slots__ = ("limit", "_end")
 
@@ -114,6 +116,28 @@ class Deadline:
 
     def disarm(self) -> None:
         self._end = None
+
+    @contextlib.contextmanager
+    def query(self) -> Iterator[None]:
+        """Inside the block, the limit counts from its start (when no run or outer query has
+        armed it already); restored on exit.
+
+        >>> d = Deadline(0.0)
+        >>> d.disarm()
+        >>> with d.query():
+        ...     d.check(" in a query")
+        Traceback (most recent call last):
+        ...
+        lcs_exact.errors.LimitExceeded: time_limit = 0.0 s reached in a query
+        """
+        if self.limit is None or self._end is not None:
+            yield
+            return
+        self._end = time.monotonic() + self.limit
+        try:
+            yield
+        finally:
+            self._end = None
 
 
 @dataclass(frozen=True, eq=False)

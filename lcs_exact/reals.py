@@ -106,9 +106,14 @@ def _radius_le(a, b) -> bool:
 def evaluate(node: _Node, prec: int) -> None:
     """Give ``node`` a ball at ``prec`` bits, and every definition it needs one at >= prec -
     ANCHOR_SLACK bits, in a loop: post-order over an explicit stack, stopping at the anchors
-    that are good enough (walking forward from the nearest anchor, never by recursion)."""
+    that are good enough (walking forward from the nearest anchor, never by recursion).  The
+    policy's deadline is checked every 64 nodes (a walk over a long history stops in time)."""
     stack: list = [(node, False)]
+    steps = 0
     while stack:
+        steps += 1
+        if steps % 64 == 0:
+            node.policy.check_deadline(" while evaluating a long definition")
         cur, ready = stack.pop()
         if cur is not node and cur._prec >= prec - ANCHOR_SLACK and cur._ball is not None:
             continue
@@ -181,8 +186,13 @@ class Real(_Node):
     # --- evaluation ---------------------------------------------------------------------------
     def ball(self, digits: int = 30) -> arb:
         """An arb ball containing the value with relative radius < 10^-digits (absolute for a
-        value that is zero or below 10^-digits)."""
+        value that is zero or below 10^-digits).  Bounded by the run's ``time_limit`` (a
+        :class:`~lcs_exact.errors.LimitExceeded` instead of a hang)."""
         digits = to_int(digits, "digits", 1, MAX_DIGITS)
+        with self.policy.deadline.query():
+            return self._refined(digits)
+
+    def _refined(self, digits: int) -> arb:
         need = digits_to_bits(digits) + 4
         q = self.known_rational()
         if q is not None:  # exact (or rounded to far more than the digits asked)
@@ -190,6 +200,7 @@ class Real(_Node):
                 return arb(q)
         prec = max(self._prec, need + 16)
         for _ in range(16):
+            self.policy.check_deadline(lambda: f" while evaluating a number to {digits} digits")
             b = self.arb(prec)
             if b.is_exact() or accuracy_bits(b) >= need:
                 return b
@@ -222,8 +233,9 @@ class Real(_Node):
             s = c.sign()
             if s is not None:
                 return s
-        return decide_sign(self.arb, policy=self.policy, what=lambda: f"the real {self!r}",
-                           start=max(64, self._prec), prove_zero=self._prove_zero)
+        with self.policy.deadline.query():
+            return decide_sign(self.arb, policy=self.policy, what=lambda: f"the real {self!r}",
+                               start=max(64, self._prec), prove_zero=self._prove_zero)
 
     def _prove_zero(self) -> bool | None:
         c = self.to_ca()
@@ -788,8 +800,10 @@ class ExactVector(_Node):
         return list(self)
 
     def ball(self, digits: int = 30) -> list[arb]:
-        """Certified balls of the components, each to ``digits`` digits."""
-        return [c.ball(digits) for c in self]
+        """Certified balls of the components, each to ``digits`` digits (one query: bounded by
+        the run's ``time_limit`` as a whole)."""
+        with self.policy.deadline.query():
+            return [c.ball(digits) for c in self]
 
     def __repr__(self):
         q = self.known_rational()

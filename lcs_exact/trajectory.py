@@ -208,6 +208,10 @@ class Trajectory:
         """Certified balls of x(t) for every t in ``ts`` (rationals), each component to ``digits``
         digits (absolute 10^-digits for components below that).  One exponential per eigenvalue
         and point, from the phase's modal data: thousands of points in well under a second."""
+        with self.policy.deadline.query():  # bounded by the run's time_limit, as the run was
+            return self._sample(ts, digits)
+
+    def _sample(self, ts: Sequence[Any], digits: int) -> list[list[arb]]:
         from .balls import MAX_DIGITS
         from .rational import to_fmpq, to_int
         digits = to_int(digits, "digits", 1, MAX_DIGITS)
@@ -226,6 +230,7 @@ class Trajectory:
             after = at_end and i + 1 < len(self.phases)  # x(t+) at an event time
             rec = self.phases[i + 1] if after else self.phases[i]
             while True:
+                self.policy.check_deadline(lambda: f" while sampling x({tq})")
                 x = self._point(rec, tq, prec, after)
                 if all(_accurate(b, need) for b in x):
                     break

@@ -606,3 +606,22 @@ def test_exact_reals_and_float32_are_read_exactly():
     assert again.events[0].time.ball(30).overlaps(direct.events[0].time.ball(30))
     assert to_fmpq(np.float32(0.1)) == fmpq(1, 10) and to_fmpq(np.float16(0.25)) == fmpq(1, 4)
     assert to_fmpq(np.float32(1e-3)) == fmpq(1, 1000) and to_fmpq(np.float64(0.1)) == fmpq(1, 10)
+
+
+def test_queries_after_a_run_obey_its_time_limit():
+    """Issue 15: the run's time_limit bounds every later query too (re-armed per query, checked
+    between its steps): 10,000 digits of the four components of x(3) take far longer than
+    0.05 s, so the query ends in LimitExceeded, not a hang;
+    cheap queries still answer, and a run without time_limit has no limit on its queries."""
+    from lcs_exact import LimitExceeded, expm_action
+    c = carts()
+    x0 = expm_action(c.A, -1, [0, -1, -1, 0])
+    tr = simulate(c, x0, 3, time_limit=0.05)
+    assert tr.events[1].time.decimal(20).startswith("2.5707963267948966192")  # cheap: answered
+    with pytest.raises(LimitExceeded, match="time_limit = 0.05 s"):
+        tr.state(3).ball(10000)  # four components of 10,000 digits: checked between them
+    fresh = simulate(c, x0, 3, time_limit=0.05)  # (the first query cached its high-precision data)
+    with pytest.raises(LimitExceeded, match="time_limit"):
+        fresh.sample([fmpq(k, 3) for k in range(1, 9)], 10000)
+    free = simulate(c, x0, 3)
+    assert free.state(3)[1].decimal(3000).startswith("0.4162661001994821012792")
