@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from .compare import ComparisonReport, FixtureTrajectory, compare, convergence_order, read_fixture
-from .errors import (Deadlock, FixtureMismatch, FormatError, IllPosed, InvalidArgument, LCSError,
+from .errors import (Deadlock, FixtureMismatch, FormatError, HorizonExceeded, IllPosed, InvalidArgument, LCSError,
                      LimitExceeded, NotAutonomous, NotRational, ShapeError, Undetermined, UnresolvedSign,
                      Unsupported, WorkerDied, ZenoDetected)
 from .fixture import validate_fixture
@@ -23,7 +23,7 @@ __all__ = [
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
-    "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied",
+    "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied", "HorizonExceeded",
     "read_fixture", "validate_fixture", "compare", "convergence_order", "ComparisonReport",
     "FixtureTrajectory", "ModeMap", "Region", "examples", "models", "sources",
 ]

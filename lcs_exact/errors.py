@@ -9,7 +9,7 @@ from __future__ import annotations
 __all__ = [
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
-    "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied",
+    "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied", "HorizonExceeded",
 ]
 
 
@@ -67,6 +67,11 @@ class UnresolvedSign(LCSError, ArithmeticError):
 
 class LimitExceeded(LCSError):
     """A user limit (events, wall-clock time) was reached before t_end."""
+
+
+class HorizonExceeded(LimitExceeded):
+    """A phase has no event within the horizon limit of its rates (docs/limits.md) while t_end
+    is further: the run stops there, its trajectory computed up to that time."""
 
 
 class FormatError(LCSError, ValueError):

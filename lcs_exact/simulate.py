@@ -26,8 +26,8 @@ from typing import Any
 from flint import arb, fmpq
 
 from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, dyadic_upper, workprec
-from .errors import (Deadlock, IllPosed, InvalidArgument, LCSError, LimitExceeded, ShapeError, UnresolvedSign,
-                     ZenoDetected)
+from .errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, ShapeError,
+                     UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
 from .flow import next_event
 from .impacts import newton_impact
@@ -57,8 +57,7 @@ def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_p
     from flint import fmpq_mat
 
     from .errors import InvalidArgument, NotRational
-    from .rational import (MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_PREC_BITS, to_fmpq, to_int,
-                           to_short, vector_entries)
+    from .rational import MAX_PREC_BITS, to_fmpq, to_int, to_short, vector_entries
     from .reals import Real
     from .system import LCS
 
@@ -102,21 +101,6 @@ def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_p
         raise NotRational(f"t_end: {e}") from e
     if T.sign() < 0:
         raise InvalidArgument(f"t_end must be >= 0, got {T.label()}")
-    # the horizon (docs/limits.md): t_end times the slowest and the fastest rate of x' = Ax
-    with workprec(64):
-        tb = T.arb(64)
-        norm = max(sum(abs(lcs.A[i, j]) for j in range(lcs.n)) for i in range(lcs.n))  # >= |lambda|
-        if not tb * arb(norm) <= MAX_HORIZON_SLOW and lcs.spectral_scales() is not None:
-            for rate, limit, which in ((lcs.spectral_scales()[0], MAX_HORIZON_SLOW, "slowest nonzero"),
-                                       (lcs.spectral_scales()[1], MAX_HORIZON_FAST, "largest")):
-                if tb * rate > limit:
-                    most = limit / rate.upper()
-                    raise InvalidArgument(
-                        f"t_end = {T.label()} is beyond the horizon limit: t_end times the {which} "
-                        f"|eigenvalue| of A ({float(rate.mid()):.4g}) is {float((tb * rate).mid()):.4g} > "
-                        f"10^{round(math.log10(limit))} (MAX_HORIZON_{'SLOW' if limit == MAX_HORIZON_SLOW else 'FAST'}, "
-                        f"docs/limits.md); t_end <= {float(most.mid()):.4g} is accepted: simulate in "
-                        "pieces (restart from traj.state(t)) or rescale time")
     return T
 
 
@@ -133,9 +117,11 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         Rational (any input LCS accepts: a flat list or a column, not a string, dict or set) or
         an exact vector such as ``expm_action(A, -1, v)``.
     t_end : rational or exact real, >= 0
-        Within the horizon limits of docs/limits.md: t_end times the smallest nonzero |eigenvalue|
-        of A at most 10^6 (``MAX_HORIZON_SLOW``) and times its spectral radius at most 10^12
-        (``MAX_HORIZON_FAST``); a rational has at most 65,536 bits (``MAX_RATIONAL_BITS``).
+        Any horizon (a rational has at most 65,536 bits, ``MAX_RATIONAL_BITS``).  Each phase is
+        searched for its next event within the horizon limits of docs/limits.md for its own
+        rates (10^6 of its slowest, 10^12 of its fastest time constants); a phase without an
+        event within them stops the run with :class:`HorizonExceeded` (a LimitExceeded), its
+        trajectory computed up to there.
     digits : int
         Correct significant digits promised for every reported number (1..10000,
         ``balls.MAX_DIGITS``).  Evaluation is on demand; sign decisions refine up to
@@ -240,7 +226,8 @@ def _all_branches(lcs, z0, T, digits, max_events, policy, zeno) -> Branches:
     return Branches(done)
 
 
-_STATUS = {LimitExceeded: Status.EVENT_LIMIT, Deadlock: Status.DEADLOCK, ZenoDetected: Status.ZENO,
+_STATUS = {LimitExceeded: Status.EVENT_LIMIT, HorizonExceeded: Status.HORIZON_LIMIT, Deadlock: Status.DEADLOCK,
+           ZenoDetected: Status.ZENO,
            UnresolvedSign: Status.UNRESOLVED, IllPosed: Status.ILL_POSED}
 
 
@@ -298,12 +285,19 @@ class _Run:
             if H.sign() == 0:
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase, self.undetermined))
                 return
-            _check_phase_horizon(phase, H, t)
+            H_search, cap = _phase_horizon(phase, H)
             try:
-                hit = next_event(phase, H, prec)
+                hit = next_event(phase, H_search, prec)
             except (UnresolvedSign, LCSError) as e:
                 self.cascade_or_raise(e, t)
             if hit is None:
+                if cap is not None:  # no event within the horizon limit of this phase: stop there
+                    end = t + H_search
+                    self.phases.append(PhaseRecord(t, end, mode.index_set, phase, self.undetermined))
+                    raise HorizonExceeded(f"t_end = {_short(self.T)} is beyond the horizon limit of mode "
+                                          f"{format_mode(mode.I)} from t = {t.label()}: no event until t = "
+                                          f"{end.label()} ({cap}, docs/limits.md); the trajectory is computed "
+                                          f"up to there: simulate on from traj.state({end.label()})")
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase, self.undetermined))
                 return
             theta, cons = hit
@@ -534,17 +528,35 @@ class _ReferenceStates:
         raise LCSError("internal inconsistency: a reference time outside the computed run")
 
 
-def _check_phase_horizon(phase: Phase, H, t) -> None:
-    """The horizon limit of docs/limits.md per phase: H rho(A_I) <= MAX_HORIZON_FAST (a mode can be
-    faster than A itself: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0})."""
-    from .rational import MAX_HORIZON_FAST
+def _short(r) -> str:
+    """A number for a message: its label, or 6 significant digits when that is long."""
+    text = r.label()
+    return text if len(text) <= 24 else f"{float(r.ball(6).mid()):.6g}"
+
+
+def _phase_horizon(phase: Phase, H):
+    """(horizon to search, None) when H is within the limits of docs/limits.md for this phase's
+    rates, else (the largest horizon they allow, a reason): H max|lambda(A_I)| <= MAX_HORIZON_FAST
+    and H min{|lambda(A_I)| != 0} <= MAX_HORIZON_SLOW.  Applied to the phases evaluated (a mode
+    can be faster than A: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0}); a nilpotent A_I
+    has no limit (its constraints are polynomials)."""
+    from .rational import MAX_HORIZON_FAST, MAX_HORIZON_SLOW
     eig = phase.spectrum.eigenvalues(64)
     with workprec(64):
-        rho = max((abs(lam) for lam, _ in eig), key=lambda b: b.mid(), default=None)
-        if rho is not None and H.arb(64) * rho > MAX_HORIZON_FAST:
-            raise InvalidArgument(f"the horizon t_end - t = {H.label()} from t = {t.label()} is too long for "
-                                  f"mode {format_mode(phase.mode.I)} (spectral radius ~{float(rho.mid()):.3g}): "
-                                  f"t_end * rho <= {MAX_HORIZON_FAST:g} (docs/limits.md)")
+        mods = [abs(lam) for lam, _ in eig]
+        nonzero = [m for m in mods if m > 0]
+        if not nonzero:
+            return H, None
+        fast = max(nonzero, key=lambda b: b.upper()).upper()
+        slow = min(nonzero, key=lambda b: b.lower()).upper()
+        allowed = min(arb(MAX_HORIZON_FAST) / fast, arb(MAX_HORIZON_SLOW) / slow)
+        if H.arb(64) <= allowed:
+            return H, None
+        cap = dyadic_lower(allowed)
+        which = "fast" if arb(MAX_HORIZON_FAST) / fast <= arb(MAX_HORIZON_SLOW) / slow else "slow"
+        reason = (f"t * max|eigenvalue| <= 10^12, MAX_HORIZON_FAST" if which == "fast" else
+                  f"t * min nonzero |eigenvalue| <= 10^6, MAX_HORIZON_SLOW")
+    return RationalReal(cap, phase.policy), reason
 
 
 def _accuracy(ball) -> int:

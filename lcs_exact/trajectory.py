@@ -30,6 +30,7 @@ class Status(str, enum.Enum):
     COMPLETE = "complete"
     EVENT_LIMIT = "event limit"
     TIME_LIMIT = "time limit"
+    HORIZON_LIMIT = "horizon limit"
     DEADLOCK = "deadlock"
     ZENO = "accumulation of events"
     UNRESOLVED = "unresolved sign"

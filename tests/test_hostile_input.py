@@ -19,7 +19,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import sympy as sp
-from flint import fmpq, fmpq_mat
+from flint import arb, fmpq, fmpq_mat
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
@@ -80,9 +80,6 @@ def raises(cls, fn, *names):
     (dict(t_end=[1]), NotRational, ["t_end"]),
     (dict(t_end=sp.Float(1.5)), NotRational, ["t_end"]),
     (dict(t_end="1e999999999"), InvalidArgument, ["t_end", "MAX_RATIONAL_BITS"]),
-    (dict(t_end=10**18), InvalidArgument, ["t_end", "horizon", "MAX_HORIZON_SLOW"]),
-    (dict(t_end=1e18), InvalidArgument, ["t_end", "horizon"]),
-    (dict(t_end=10**100), InvalidArgument, ["t_end", "horizon"]),
     (dict(digits=0), InvalidArgument, ["digits", "1..10000"]),
     (dict(digits=-3), InvalidArgument, ["digits"]),
     (dict(digits=10**7), InvalidArgument, ["digits", "10000"]),
@@ -153,25 +150,29 @@ def test_simulate_accepts_the_documented_inputs_exactly():
     assert tr.t_end.decimal(30).startswith("0.785398163397448309615660845")
 
 
-def test_horizon_limits_follow_the_spectrum_of_A():
-    """The carts' A has eigenvalues +-i w with w^2 = (3 -+ sqrt 5)/2, so the slowest rate is
-    w_min = (sqrt 5 - 1)/2 = 0.618...: t_end <= 10^6 / w_min = 1.618...e6 is accepted, above refused.
-    A probe with time_limit = 0 stops at once with LimitExceeded when the horizon is accepted."""
-    w_min = (math.sqrt(5) - 1) / 2
+def test_horizon_limits_follow_the_spectrum_of_the_phases():
+    """Issue 15: the horizon limit applies to the phases evaluated, not to t_end up front.  The
+    carts from X0 keep having events: t_end = 10^18 with max_events = 50 runs its 50 events and
+    stops with LimitExceeded (the event limit).  A stiff decay (eigenvalues -1 and -10^7) has no
+    event: its phase is searched up to 10^12 / 10^7 = 10^5 (MAX_HORIZON_FAST) and the run stops
+    there with HorizonExceeded, the trajectory computed up to t = 10^5."""
+    from lcs_exact import HorizonExceeded, Status
+    for T in (10**18, 1e18, 10**100):
+        with pytest.raises(LimitExceeded) as err:
+            simulate(carts(), X0, T, max_events=50)
+        assert type(err.value) is LimitExceeded and len(err.value.trajectory.events) == 50
+        assert err.value.trajectory.status is Status.EVENT_LIMIT
     lo, hi = carts().spectral_scales()
-    assert abs(float(lo.mid()) - w_min) < 1e-15 and abs(float(hi.mid()) - (math.sqrt(5) + 1) / 2) < 1e-15
-    limit = MAX_HORIZON_SLOW / w_min
-    with pytest.raises(LimitExceeded):
-        simulate(carts(), X0, int(limit) - 1, time_limit=0)
-    msg = raises(InvalidArgument, lambda: simulate(carts(), X0, int(limit) + 1, time_limit=0), "t_end", "0.618")
-    assert f"{limit:.4g}" in msg  # the largest accepted t_end is stated
-    # the fast rate binds when the spread of the spectrum is wide: eigenvalues -1 and -10^7
+    assert abs(float(hi.mid()) - (math.sqrt(5) + 1) / 2) < 1e-15
     stiff = LCS([[-1, 0], [0, -10**7]], [[1], [0]], [[1, 1]], [[0]])
-    assert 2 * 10**5 <= MAX_HORIZON_SLOW and 2 * 10**5 * 10**7 > MAX_HORIZON_FAST
-    raises(InvalidArgument, lambda: simulate(stiff, [1, 1], 2 * 10**5), "largest", "MAX_HORIZON_FAST")
-    with pytest.raises(LimitExceeded):
-        simulate(stiff, [1, 1], 10**5, time_limit=0)   # 10^5 * 10^7 = 10^12: accepted
-    # the stiff RC-diode benchmark (eigenvalues ~ -2, -1e6, -3e6) over t_end = 5 is accepted and runs
+    assert 2 * 10**5 * 10**7 > MAX_HORIZON_FAST
+    with pytest.raises(HorizonExceeded, match=r"t_end = 200000 .* until t = 100000 .*MAX_HORIZON_FAST") as err:
+        simulate(stiff, [1, 1], 2 * 10**5)
+    tr = err.value.trajectory
+    assert tr.status is Status.HORIZON_LIMIT and tr.t_last.rational() == 10**5
+    assert tr.state(10**5)[0].ball(20) < arb(10) ** -40000  # e^{-10^5}: decayed, exactly computed
+    assert simulate(stiff, [1, 1], 10**5).certified   # 10^5 * 10^7 = 10^12: within the limit
+    # the stiff RC-diode benchmark (eigenvalues ~ -2, -1e6, -3e6) over t_end = 5 runs
     rc = LCS([[-2, 1, 0], [1000, -3000, 1000], [0, 10**6, -2 * 10**6]], [[0], [1000], [0]], [[0, 1, 0]], [[0]])
     assert simulate(rc, [-1, 1, 1], 5).certified
 
@@ -576,9 +577,12 @@ def test_real_digits_arguments(call):
 
 
 def test_horizon_of_a_mode_faster_than_A():
-    # x' = u, y = x + u: A = 0, but from x0 = -1 the run is in mode {0}: u = -x, x' = -x
+    # x' = u, y = x + u: A = 0 (no limit from A), but from x0 = -1 the run is in mode {0}:
+    # u = -x, x' = -x, whose rate 1 bounds its phase at 10^6 (MAX_HORIZON_SLOW)
+    from lcs_exact import HorizonExceeded
     lcs = LCS([[0]], [[1]], [[1]], [[1]])
-    raises(InvalidArgument, lambda: simulate(lcs, [-1], 10**100, time_limit=1), "t_end")
+    with pytest.raises(HorizonExceeded, match=r"t_end = 1e\+100 .* mode \{0\} .* until t = 1000000 .*MAX_HORIZON_SLOW"):
+        simulate(lcs, [-1], 10**100, time_limit=30)  # a short t_end in the message, the limit reached
 
 
 def test_single_stiff_exponential_is_not_slow():
