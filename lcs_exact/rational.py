@@ -67,9 +67,9 @@ MAX_P_TEST_K = 20
 MAX_MARKOV_INDEX = 4096
 #: largest kappa of ``lcs.ldcp(x0, kappa)`` (Theorem 6.10 needs kappa = n)
 MAX_KAPPA = 1024
-#: horizon: t_end times the smallest nonzero |eigenvalue| of A (the slowest time constant)
+#: horizon of one phase's search times the smallest nonzero |eigenvalue| of its A_I (slowest rate)
 MAX_HORIZON_SLOW = 10**6
-#: horizon: t_end times the spectral radius of A (the fastest time constant)
+#: horizon of one phase's search times the spectral radius of its A_I (fastest rate)
 MAX_HORIZON_FAST = 10**12
 #: largest ``max_prec`` (bits) a run may refine a sign decision to (2^20 bits ~ 315,000 digits)
 MAX_PREC_BITS = 2**20
