@@ -149,7 +149,9 @@ class FixtureTrajectory:
         self.data, self.source = data, source
         sysd = _key(data, "system")
         self.lcs = LCS(_key(sysd, "A", "system"), _key(sysd, "B", "system"), _key(sysd, "C", "system"),
-                       _key(sysd, "D", "system"), name=sysd.get("name"), restitution=sysd.get("restitution"))
+                       _key(sysd, "D", "system"), name=sysd.get("name"), restitution=sysd.get("restitution"),
+                       state_names=sysd.get("state_names") or None,
+                       constraint_names=sysd.get("constraint_names") or None)
         self.name = self.lcs.name
         self.digits = _key(data, "digits")
         self.x0 = _balls(_key(data, "x0"), "x0")

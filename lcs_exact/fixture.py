@@ -292,7 +292,9 @@ def build_fixture(traj: Any, digits: int | None = None, sample: Any = None) -> d
         "system": {"A": _matrix(lcs.A), "B": _matrix(lcs.B), "C": _matrix(lcs.C),
                    "D": _matrix(lcs.D), "name": lcs.name,
                    # Newton's impact law is part of the system (DESIGN.md 7): the same run needs it
-                   **({"restitution": [str(e) for e in lcs.restitution]} if getattr(lcs, "restitution", None) else {})},
+                   **({"restitution": [str(e) for e in lcs.restitution]} if getattr(lcs, "restitution", None) else {}),
+                   "state_names": list(getattr(lcs, "state_names", ())),
+                   "constraint_names": list(getattr(lcs, "constraint_names", ()))},
         "x0": _vector(traj.x0, d),
         "t_end": _real_number(traj.t_end, d),
         "digits": d,

@@ -107,7 +107,7 @@ def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_p
 def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
              time_limit: float | None = None, allow_unresolved: bool = False,
              closed_forms: Any = "lazy", zeno: str = "cross", branches: str = "unique",
-             max_prec: int | None = None) -> Trajectory:
+             max_prec: int | None = None, progress: bool = False) -> Trajectory:
     """Run Algorithm 7.1 from x0 on [0, t_end] and return the exact :class:`Trajectory`.
 
     Parameters
@@ -144,6 +144,9 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         ``time_limit`` each) and return :class:`~lcs_exact.trajectory.Branches`, each trajectory
         with its ``.choices`` (never ``certified``: none is *the* solution).
 
+    progress : if True, a progress bar (tqdm) over [0, t_end], advanced at every event (needs
+        tqdm: ``pip install tqdm``, or ``lcs_exact[sweep]``).
+
     Raises
     ------
     InvalidArgument, ShapeError, NotRational
@@ -165,12 +168,27 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     if branches not in ("unique", "all"):
         raise ShapeError(f"branches must be 'unique' or 'all', got {branches!r}")
     z0 = as_exact_vector(x0, lcs.n)
+    if not isinstance(progress, bool):
+        raise InvalidArgument(f"progress must be True or False, got {progress!r}")
+    bar = _progress_bar(T) if progress else None
     if branches == "all":
         return _all_branches(lcs, z0, T, digits, max_events, policy, zeno)
     try:
-        return _run(lcs, z0, T, digits, max_events, policy, zeno, "unique", [])
+        return _run(lcs, z0, T, digits, max_events, policy, zeno, "unique", [], bar)
     finally:
         policy.deadline.disarm()
+        if bar is not None:
+            bar.close()
+
+
+def _progress_bar(T):
+    """A tqdm bar over [0, t_end] (in time units, advanced at every event)."""
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        raise InvalidArgument("progress=True needs tqdm: pip install tqdm (or lcs_exact[sweep])") from None
+    return tqdm(total=float(T), desc="simulate", unit="t", bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} "
+                                                                        "[{elapsed}<{remaining}]")
 
 
 class _Fork(Exception):
@@ -181,9 +199,9 @@ class _Fork(Exception):
         self.count = count
 
 
-def _run(lcs, z0, T, digits, max_events, policy, zeno, branches, forced) -> Trajectory:
+def _run(lcs, z0, T, digits, max_events, policy, zeno, branches, forced, bar=None) -> Trajectory:
     run = _Run(lcs, policy, T, max_events)
-    run.zeno, run.branches, run.forced = zeno, branches, list(forced)
+    run.zeno, run.branches, run.forced, run.bar = zeno, branches, list(forced), bar
     started = _time.monotonic()
     try:
         run.execute(z0)
@@ -195,6 +213,8 @@ def _run(lcs, z0, T, digits, max_events, policy, zeno, branches, forced) -> Traj
         e.trajectory = run.result(z0, digits, Status.INTERRUPTED, "interrupted (KeyboardInterrupt)",
                                   _time.monotonic() - started)
         raise
+    if bar is not None:
+        bar.update(float(T) - bar.n)  # the whole horizon covered
     return run.result(z0, digits, Status.COMPLETE, None, _time.monotonic() - started)
 
 
@@ -250,6 +270,7 @@ class _Run:
         self.choices: list = []  # (time, mode) of the choices taken
         self.unique_by_theorem = bool(lcs.well_posedness())  # Theorem 6.3: one initial solution
         self.undetermined: frozenset = frozenset()  # inputs the state leaves free on the next phase
+        self.bar = None  # a progress bar (simulate(..., progress=True))
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
         if status is Status.EVENT_LIMIT and reason and "time_limit" in reason:
@@ -306,6 +327,8 @@ class _Run:
             self.anchor(theta, z, prec)
             self.phases.append(PhaseRecord(t, t_new, mode.index_set, phase, self.undetermined))
             self.durations.append(theta)
+            if self.bar is not None:
+                self.bar.update(float(t_new) - self.bar.n)
             self.check_accumulation(t_new)
             mode_before, triggers, t = mode.index_set, tuple(c.name for c in cons), t_new
 

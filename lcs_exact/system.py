@@ -343,6 +343,50 @@ class LCS:
             self._cache["wp"] = WellPosedness.of(self)
         return self._cache["wp"]
 
+    @classmethod
+    def from_statespace(cls, sys: Any, **options: Any) -> "LCS":
+        """The LCS of a python-control ``StateSpace`` (or anything with ``A``, ``B``, ``C``, ``D``
+        arrays): x' = A x + B u, y = C x + D u with 0 <= y ⊥ u >= 0 (inputs and outputs paired, so
+        the system must be square).  Floats are read as their shortest decimals (0.1 is 1/10);
+        ``options`` go to :class:`LCS` (names, restitution, ...).  State and pair names come from
+        the system's ``state_labels`` / ``input_labels`` when it has them.
+
+        >>> class SS:  # a stand-in with the attributes of control.StateSpace
+        ...     A, B, C, D = [[0.0, 1.0], [-2.5, -0.1]], [[0.0], [1.0]], [[1.0, 0.0]], [[0.0]]
+        >>> LCS.from_statespace(SS()).A
+        [   0,     1]
+        [-5/2, -1/10]
+        """
+        mats = []
+        for key in ("A", "B", "C", "D"):
+            m = getattr(sys, key, None)
+            if m is None:
+                raise InvalidArgument(f"from_statespace needs a system with A, B, C, D; {key} is missing")
+            mats.append(m.tolist() if hasattr(m, "tolist") else m)
+        A, B, C, D = mats
+        k_in = len(B[0]) if B and isinstance(B[0], list) else 1
+        k_out = len(C)
+        if k_in != k_out:
+            raise ShapeError(f"an LCS pairs each input u_i with an output y_i: the system has {k_in} inputs "
+                             f"and {k_out} outputs")
+        if "state_names" not in options and getattr(sys, "state_labels", None):
+            options["state_names"] = list(sys.state_labels)
+        if "constraint_names" not in options and getattr(sys, "input_labels", None):
+            options["constraint_names"] = list(sys.input_labels)
+        return cls(A, B, C, D, **options)
+
+    def to_numpy(self):
+        """(A, B, C, D) as float64 arrays (rounded: the exact data stay in ``lcs.A`` ...).
+
+        >>> [m.shape for m in LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]]).to_numpy()]
+        [(2, 2), (2, 1), (1, 2), (1, 1)]
+        """
+        from fractions import Fraction
+        import numpy as np
+        return tuple(np.array([[float(Fraction(int(e.p), int(e.q))) for e in row] for row in mat_rows(m)],
+                              dtype=np.float64).reshape(m.nrows(), m.ncols())
+                     for m in (self.A, self.B, self.C, self.D))
+
     def embed(self, x: Any) -> fmpq_mat:
         """The full initial state (n x 1) for a state x of the modelled system.
 

@@ -265,9 +265,78 @@ class Trajectory:
         return fixture_dict(self, digits, sample, closed_forms)
 
     def plot(self, **kw):
-        """States and u/y against t, events and jumps marked (see lcs_exact.plotting.plot_trajectory)."""
+        """States and u/y against t, events and jumps marked.
+
+        Keywords (:func:`lcs_exact.plotting.plot_trajectory`): ``states`` and ``constraints``
+        (indices or names to draw), ``panels`` (a subset of ``("x", "u", "y")``), ``points``
+        (about 800 certified sample times in total), ``label_events`` (how many events get a
+        label), ``figsize``, ``title``.  Returns the matplotlib Figure."""
         from .plotting import plot_trajectory
         return plot_trajectory(self, **kw)
+
+    # --- arrays and data frames ---------------------------------------------------------------
+    def _columns(self, t: Any, u: bool, y: bool) -> tuple[list, list[str], list[list[float]]]:
+        """(times as fmpq, column names, rows of floats): the states at t (right limits), then
+        u and y when asked (an undetermined input is NaN)."""
+        from .rational import to_fmpq
+        if hasattr(t, "tolist"):
+            t = t.tolist()
+        if isinstance(t, (str, bytes)) or not hasattr(t, "__iter__"):
+            t = [t]
+        ts = [to_fmpq(v, "t") for v in t]
+        names = list(self.lcs.state_names)
+        rows = [[float(b.mid()) for b in row] for row in self.sample(ts, 17)]
+        roles = getattr(self.lcs, "roles", None)
+        for kind, wanted in (("u", u), ("y", y)):
+            if not wanted:
+                continue
+            names += [roles[j][0 if kind == "u" else 1] if roles else f"{kind}_{j}" for j in range(self.lcs.k)]
+            for row, tq in zip(rows, ts):
+                vec = getattr(self, kind)(tq)
+                row += [float(c) for c in vec]
+        return ts, names, rows
+
+    def to_numpy(self, t: Any, *, u: bool = False, y: bool = False):
+        """A float64 array of shape (len(t), n) (plus k columns for u and k for y when asked):
+        the certified states at the times t (rationals, or floats read as their shortest decimal;
+        at an event time the state after it), rounded to float.
+
+        >>> from lcs_exact.examples import two_carts
+        >>> from lcs_exact import simulate
+        >>> simulate(two_carts(), [0, 1, -1, 0], 1).to_numpy([0, 0.5]).round(6).tolist()
+        [[0.0, 1.0, 0.0, 0.0], [0.117359, 0.880101, 0.439551, -0.459615]]
+        """
+        import numpy as np
+        _, _, rows = self._columns(t, u, y)
+        return np.array(rows, dtype=np.float64)
+
+    def to_pandas(self, t: Any, *, u: bool = False, y: bool = False):
+        """A pandas DataFrame indexed by t (name ``t``) with the state names as columns (then u
+        and y in the builder's words when asked): :meth:`to_numpy` with labels."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise InvalidArgument("to_pandas needs pandas: pip install pandas (or lcs_exact[data])") from None
+        ts, names, rows = self._columns(t, u, y)
+        return pd.DataFrame(rows, index=pd.Index([float(v) for v in ts], name="t"), columns=names)
+
+    def to_csv(self, path: Any, t: Any, *, u: bool = False, y: bool = False) -> None:
+        """Write t and the states (u, y) at the times t as CSV (the format ``lcs-exact compare``
+        reads: a header line, then t, x1, ..., xn); floats written to 17 significant digits."""
+        import csv
+        ts, names, rows = self._columns(t, u, y)
+        with open(path, "w", newline="", encoding="utf-8") as fh:
+            w = csv.writer(fh)
+            w.writerow(["t"] + names)
+            for tq, row in zip(ts, rows):
+                w.writerow([repr(float(tq))] + [repr(v) for v in row])
+
+    def to_npz(self, path: Any, t: Any, *, u: bool = False, y: bool = False) -> None:
+        """Write ``t`` (float64), ``x`` (len(t) x columns) and ``names`` to a NumPy .npz file."""
+        import numpy as np
+        ts, names, rows = self._columns(t, u, y)
+        np.savez(path, t=np.array([float(v) for v in ts]), x=np.array(rows, dtype=np.float64),
+                 names=np.array(names))
 
     # --- display ------------------------------------------------------------------------------
     def __str__(self):
