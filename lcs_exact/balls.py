@@ -218,7 +218,7 @@ def decide_sign(compute: Callable[[int], arb], *, policy: Policy, what: str | Ca
                 start: int = 64, prove_zero: Callable[[], bool | None] | None = None) -> int:
     """Certified sign of a quantity whose ball at ``prec`` bits is ``compute(prec)``.
 
-    Order (DESIGN.md section 2): a ball that excludes 0 at ``start`` bits; then, if given,
+    Order (docs/numerics.md): a ball that excludes 0 at ``start`` bits; then, if given,
     ``prove_zero()`` (structure, homogeneity, closed forms: True = proven 0, False = proven
     nonzero, None = unknown) is tried once, because an exact zero never shows in a ball;
     then refinement by doubling up to ``policy.max_prec`` (beyond it only for a quantity proven

@@ -10,7 +10,7 @@
 
 A model file (TOML or JSON) has ``A``, ``B``, ``C``, ``D`` as lists of rows of numbers or
 rational strings ("1/3"), and optionally ``x0``, ``t_end``, ``name``, ``states`` and ``inputs``
-(names); any other key is an error (DESIGN.md section 5).  Numbers are read exactly: a JSON or
+(names); any other key is an error (the model-file format below).  Numbers are read exactly: a JSON or
 TOML decimal such as 1e-400 is the rational 10^-400 (never a float).
 
 ``--digits`` is 1..10000 (MAX_DIGITS), ``--max-events`` >= 0, ``--time-limit`` > 0 seconds;

@@ -1,4 +1,4 @@
-"""Closed forms of event times: candidates and their proofs (DESIGN.md section 2, layer 3).
+"""Closed forms of event times: candidates and their proofs (docs/numerics.md).
 
 A root theta of f(t) = g e^{A_I t} v (a phase function) may have a closed form: a small-height
 rational, a rational multiple of pi/omega (omega a frequency of A_I) plus nothing else, a

@@ -97,7 +97,7 @@ class InvalidArgument(LCSError, ValueError, TypeError):
 class Undetermined(LCSError, ValueError):
     """A value the solution does not determine was asked for: an input u_j (or an output y_i that
     depends on it) on a phase where it is free - the potential of a floating node while all its
-    diodes block.  The state is unique there; this number is not (DESIGN.md section 7)."""
+    diodes block.  The state is unique there; this number is not (docs/extensions.md)."""
 
 
 class WorkerDied(LCSError, RuntimeError):

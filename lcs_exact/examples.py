@@ -4,7 +4,7 @@
 * :func:`half_wave_rectifier`, :func:`diode_bridge` - LC tanks rectified by ideal diodes;
 * :func:`filippov_spiral` - (4.12), a relay system (:func:`lcs_exact.relays.relay`);
 * :func:`cart_chain` - N unit carts on springs with stops, the (8.3) system of the benchmarks;
-* the standard scenes beyond the paper (DESIGN.md section 7; Siconos' tutorials): :func:`bouncing_ball`,
+* the standard scenes beyond the paper (docs/extensions.md; Siconos' tutorials): :func:`bouncing_ball`,
   :func:`ball_on_spring`, :func:`ball_column`, :func:`newtons_cradle` (restitution, gravity, gaps),
   :func:`sine_rectifier` (half- and full-wave, a sine source), :func:`diode_bridge_cap_filter`
   (Siconos' DiodeBridgeCapFilter: a floating tank).
@@ -271,7 +271,7 @@ def diode_bridge_cap_filter(L: Any = "1/100", C: Any = "1/1000000", Cf: Any = "3
     """Siconos' DiodeBridgeCapFilter: an LC tank (L = 10 mH, C = 1 uF) feeding a four-diode bridge
     with a filter capacitor Cf = 300 nF and a load R = 1 kOhm; x0 = (10, 0, 0), t_end = 5 ms in
     the tutorial.  The tank floats: while all four diodes block its potential against ground is
-    undetermined, the state (v(C1), i(L1), v(Cf)) is not (DESIGN.md section 7).
+    undetermined, the state (v(C1), i(L1), v(Cf)) is not (docs/extensions.md).
 
     >>> bridge = diode_bridge_cap_filter()
     >>> bridge.state_names, bridge.constraint_names

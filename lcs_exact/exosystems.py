@@ -1,4 +1,4 @@
-"""Driven LCSs: sources carried by appended exosystem states (DESIGN.md section 7).
+"""Driven LCSs: sources carried by appended exosystem states (docs/extensions.md).
 
     x' = A x + B u + E w(t),   y = C x + D u + F w(t),   0 <= y ⊥ u >= 0
 

@@ -1,4 +1,4 @@
-"""The fixture format ``lcs-exact/trajectory/1``: ground truth for numerical solvers (DESIGN.md 5).
+"""The fixture format ``lcs-exact/trajectory/1``: ground truth for numerical solvers (docs/fixtures.md).
 
 A fixture is a JSON object: the system (rational strings), ``x0``, ``t_end``, ``digits``, the
 events (Def. 4.3: time, modes before / re-initialization chain (4.9) / after, states before and
@@ -291,7 +291,7 @@ def build_fixture(traj: Any, digits: int | None = None, sample: Any = None) -> d
         "schema": SCHEMA,
         "system": {"A": _matrix(lcs.A), "B": _matrix(lcs.B), "C": _matrix(lcs.C),
                    "D": _matrix(lcs.D), "name": lcs.name,
-                   # Newton's impact law is part of the system (DESIGN.md 7): the same run needs it
+                   # Newton's impact law is part of the system (docs/extensions.md): the same run needs it
                    **({"restitution": [str(e) for e in lcs.restitution]} if getattr(lcs, "restitution", None) else {}),
                    "state_names": list(getattr(lcs, "state_names", ())),
                    "constraint_names": list(getattr(lcs, "constraint_names", ()))},

@@ -1,4 +1,4 @@
-"""Newton's impact law, generalised by Moreau to simultaneous impacts (DESIGN.md section 7).
+"""Newton's impact law, generalised by Moreau to simultaneous impacts (docs/extensions.md).
 
 The paper's impacts are inelastic: at an impact the state is re-initialized by P_I, which for a
 mechanical system (8.3) is Moreau's rule, Minimization problem 8.1 (Theorem 8.2).  With

@@ -7,7 +7,7 @@ C = [E, 0], D = 0.  u are the contact forces (Lagrange multipliers of the constr
 With M positive definite and E of full row rank the system is well-posed (Theorem 8.2: M = N =
 E M^{-1} E^T), and its re-initializations are Moreau's rule (Minimization problem 8.1).
 
-Beyond the paper (DESIGN.md section 7): a force f (gravity -m g, a constant push, a sinusoidal
+Beyond the paper (docs/extensions.md): a force f (gravity -m g, a constant push, a sinusoidal
 excitation) and gaps g (constant offsets of the constraints: a floor at height -r) are sources
 (:mod:`lcs_exact.sources`) carried by appended exosystem states (:mod:`lcs_exact.exosystems`:
 the state is (q, q', z), ``lcs.embed([q..., q'...])`` appends z(0)); ``restitution`` replaces the

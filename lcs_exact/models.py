@@ -1,4 +1,4 @@
-"""Builders for linear complementarity systems, in one place (DESIGN.md section 6).
+"""Builders for linear complementarity systems, in one place (docs/paper-to-api.md).
 
 * :func:`mechanical` (:mod:`lcs_exact.mechanics`): M q'' + D q' + K q = f + E^T u, y = E q + g
   (8.1)-(8.3), with forces and gaps as sources and Newton's impact law (``restitution``);

@@ -1,4 +1,4 @@
-"""The exact mode map (DESIGN.md section 6): where each S(x0) and each re-initialization holds.
+"""The exact mode map (docs/paper-to-api.md): where each S(x0) and each re-initialization holds.
 
 Mode I is in S(x0) iff, for every row of u_I(s) = W_I(s) x0 and y_Ic(s) = Z_I(s) x0
 (section 5.2), the Laurent coefficients at s = oo are lexicographically nonnegative (5.4),

@@ -10,7 +10,7 @@ For the quadruple (K, L, M, N) = (A, B_{.I}, C_{I.}, D_{II}) this module compute
 * a feedback F_I with u_I = F_I x on V_I (section 4.1), chosen with F_I T_I = 0, and the
   closed-loop matrix A_I = A + B_{.I} F_I, so that x(t) = e^{A_I t} z for z in V_I.
 
-Beyond Assumption 4.1 (DESIGN.md section 7): a mode that is not autonomous only because some
+Beyond Assumption 4.1 (docs/extensions.md): a mode that is not autonomous only because some
 inputs do nothing to the state - Ker[B_I; D_II] != {0} (the *free inputs*: a floating node's
 potential, a current that circulates in a loop of diodes) - while V_I ⊕ T_I = Q^n still holds, is
 *state-determined*: every solution of (4.2) from a state has the same x, and P_I, F_I and A_I are

@@ -1,4 +1,4 @@
-"""Exact reals and exact vectors (DESIGN.md section 2, layer 2).
+"""Exact reals and exact vectors (docs/numerics.md).
 
 An exact real (:class:`Real`) or vector (:class:`ExactVector`) is an immutable exact
 *definition* - a rational, a sum, a component, e^{Mt} v, P v, a positive multiple c q, or a root
@@ -12,7 +12,7 @@ recursion: a state after 10,000 events is evaluated in O(10,000) steps and canno
 Python stack, and a state whose anchor is good enough costs nothing.  The simulation anchors each
 event at its working precision (:meth:`lcs_exact.balls.Policy.working_prec`).
 
-Signs.  ``x.sign_of_form(g)`` decides the sign of g . x, in this order (DESIGN.md section 2):
+Signs.  ``x.sign_of_form(g)`` decides the sign of g . x, in this order (docs/numerics.md):
 exact when x is proven rational; 0 when g lies in the rational span of the forms proven to vanish
 on x (``zero_forms``: the annihilator of V_I along a phase, forms vanishing on the orbit of a
 rational phase start, the constraint whose root ended the phase, all pulled back through

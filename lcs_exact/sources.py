@@ -2,7 +2,7 @@
 
 An LCS (4.1) has no input besides u: a force, a gap or a voltage source that depends on time
 enters through states appended to x, an *exosystem* z' = S z, z(0) = z0, whose output W z is the
-signal (DESIGN.md section 7).  The paper's theory then applies unchanged: the extended system is
+signal (docs/extensions.md).  The paper's theory then applies unchanged: the extended system is
 an LCS with rational data, and every number stays exact.
 
 A :class:`Source` is a finite sum  w(t) = sum_a c_a a(t)  of *atoms* with rational coefficients:

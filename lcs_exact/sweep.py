@@ -1,4 +1,4 @@
-"""Many runs of Algorithm 7.1 through any :class:`concurrent.futures.Executor` (DESIGN.md §6).
+"""Many runs of Algorithm 7.1 through any :class:`concurrent.futures.Executor` (docs/paper-to-api.md).
 
 ``sweep(lcs, x0s, t_end)`` simulates one system from many initial states; ``param_sweep(make_lcs,
 params, x0, t_end)`` simulates a family of systems from one state. The work goes to an existing

@@ -90,11 +90,12 @@ class LCS:
         relay level c): maps a state of the modelled system to the full initial state, see
         :meth:`embed`.  Default: none (``embed`` reads x as it is).
     restitution : rational or sequence of k rationals in [0, 1], optional
-        Newton's impact law, generalised by Moreau to simultaneous impacts (DESIGN.md section
-        7; :mod:`lcs_exact.impacts`): at a state where closed constraints (y_i = 0) approach
+        Newton's impact law, generalised by Moreau to simultaneous impacts (docs/extensions.md;
+        :mod:`lcs_exact.impacts`): at a state where closed constraints (y_i = 0) approach
         (y_i' < 0), the velocities jump by the impact LCP E q'+ + e E q'- >= 0 ⊥ impulse >= 0
         instead of the paper's P_I.  Needs every constraint of relative degree 2 (D = 0,
-        C B = 0, and C A B a P-matrix: mechanical contacts).  e = 0 gives exactly the paper's
+        C B = 0, C A B with a positive diagonal and a P-matrix on the contacts that close together:
+        mechanical contacts).  e = 0 gives exactly the paper's
         re-initialization (Theorem 8.2); None (default) is the paper's LCS.
     roles : sequence of k (u_label, y_label, in_word, out_word), optional
         What each pair means, set by the builders so that results and plots speak their
@@ -182,7 +183,7 @@ class LCS:
         return "; ".join(f"{', '.join(names)} {word}" for word, names in groups.items())
 
     def _restitution(self, e: Any) -> tuple | None:
-        """Validated restitution coefficients (one fmpq per constraint), or None (DESIGN.md 7)."""
+        """Validated restitution coefficients (one fmpq per constraint), or None (docs/extensions.md)."""
         if e is None:
             return None
         if isinstance(e, (list, tuple)) or hasattr(e, "tolist"):
@@ -454,8 +455,8 @@ class LCS:
 
     def mode_map(self, slice: Any = None):
         """The exact partition of the state space (or of ``slice=(base, directions)``) into the
-        polyhedral regions where S(x0) and the re-initialization are constant (DESIGN.md
-        section 6).  See :func:`lcs_exact.modemap.mode_map`."""
+        polyhedral regions where S(x0) and the re-initialization are constant (docs/paper-to-api.md).
+        See :func:`lcs_exact.modemap.mode_map`."""
         from .modemap import mode_map
         return mode_map(self, slice)
 

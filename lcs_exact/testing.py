@@ -1,5 +1,5 @@
 """Test helpers for other solvers' test suites: compare a numerical solution with a certified
-fixture in one line (DESIGN.md section 7).
+fixture in one line (docs/extensions.md).
 
     from lcs_exact.testing import assert_matches_fixture
     assert_matches_fixture("ball.json", t, X, atol=1e-3)      # in a pytest test of a solver

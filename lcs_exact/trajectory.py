@@ -80,7 +80,7 @@ class Event:
 class PhaseRecord:
     """A continuous phase on [t0, t1] in ``mode`` (``phase`` evaluates x(t - t0)).
     ``undetermined``: the inputs u_j that the state does not determine on it (a floating
-    network, DESIGN.md section 7); they are reported as undetermined, never chosen."""
+    network, docs/extensions.md); they are reported as undetermined, never chosen."""
 
     t0: Real
     t1: Real
