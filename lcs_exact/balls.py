@@ -112,7 +112,13 @@ class Deadline:
         """Raise :class:`LimitExceeded` when the limit has passed (``where``: text, or a callable
         making it - built only when the limit is reached)."""
         if self._end is not None and time.monotonic() > self._end:
-            raise LimitExceeded(f"time_limit = {self.limit} s reached{where() if callable(where) else where}")
+            if callable(where):
+                end, self._end = self._end, None  # the message itself may evaluate numbers
+                try:
+                    where = where()
+                finally:
+                    self._end = end
+            raise LimitExceeded(f"time_limit = {self.limit} s reached{where}")
 
     def disarm(self) -> None:
         self._end = None

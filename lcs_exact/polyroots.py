@@ -17,7 +17,8 @@ crossing theta = inf{t > 0 : f(t) < 0} (Def. 4.3) is then found exactly, never f
 So two relays reaching zero together are simultaneous exactly (the roots are equal numbers),
 t = 1 is the root of (1 - t)^3 with x(1) exact, and a ball dropped from height h lands at
 sqrt(2 h / g), an exact algebraic number from which the next flights stay exact.  Anything else
-(algebraic coefficients of degree >= 3, a sign Calcium cannot decide) returns ``None`` for the
+(algebraic coefficients of degree >= 3 or past :data:`MAX_EXACT_SIZE`, a sign Calcium cannot
+decide) returns ``None`` for the
 caller's certified numerical search (:mod:`lcs_exact.roots`).
 """
 from __future__ import annotations
@@ -120,8 +121,18 @@ def _rational_crossing(p: fmpq_poly, horizon: fmpq) -> list | None:
     return out
 
 
+#: Largest printed size (characters) of a Calcium coefficient the exact path takes on.  Each exact
+#: event of a piecewise-quadratic motion adjoins a square root, so the field of a long run's
+#: times is a growing tower; past this size a sign test in it costs seconds (a column of three
+#: beads: 0.1 s at 400 characters, 7 s at 1000), and the certified numerical search is faster.
+MAX_EXACT_SIZE = 600
+
+
 def _algebraic_crossing(cs: list, horizon: fmpq) -> list | None:
-    """Crossings of a polynomial with Calcium coefficients of degree <= 2 (else None)."""
+    """Crossings of a polynomial with Calcium coefficients of degree <= 2 (else None: the
+    degree is higher, or a coefficient is past :data:`MAX_EXACT_SIZE`)."""
+    if any(len(str(c)) > MAX_EXACT_SIZE for c in cs):
+        return None
     if len(cs) == 2:
         roots = [-cs[0] / cs[1]]
     elif len(cs) == 3:

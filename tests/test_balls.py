@@ -57,6 +57,9 @@ def test_deadline():
     time.sleep(0.01)
     with pytest.raises(LimitExceeded, match="time_limit = 0.0 s reached while testing"):
         d.check(lambda: " while testing")
+    # the message may itself check the deadline (a time shown to 15 digits): it is still built
+    with pytest.raises(LimitExceeded, match=r"reached at t = 1\.5$"):
+        d.check(lambda: d.check() or " at t = 1.5")
     d.disarm()
     d.check()  # disarmed: no error
     Deadline(None).check()

@@ -5,10 +5,12 @@ twin of the floating full-wave bridge."""
 from __future__ import annotations
 
 import mpmath
+import pytest
 import sympy
 from flint import arb, fmpq, fmpq_mat
 
 from lcs_exact import simulate
+from lcs_exact.errors import ZenoDetected
 from lcs_exact.balls import workprec
 from lcs_exact.circuits import circuit
 from lcs_exact.examples import ball_column, ball_on_spring, newtons_cradle, sine_rectifier
@@ -61,6 +63,23 @@ def test_the_column_of_beads():
     assert sympy.simplify(acc.time.closed_form - 3 * t1) == 0
     rest = fmpq_mat([[fmpq(1, 20)], [fmpq(3, 20)], [fmpq(1, 4)], [0], [0], [0], [1]])
     assert tr.state(3).known_rational() == rest
+
+
+def test_a_long_column_run_leaves_the_growing_field_for_certified_numerics():
+    """Siconos' column (g = 9.81, e = 9/10, r = 1/10), bead 0 on the floor, beads 1 and 2 falling
+    from 1/2 and 1: bead 1 lands on bead 0 at t1 = sqrt(2 (1/5) / g) = sqrt(40/981).  Every exact
+    event adjoins a square root to the field of the times; past polyroots.MAX_EXACT_SIZE the
+    phases are searched numerically (certified) instead of costing seconds per sign test, so
+    the run reaches the beads' settling (an accumulation, reported) well inside the limit."""
+    col = ball_column(3, g="981/100", e="9/10", radius="1/10")
+    with pytest.raises(ZenoDetected) as info:
+        simulate(col, col.embed(["1/10", "1/2", 1, 0, 0, 0]), 3, max_events=300, time_limit=60)
+    tr = info.value.trajectory
+    assert sympy.simplify(tr.events[0].time.closed_form - sympy.sqrt(sympy.Rational(40, 981))) == 0
+    assert tr.events[0].modes == (frozenset({0, 1}),)
+    assert len(tr.events) > 90 and tr.certified
+    times = [e.time.ball(20) for e in tr.events]
+    assert all(a < b for a, b in zip(times, times[1:]))  # certified, strictly increasing
 
 
 def test_newtons_cradle_touching_and_spaced():
