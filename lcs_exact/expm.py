@@ -22,7 +22,7 @@ is an exponential sum (:mod:`lcs_exact.roots`).
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Callable
 
 from flint import acb, acb_mat, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly
 
@@ -63,6 +63,18 @@ def jordan_chevalley(M: fmpq_mat, r: fmpq_poly | None = None) -> tuple[fmpq_mat,
 class Spectrum:
     """Spectral data of e^{Mt} for a rational M (see the module docstring); balls on demand.
 
+    Cost: O(n^3) per matrix and precision, O(n^2) per state; nothing builds an n x n matrix per
+    eigenvalue.  The projector of an eigenvalue lambda of multiplicity m is stored in factored
+    form K_lambda = R_lambda G_lambda^{-1} L_lambda, with R = K_lambda C, L = C'^T K_lambda for
+    fixed integer n x m matrices C, C' and G = C'^T K_lambda C (invertible for almost every C, C';
+    certified, else other C, C' are drawn): if K = X Y^T with Y^T X = I, then
+    R G^{-1} L = X (Y^T C) (Y^T C)^{-1} (C'^T X)^{-1} (C'^T X) Y^T = K.  The columns
+    K_lambda c = q_lambda(S) c / r'(lambda) of all eigenvalues at once come from the d Krylov
+    (Horner) vectors b_i(S) c, b_0 = 1, b_i(s) = s b_{i-1}(s) + r_{d-i}, times the matrix of
+    lambda^{d-1-i} / r'(lambda).  That basis is ill-conditioned (tens of bits at n = 64), but it
+    sees only the exact integer vectors C, never a state: a state's ball is carried through the
+    factors, whose size is that of the projector itself.
+
     >>> sp = Spectrum(fmpq_mat([[0, 1], [-1, 0]]))       # rotation: e^{Mt} = [[cos, sin], [-sin, cos]]
     >>> x = sp.apply(arb.pi() / 2, arb_mat([[1], [0]]), 64)
     >>> abs(x[0, 0]) < 1e-15, abs(x[1, 0] + 1) < 1e-15
@@ -83,15 +95,17 @@ class Spectrum:
             S, N, m = jordan_chevalley(M, r)
         self.chi, self.r = chi, r
         self.S, self.N = S, N
-        self._B = adjugate_coefficients(S, r)  # q_lambda(S) = sum_j lambda^{d-1-j} B_j
         nil, P, fact = [], identity(n), 1
         for j in range(m):
             if j:
                 P, fact = P * N, fact * j
             nil.append(P * fmpq(1, fact))
         self.nilpotent = nil  # N^j / j!, j < m (exact)
-        self._eig: list = []
-        self._eig_prec = 0
+        # the roots of r grouped by their multiplicity in chi (= the rank of K_lambda)
+        self._squarefree = [(fmpq_poly(p), k) for p, k in chi.factor_squarefree()[1]] if n else []
+        self._roots: tuple = (0, [])  # (prec, [(lambda, weight, multiplicity)])
+        self._factors: tuple = (0, [])  # (prec, [(lambda, weight, R_lambda, G^-1 L_lambda)])
+        self._guard = 24  # bits the Krylov basis loses, learnt per matrix
 
     @property
     def nilpotent_only(self) -> bool:
@@ -103,49 +117,156 @@ class Spectrum:
         """True when M is diagonalizable over C (N = 0)."""
         return len(self.nilpotent) == 1
 
+    @property
+    def horner_basis(self) -> list[fmpq_mat]:
+        """The exact B_i = b_i(S), i < d, with q_lambda(S) = sum_i lambda^{d-1-i} B_i (on first
+        use: only exact Calcium values need them)."""
+        if "_B" not in self.__dict__:
+            self._B = adjugate_coefficients(self.S, self.r)
+        return self._B
+
     def eigenvalues(self, prec: int) -> list[tuple[acb, int]]:
-        """[(lambda, weight)] at ``prec`` bits: the roots of r, one of each conjugate pair (weight
-        2), without the projections K_lambda of :meth:`eigen` (O(n^3) per pair)."""
-        if self._eig_prec >= prec:
-            return [(lam, w) for lam, w, _ in self._eig]
-        with workprec(prec + 24):
-            out = []
-            for lam, _ in self.r.complex_roots():
-                if lam.imag.is_zero():
-                    out.append((acb(lam.real), 1))
-                elif lam.imag > 0:
-                    out.append((lam, 2))
-            return out
+        """[(lambda, weight)] at ``prec`` bits: the roots of r, one of each conjugate pair
+        (weight 2)."""
+        return [(lam, w) for lam, w, _ in self._eigen(prec)]
 
-    def eigen(self, prec: int) -> list[tuple[acb, int, acb_mat]]:
-        """[(lambda, weight, K_lambda)] at ``prec`` bits (cached at the highest precision asked)."""
-        if self._eig_prec < prec:
-            # headroom: a run whose precision grows by a few bits per event recomputes rarely
-            prec = max(prec, self._eig_prec + self._eig_prec // 2)
-            with workprec(prec + 24):
+    def _eigen(self, prec: int) -> list[tuple[acb, int, int]]:
+        """[(lambda, weight, multiplicity)], cached at the highest precision asked."""
+        if self._roots[0] < prec:
+            with workprec(prec + 16):
                 out = []
-                dr = self.r.derivative()
-                Bs = [acb_mat(B) for B in self._B]  # converted once, not once per eigenvalue
-                for lam, weight in self.eigenvalues(prec):
-                    q = acb_mat(self.n, self.n)
-                    for B in Bs:  # Horner in lambda
-                        q = q * lam + B
-                    d = acb(0)
-                    for c in reversed(dr.coeffs()):
-                        d = d * lam + acb(c)
-                    out.append((lam, weight, q * (1 / d)))
-            self._eig, self._eig_prec = out, prec
-        return self._eig
+                for p, mult in self._squarefree:
+                    for lam, _ in p.complex_roots():
+                        if lam.imag.is_zero():
+                            out.append((acb(lam.real), 1, mult))
+                        elif lam.imag > 0:
+                            out.append((lam, 2, mult))
+            self._roots = (prec, out)
+        return self._roots[1]
 
-    def modal(self, z: arb_mat, prec: int) -> list[tuple[acb, int, list[acb_mat]]]:
-        """[(lambda, weight, [w_0, w_1, ...])] with w_j = K_lambda N^j z / j! (z: n x c balls), so
-        that e^{Mt} z = sum weight * Re(e^{lambda t} sum_j t^j w_j)."""
-        with workprec(prec):
-            nz = [arb_mat(P) * z for P in self.nilpotent] if not self.semisimple else [z]
+    def _krylov_columns(self, T: fmpq_mat, Cm: fmpq_mat, eig: list, work: int) -> list[acb_mat]:
+        """[K_lambda(T) c_j for each column c_j of Cm] as n x e matrices (column k: eigenvalue
+        k), K_lambda(T) = q_lambda(T) / r'(lambda), T = S or S^T."""
+        c = self.r.coeffs()
+        d = len(c) - 1
+        n, e = self.n, len(eig)
+        dr = self.r.derivative()
+        with workprec(work):
+            Lv = acb_mat(d, e)  # lambda^{d-1-i} / r'(lambda)
+            for k, (lam, _, _) in enumerate(eig):
+                p = acb(1) / _poly_at(dr, lam)
+                for i in range(d - 1, -1, -1):
+                    Lv[i, k] = p
+                    p = p * lam
+            Tb, Y = arb_mat(T), arb_mat(Cm)
+            vs = [Y]
+            for i in range(1, d):
+                vs.append(Tb * vs[-1] + Y * arb(c[d - i]))
+            return [acb_mat([[v[row, j] for v in vs] for row in range(n)]) * Lv for j in range(Cm.ncols())]
+
+    def factors(self, prec: int) -> list[tuple[acb, int, acb_mat, acb_mat]]:
+        """[(lambda, weight, R_lambda, H_lambda)] with K_lambda = R_lambda H_lambda (n x m and
+        m x n balls, H = G^{-1} L; see the class docstring), at least ``prec`` bits accurate;
+        cached at the highest precision asked, with headroom."""
+        if self._factors[0] >= prec:
+            return self._factors[1]
+        # the cost is mostly fixed, not per bit, and the precision asked of a phase grows by
+        # doubling (root isolation escalates so): compute well ahead of it
+        prec = 4 * prec if not self._factors[0] else max(2 * prec, 2 * self._factors[0]) + 32
+        n = self.n
+        if not self._factors[0]:
+            self._guard = self._initial_guard()
+        for attempt in range(64):
+            work = prec + self._guard
+            eig = self._eigen(work)
+            mmax = max(m for _, _, m in eig)
+            C, Cl = _probe(n, mmax, 2 * attempt), _probe(n, mmax, 2 * attempt + 1)
+            right = self._krylov_columns(self.S, C, eig, work)
+            left = self._krylov_columns(self.S.transpose(), Cl, eig, work)
             out = []
-            for lam, weight, K in self.eigen(prec):
-                out.append((lam, weight, [K * acb_mat(v) for v in nz]))
-            return out
+            with workprec(work):
+                try:
+                    for k, (lam, w, m) in enumerate(eig):
+                        R = acb_mat([[right[j][i, k] for j in range(m)] for i in range(n)])
+                        L = acb_mat([[left[j][i, k] for i in range(n)] for j in range(m)])
+                        G = L * acb_mat(_columns(C, m))
+                        out.append((lam, w, R, G.solve(L)))
+                except ZeroDivisionError:  # G not certified invertible: other probes
+                    continue
+            acc = min(min(_accuracy(_sample(R), work), _accuracy(_sample(H), work)) for _, _, R, H in out)
+            if acc >= prec + 8:
+                self._factors = (prec, out)
+                self.__dict__.pop("_stacked_low", None)
+                with workprec(work):  # [R_lambda ...] and [H_lambda; ...] for the propagator
+                    self._stacked = (acb_mat([[R[i, j] for _, _, R, _ in out for j in range(R.ncols())]
+                                              for i in range(n)]),
+                                     acb_mat([[H[i, j] for j in range(n)] for _, _, _, H in out
+                                              for i in range(H.nrows())]))
+                return out
+            self._guard += prec + 8 - acc + 16
+        raise ArithmeticError(f"spectral factors of a {n} x {n} matrix not certified at {prec} bits")
+
+    def _initial_guard(self) -> int:
+        """Bits the Krylov basis is expected to lose, about n (1.5 + log2 max(2, rho)) for
+        eigenvalues of modulus up to rho (measured: 140-176 bits on the modes of the 64 x 64
+        chain, rho = 2); the accuracy check corrects the estimate."""
+        with workprec(64):
+            rho = max((abs(lam).upper() for lam, _, _ in self._eigen(64)), default=arb(1))
+            bits = float((rho.max(arb(2))).log().mid()) / math.log(2)
+        return 24 + int(self.n * (bits + 1.5))
+
+    def modal(self, z: arb_mat | Callable[[int], arb_mat], prec: int) -> list[tuple[acb, int, list[acb_mat]]]:
+        """[(lambda, weight, [w_0, w_1, ...])] with w_j = K_lambda N^j z / j! (z: n x 1 balls, or a
+        function giving z at a precision), so that e^{Mt} z = sum weight * Re(e^{lambda t}
+        sum_j t^j w_j).  O(n^2) per call once the factors are known."""
+        if self.n == 0:
+            return []
+        fac = self.factors(prec)
+        zb = z(prec) if callable(z) else z
+        with workprec(prec):
+            levels = [acb_mat(arb_mat(P) * zb) for P in self.nilpotent] if not self.semisimple else [acb_mat(zb)]
+            return [(lam, w, [R * (H * y) for y in levels]) for lam, w, R, H in fac]
+
+    def matrix(self, t: arb, prec: int) -> arb_mat:
+        """A ball of the propagator e^{Mt} (t a ball, possibly wide: an enclosure over it):
+        sum_lambda w Re(e^{lambda t} R_lambda H_lambda) times sum_j t^j N^j / j!, one product
+        [R_lambda ...] diag(w e^{lambda t}) [H_lambda; ...]: O(n^3)."""
+        n = self.n
+        if n == 0:
+            return arb_mat(0, 0)
+        fac = self.factors(prec)
+        R, H = self._stacked_at(prec)
+        with workprec(prec):
+            tc = acb(t)
+            D = acb_mat(R.ncols(), R.ncols())
+            pos = 0
+            for lam, w, Rl, _ in fac:
+                e = (lam * tc).exp() * w
+                for _ in range(Rl.ncols()):
+                    D[pos, pos] = e
+                    pos += 1
+            E = (R * (D * H)).real
+            if not self.semisimple:
+                P, tp = arb_mat(self.nilpotent[0]), arb(1)
+                for Q in self.nilpotent[1:]:
+                    tp = tp * t
+                    P += arb_mat(Q) * tp
+                E = E * P
+        return E
+
+    def _stacked_at(self, prec: int) -> tuple[acb_mat, acb_mat]:
+        """The stacked factors rounded to ``prec`` bits (a propagator wanted for a bound, such as
+        the Jacobian of an event state's centered form, costs 64-bit products, not 600-bit)."""
+        R, H = self._stacked
+        if prec >= self._factors[0]:
+            return R, H
+        low = self.__dict__.setdefault("_stacked_low", {})
+        if prec not in low:
+            if len(low) > 4:
+                low.clear()
+            with workprec(prec):
+                low[prec] = (R * acb(1), H * acb(1))  # rounded (radius grows by the rounding)
+        return low[prec]
 
     def apply(self, t: arb, z: arb_mat, prec: int, modal: list | None = None) -> arb_mat:
         """A ball of e^{Mt} z (t a ball, possibly wide: then an enclosure over an interval)."""
@@ -188,10 +309,10 @@ class Spectrum:
             Pv = [_ca_dot(P, i, v_ca, calcium) for i in range(n)]
             w = [a + b * tp for a, b in zip(w, Pv)]
         # B_j w (rational matrices times a Calcium vector), reused for every eigenvalue
-        Bw = [[_ca_dot(B, i, w, calcium) for i in range(n)] for B in self._B]
+        Bw = [[_ca_dot(B, i, w, calcium) for i in range(n)] for B in self.horner_basis]
         dr = self.r.derivative().coeffs()
         acc = [calcium.Ca(0)] * n
-        for lam_ball, weight, _ in self.eigen(128):
+        for lam_ball, weight in self.eigenvalues(128):
             for lb in ([lam_ball] if weight == 1 else [lam_ball, lam_ball.conjugate()]):
                 lam = calcium.Ca.algebraic(ints, lb)
                 d = calcium.Ca(0)
@@ -217,6 +338,58 @@ class Spectrum:
                 return None
             cols.append(qs)
         return fmpq_mat(self.n, self.n, [cols[j][i] for i in range(self.n) for j in range(self.n)])
+
+
+def _poly_at(p: fmpq_poly, x: acb) -> acb:
+    """p(x) for a rational polynomial at a complex ball (Horner at the ambient precision)."""
+    out = acb(0)
+    for c in reversed(p.coeffs()):
+        out = out * x + acb(c)
+    return out
+
+
+def _probe(n: int, m: int, seed: int) -> fmpq_mat:
+    """A fixed n x m matrix of small nonzero integers (a linear congruential sequence): the
+    probes C, C' of the factored projectors, reproducible from ``seed``."""
+    x = 2463534242 + 7919 * seed
+    entries = []
+    for _ in range(n * m):
+        x = (1103515245 * x + 12345) % 2147483648
+        v = (x >> 16) % 7 - 3
+        entries.append(v if v else 4)
+    return fmpq_mat(n, m, entries)
+
+
+def _columns(C: fmpq_mat, m: int) -> fmpq_mat:
+    """The first m columns of C."""
+    return fmpq_mat(C.nrows(), m, [C[i, j] for i in range(C.nrows()) for j in range(m)])
+
+
+def _accuracy(entries: list, prec: int) -> int:
+    """Relative accuracy in bits of a list of (complex) balls taken as a whole: their largest
+    radius against their largest midpoint (entries that are genuinely near zero do not count);
+    ``prec`` when they are exact."""
+    big, rad = arb(0), arb(0)
+    for x in entries:
+        for part in ((x.real, x.imag) if isinstance(x, acb) else (x,)):
+            m, r = abs(part.mid()), part.rad()  # exact: no rounding at the ambient precision
+            if m > big:
+                big = m
+            if r > rad:
+                rad = r
+    if rad == 0:
+        return prec
+    if big == 0:
+        return 0
+    with workprec(64):
+        return min(prec, max(0, int(float(((big.log() - rad.log()) / arb(2).log()).mid()))))
+
+
+def _sample(W, rows: int = 4) -> list:
+    """Entries of a few rows of W spread over it (an accuracy estimate costs O(rows x cols))."""
+    n = W.nrows()
+    idx = sorted({(n - 1) * k // max(rows - 1, 1) for k in range(rows)}) if n else []
+    return [W[i, j] for i in idx for j in range(W.ncols())]
 
 
 def _ca_dot(P: fmpq_mat, i: int, v: list, calcium: Any):

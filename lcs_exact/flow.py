@@ -23,7 +23,7 @@ from .modes import format_mode
 from .phase import Constraint, Phase
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, Real, as_exact_vector, as_real
 from .polyroots import exact_first_crossing
-from .roots import RootReal, first_crossing
+from .roots import RootReal, first_crossing, positive_step
 
 __all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound"]
 
@@ -71,11 +71,9 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> Real | 
         hit = exact_first_crossing(exact, horizon, phase.policy)
         if hit is not None:
             return hit.root
-    a = fmpq(0)
-    if order > 0:
-        a, prec = _start(phase, c, fn, order, horizon, prec)
-        if a >= horizon:
-            return None
+    a, prec = _start(phase, c, fn, order, horizon, prec)
+    if a >= horizon:
+        return None
     br = first_crossing(fn, a, horizon, prec, touch=_Toucher(phase, c))
     if br is None:
         return None
@@ -84,28 +82,22 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> Real | 
 
 def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int) -> tuple[fmpq, int]:
     """(eps, prec) with f > 0 on (0, eps], when f(0) = ... = f^{(order-1)}(0) = 0 < f^{(order)}(0)
-    = a (Lemma 5.1).  Taylor: f(t) >= t^order / order! (a - M t / (order + 1)) with M a bound of
-    |f^{(order+1)}| on [0, h], so eps = min(h, (order + 1) a / M), computed in one step (a near
-    graze with a = 10^-54 and a crossing at 2e-53 costs no more than a plain start)."""
+    (Lemma 5.1): the Taylor coefficients at 0 from ``order`` on, with bounds of the higher
+    derivatives (:func:`~lcs_exact.roots.positive_step`), give eps in one step - a near graze
+    with f'(0) = 10^-65 and f = t^3 / 3 beyond costs no more than a plain start."""
     policy = phase.policy
+    patience = 4 * prec  # more bits for a longer first step, up to here
     while True:
-        policy.check_deadline(lambda: f" while starting {c.name}")
+        policy.check_deadline(lambda: f" while isolating the roots of {c.name} (at the phase start)")
         f = fn.at(prec)
-        lead = f.value(fmpq(0), order)
-        if lead > 0:
+        # f^{(order)}(0) > 0 is proven (exactly, by start_order); its ball may not show it yet
+        eps = positive_step(f, fmpq(0), horizon, zero_below=order, strict=prec < patience)
+        if eps is not None:
             break
         if prec >= policy.max_prec:  # the sign was certified exactly: this needs more bits only
             raise LCSError(f"could not certify the start of {c.name} (sign 1, order {order}) in mode "
                            f"{format_mode(phase.mode.I)} at {prec} bits")
         prec = min(2 * prec, policy.max_prec)
-    a = dyadic_lower(lead)
-    h = horizon
-    for _ in range(3):  # a bound on a shorter interval gives a longer eps
-        M = dyadic_upper(abs(f.enclose(fmpq(0), h, order + 1)))
-        eps = h if M == 0 else min(h, (order + 1) * a / M)
-        if eps >= h or eps * 8 >= h:
-            break
-        h = eps * 8
     with workprec(64):
         eps = min(eps, dyadic_lower(arb(eps)))  # a short dyadic
     return eps, prec

@@ -170,9 +170,26 @@ class Phase:
     def modal(self, prec: int) -> list:
         """Modal vectors of the phase's base start at ``prec`` bits (cached at the highest)."""
         if self._modal_prec < prec:
-            self._modal = self.spectrum.modal(self.base.arb(prec), prec)
-            self._modal_prec = prec
+            modal = self.spectrum.modal(self.base.arb, prec)
+            zero = self.zero_coordinates()
+            if zero:  # x_i = 0 on the whole phase: every modal coefficient of x_i is 0 exactly
+                for _, _, ws in modal:
+                    for w in ws:
+                        for i in zero:
+                            w[i, 0] = 0
+            self._modal, self._modal_prec = modal, prec
         return self._modal
+
+    def zero_coordinates(self) -> list[int]:
+        """The coordinates i with x_i(t) = 0 on the whole phase (e_i in the span of the forms
+        that vanish on it).  The exponentials e^{lambda t} t^j are independent, so each modal
+        coefficient of such an x_i is exactly 0: balls computed through the spectral factors
+        are replaced by exact zeros (a constrained cart's position samples as exactly 0)."""
+        if "_zero_coords" not in self.__dict__:
+            Z, n = self.zero_forms, self.M.nrows()
+            self._zero_coords = [i for i in range(n) if Z.nrows() and
+                                 in_row_span(fmpq_mat(1, n, [int(j == i) for j in range(n)]), Z)]
+        return self._zero_coords
 
     def function(self, c: Constraint) -> PhaseFunction:
         key = (c.kind, c.index)
@@ -271,6 +288,10 @@ class Phase:
         return f"<Phase in mode {format_mode(self.mode.I)} from {self.z!r}>"
 
 
+#: precision of the Jacobian in an event state's centered form (it bounds a radius only)
+RADIUS_PREC = 64
+
+
 class EventState(ExpVector):
     """x(theta-) = e^{A_I theta} z where theta = theta(z) is the root of a constraint g e^{A_I t} z
     that ends the phase: an :class:`~lcs_exact.reals.ExpVector` whose ball is computed by the
@@ -314,12 +335,13 @@ class EventState(ExpVector):
                      for lam, w, ws in sp.modal(zc, prec)], prec)
         tc = newton_ball(fc, Theta)
         xc = sp.apply(tc, zc, prec)
-        E = sp.apply(Theta, arb_mat(_identity(n)), prec)
-        v = arb_mat(sp.M) * (E * Z)
-        s = (arb_mat(self.g) * v)[0, 0]
-        if s.contains(0):
-            return plain
-        J = E - v * ((arb_mat(self.g) * E) * (1 / s))
+        with workprec(RADIUS_PREC):  # J only bounds the radius: 64-bit balls suffice
+            E = sp.matrix(Theta, RADIUS_PREC)
+            v = arb_mat(sp.M) * (E * Z)
+            s = (arb_mat(self.g) * v)[0, 0]
+            if s.contains(0):
+                return plain
+            J = E - v * ((arb_mat(self.g) * E) * (1 / s))
         out = []
         for i in range(n):
             r = arb(0)
@@ -329,11 +351,4 @@ class EventState(ExpVector):
             p = plain[i, 0]
             out.append([c.intersection(p) if c.overlaps(p) else p])
         return arb_mat(out)
-
-
-def _identity(n: int) -> fmpq_mat:
-    m = fmpq_mat(n, n)
-    for i in range(n):
-        m[i, i] = 1
-    return m
 

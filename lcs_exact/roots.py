@@ -29,6 +29,7 @@ and the phase start's ball at that precision (it is anchored like every node of
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable, Protocol
 
@@ -37,7 +38,8 @@ from flint import acb, arb, fmpq
 from .balls import Policy, ball_sign, dyadic, dyadic_lower, dyadic_upper, workprec
 from .reals import Real
 
-__all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic", "newton_ball"]
+__all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic", "newton_ball",
+           "positive_step"]
 
 TAYLOR_ORDER = 4
 _SPLITS = (fmpq(1, 2), fmpq(7, 16), fmpq(9, 16), fmpq(3, 8), fmpq(5, 8), fmpq(13, 32), fmpq(19, 32))
@@ -212,6 +214,9 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
             prec = min(2 * prec, policy.max_prec)
         if verdict == "none":
             continue
+        if isinstance(verdict, Advance):  # f > 0 on (lo, p]: the rest of the interval remains
+            stack.append((verdict.p, hi, neg))
+            continue
         if isinstance(verdict, Bracket):
             return verdict
         if isinstance(verdict, tuple):  # a crossing bracketed on a smaller interval
@@ -230,7 +235,17 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
 
 def _decide_interval(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, touch):
     """One interval of the search: "none" (no crossing in it), a Bracket, a smaller interval
-    (lo, p, True) known to hold the crossing, or "split"."""
+    (lo, p, True) known to hold the crossing, an :class:`Advance` (f > 0 on a first part of the
+    interval, at least an eighth of it), or "split"."""
+    verdict = _decide_by_enclosures(fn, f, lo, hi, neg, prec, touch)
+    if verdict == "split" and not neg:
+        p = positive_step(f, lo, hi)
+        if p is not None and (p - lo) * 8 >= hi - lo:
+            return "none" if p >= hi else Advance(p)
+    return verdict
+
+
+def _decide_by_enclosures(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, touch):
     F = f.sign_enclose(lo, hi, 0)
     if not neg and F > 0:
         return "none"
@@ -262,6 +277,70 @@ def _decide_interval(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, to
             return "split"
         return _convex_minimum(fn, f, lo, hi, neg, prec, touch)
     return "split"
+
+
+@dataclass(frozen=True)
+class Advance:
+    """A verdict of the search: f > 0 on (lo, p] is certified; (p, hi] remains."""
+
+    p: fmpq
+
+
+def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
+                  orders: int = TAYLOR_ORDER, strict: bool = False) -> fmpq | None:
+    """p in (lo, hi] with f > 0 on (lo, p], from the Taylor coefficients c_j = f^{(j)}(lo) / j!
+    and bounds M_K of |f^{(K)}| / K! on [lo, b]: when c_0, ..., c_{K-1} >= 0 and c_J > 0 for some
+    J < K, f(lo + s) >= c_J s^J - M_K s^K > 0 for 0 < s < (c_J / M_K)^{1/(K - J)}.
+
+    ``zero_below``: c_j = 0 exactly for j < zero_below (a phase start where f and its first
+    derivatives vanish, Lemma 5.1); otherwise c_0 >= 0 is the caller's invariant (f > 0 just
+    before lo).  This is a step of the right size where f is tiny at lo and grows (a constraint
+    just released, f = 10^-65 t + t^3 / 3): bisection from the right would halve the interval a
+    hundred times to reach it.  None when no such J, K exist, or (``strict``) when the sign of
+    one of the coefficients is not certified at this precision (more bits may give a longer
+    step: the caller decides)."""
+    with workprec(f.prec):
+        cs = f.values(lo, range(zero_below, zero_below + orders))
+        lows = [arb(0)] * zero_below
+        fact = math.factorial(zero_below)
+        for j, c in enumerate(cs, start=zero_below):
+            fact = fact * max(j, 1)
+            low = c.lower() / fact
+            if j == 0:
+                low = max(low, arb(0))
+            elif low < 0:
+                if strict and c.upper() > 0:
+                    return None
+                break
+            lows.append(low)
+        if not any(l > 0 for l in lows):
+            return None
+        best = None
+        b = hi
+        for _ in range(3):  # a bound on a shorter interval gives a longer step
+            X = arb(lo).union(arb(b))
+            bounds = f.values(X, range(1, len(lows) + 1))
+            w = None
+            fact = 1
+            for K in range(1, len(lows) + 1):
+                fact *= K
+                M = abs(bounds[K - 1]).upper() / fact
+                for J in range(K):
+                    if lows[J] > 0:
+                        s = arb(b - lo) if M == 0 else (lows[J] / M).root(K - J).lower()
+                        w = s if w is None or s > w else w
+            if w is None:
+                return best
+            step = dyadic_lower(w * arb(fmpq(15, 16)))
+            if step <= 0:
+                return best
+            p = min(b, lo + step)
+            if p > lo and (best is None or p > best):
+                best = p
+            if best >= b or step * 8 >= (b - lo):
+                break
+            b = lo + step * 8
+        return best
 
 
 def _convex_minimum(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, touch):

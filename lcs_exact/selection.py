@@ -46,7 +46,7 @@ from .rational import (MAX_KAPPA, RationalFunction, RationalMatrix, check_enumer
                        is_zero, lex_sign, sign_of_form, submatrix, to_int, to_vector, zeros)
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "ldcp_modes", "LDCPSolution", "select_modes",
-           "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data",
+           "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data", "impulse_forms",
            "admissibility_forms", "admissibility_conditions", "NONAUTONOMOUS", "state_response",
            "state_groups", "undetermined_inputs"]
 
@@ -380,6 +380,25 @@ def ldcp_modes(lcs, x: fmpq_mat) -> set:
             break
     K = sorted(set(range(k)) - I - J)
     return {frozenset(I) | frozenset(c) for r in range(len(K) + 1) for c in combinations(K, r)}
+
+
+def impulse_forms(lcs, x) -> list[fmpq_mat]:
+    """[U_0, ..., U_{n-1}]: the impulse u^{-p} = U_p x0 of the unique initial solution at x
+    (Theorem 6.9, N a P-matrix) as k x n forms, valid at x (the LCP stages fix their branches
+    there).  u_l^j = 0 for j <= -eta_l, so the stages i <= max(eta) hold the whole impulse: no
+    rational-function data of any mode is built."""
+    _require_N_P(lcs)
+    n, k = lcs.n, lcs.k
+    eta = lcs.leading_column_indices()
+    U = [zeros(k, n) for _ in range(n)]
+    I: set[int] = set()
+    J: set[int] = set()
+    for i, urows, _ in _lcp_sequence(lcs, x, max(max(eta), 1), I, J):
+        for (l, j), row in urows.items():
+            if j == i - eta[l] and j <= 0:
+                for c in range(n):
+                    U[-j][l, c] = row[0, c]
+    return U
 
 
 def _lcp_sequence(lcs, x: fmpq_mat, kappa: int, I: set, J: set):

@@ -34,7 +34,7 @@ from .impacts import newton_impact
 from .phase import Phase, PhaseFunction
 from .rational import submatrix, vstack
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
-from .selection import (initial_solution, initial_solution_groups, rcp_data, select_modes, state_groups,
+from .selection import (impulse_forms, initial_solution, initial_solution_groups, rcp_data, select_modes, state_groups,
                         undetermined_inputs)
 from .modes import format_mode
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory, full_feedback
@@ -620,8 +620,12 @@ def _impulse(mode, z: ExactVector) -> dict:
     out = {}
     if not mode.is_autonomous:
         return out
-    for i, U in enumerate(rcp_data(mode)["impulse"]):
+    lcs = mode.lcs
+    # well-posed (Theorem 6.3): the impulse of the unique initial solution comes from the LDCP
+    # stages at z; otherwise from the mode's RCP data W_I(s) = -G_II^{-1} R_I
+    q = z.known_rational()
+    forms = impulse_forms(lcs, q if q is not None else z) if lcs.well_posedness() else rcp_data(mode)["impulse"]
+    for i, U in enumerate(forms):
         if any(e != 0 for e in U.entries()):
-            q = z.known_rational()
             out[i] = RationalVector(U * q, z.policy) if q is not None else ProjectedVector(U, z)
     return out
