@@ -131,7 +131,8 @@ class FixtureTrajectory:
     Attributes: ``lcs`` (the exact system), ``x0``, ``t_end``, ``digits``, ``events``
     (:class:`FixtureEvent`), ``samples`` (:class:`Sample`), ``sample_step``, ``final_time``,
     ``final_state``, ``certified``, ``assumptions``, ``partial``, ``stop_reason``,
-    ``accumulations``, ``data`` (the dict).  Numbers are certified ``flint.arb`` balls.
+    ``accumulations``, ``provenance`` (the dict written with the fixture, or None), ``data``
+    (the dict).  Numbers are certified ``flint.arb`` balls.
     ``x0_rational`` holds x0 as Fractions when the fixture says it is rational; then ``exact``
     is the trajectory recomputed exactly (on first use, checked against the fixture).
     """
@@ -166,6 +167,7 @@ class FixtureTrajectory:
         self.assumptions = tuple(_key(data, "assumptions"))
         self.partial = bool(data.get("partial", False))
         self.stop_reason = data.get("stop_reason")
+        self.provenance = data.get("provenance")
         self.accumulations = tuple(
             (number_ball(a["time"], where=f"accumulations[{i}].time"), _balls(a["state"], f"accumulations[{i}].state"))
             for i, a in enumerate(data.get("accumulations", ())))

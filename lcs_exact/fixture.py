@@ -26,7 +26,7 @@ from typing import Any
 from flint import arb, ctx, fmpq, fmpz
 
 from .balls import MAX_DIGITS
-from .errors import FixtureMismatch, FormatError, LCSError
+from .errors import FixtureMismatch, FormatError, InvalidArgument, LCSError
 from .rational import to_fmpq
 
 __all__ = ["content_digest", "check_digest", "SCHEMA", "MAX_SAMPLES", "fixture_dict", "sample_grid", "schema", "validate_fixture",
@@ -248,17 +248,18 @@ def _computed_until(traj: Any):
     return traj.events[-1].time if traj.events else None
 
 
-def fixture_dict(traj: Any, digits: int | None = None, sample: Any = None, closed_forms: bool = True) -> dict:
+def fixture_dict(traj: Any, digits: int | None = None, sample: Any = None, closed_forms: bool = True,
+                 provenance: dict | None = None) -> dict:
     """See :func:`build_fixture`; ``closed_forms=False`` writes only the closed forms already
     known (no derivation: a quick write of a long run)."""
     token = _DERIVE.set(bool(closed_forms))
     try:
-        return build_fixture(traj, digits, sample)
+        return build_fixture(traj, digits, sample, provenance)
     finally:
         _DERIVE.reset(token)
 
 
-def build_fixture(traj: Any, digits: int | None = None, sample: Any = None) -> dict:
+def build_fixture(traj: Any, digits: int | None = None, sample: Any = None, provenance: dict | None = None) -> dict:
     """The fixture (format ``lcs-exact/trajectory/1``) of a trajectory, as a JSON-ready dict.
 
     Parameters
@@ -272,6 +273,11 @@ def build_fixture(traj: Any, digits: int | None = None, sample: Any = None) -> d
     sample : rational, optional
         A step h: adds ``samples``, the states at t = 0, h, 2h, ... <= t_end (of the computed
         part for a partial run), each component certified to ``digits`` digits.
+    provenance : dict, optional
+        Where the run comes from (free-form JSON: a builder and its parameters, a version, a
+        reference), written as ``provenance`` and covered by the ``digest``; the zoo
+        (:mod:`lcs_exact.zoo`) writes ``suite``, ``problem``, ``builder``, ``parameters``,
+        ``x0``, ``t_end`` and ``lcs_exact_version``.
 
     Examples
     --------
@@ -311,6 +317,8 @@ def build_fixture(traj: Any, digits: int | None = None, sample: Any = None) -> d
         "partial": bool(traj.partial),
         "stop_reason": traj.stop_reason,
     }
+    if provenance is not None:
+        out["provenance"] = _provenance(provenance)
     if sample is not None:
         grid = sample_grid(until if until is not None else 0, sample)
         step = to_fmpq(sample, "the sample step")
@@ -322,6 +330,16 @@ def build_fixture(traj: Any, digits: int | None = None, sample: Any = None) -> d
     if sample is not None:
         out["samples_digest"] = content_digest(out, samples=True)
     return out
+
+
+def _provenance(p: Any) -> dict:
+    """A copy of the provenance as plain JSON (an object with string keys), or InvalidArgument."""
+    if not isinstance(p, dict) or not all(isinstance(k, str) for k in p):
+        raise InvalidArgument(f"provenance must be a dict with string keys, got {type(p).__name__}")
+    try:
+        return json.loads(json.dumps(p, allow_nan=False))
+    except (TypeError, ValueError) as e:  # not JSON: a set, an object, a NaN
+        raise InvalidArgument(f"provenance must be plain JSON (strings, numbers, lists, dicts): {e}") from None
 
 
 _SAMPLE_KEYS = ("samples", "sample_step")

@@ -258,11 +258,14 @@ class Trajectory:
             return [x[i, 0] for i in range(x.nrows())]
 
     # --- export -------------------------------------------------------------------------------
-    def to_fixture(self, digits: int | None = None, sample=None, closed_forms: bool = True) -> dict:
+    def to_fixture(self, digits: int | None = None, sample=None, closed_forms: bool = True,
+                   provenance: dict | None = None) -> dict:
         """A dict in the fixture schema ``lcs-exact/trajectory/1`` (see lcs_exact.fixture);
-        ``closed_forms=False`` writes only the closed forms already derived (a quick write)."""
+        ``closed_forms=False`` writes only the closed forms already derived (a quick write);
+        ``provenance`` (a JSON-ready dict: builder, parameters, version, ...) is written as the
+        fixture's ``provenance`` and covered by its digest."""
         from .fixture import fixture_dict
-        return fixture_dict(self, digits, sample, closed_forms)
+        return fixture_dict(self, digits, sample, closed_forms, provenance)
 
     def plot(self, **kw):
         """States and u/y against t, events and jumps marked.

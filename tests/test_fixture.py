@@ -330,3 +330,46 @@ def test_validate_checks_every_sample(section7_fixture, edit, path):
     v = jsonschema.Draft202012Validator(json.loads(files("lcs_exact").joinpath(
         "schemas", "trajectory-1.schema.json").read_text()))
     assert not v.is_valid(d)
+
+
+# ---------------------------------------------------------------------------------------------
+# provenance: optional, free-form JSON, in the schema, covered by the digest, read back
+# ---------------------------------------------------------------------------------------------
+
+def test_provenance_is_written_validated_digested_and_read_back(section7):
+    prov = {"builder": "lcs_exact.examples.two_carts", "parameters": {}, "x0": "expm_action(A, -1, [0, -1, -1, 0])",
+            "t_end": "3", "lcs_exact_version": L.__version__, "mine": [1, "two"]}
+    fx = section7.to_fixture(12, provenance=prov)
+    prov["builder"] = "changed after writing"           # the fixture holds its own copy
+    assert fx["provenance"]["builder"] == "lcs_exact.examples.two_carts" and fx["provenance"]["mine"] == [1, "two"]
+    validate_fixture(fx)
+    jsonschema.Draft202012Validator(schema()).validate(fx)
+    back = L.read_fixture(json.loads(json.dumps(fx)))
+    assert back.provenance == fx["provenance"] and len(back.events) == 2
+    assert L.read_fixture(section7.to_fixture(12)).provenance is None       # optional
+    # the digest covers it: an edited provenance is refused like an edited event
+    edited = copy.deepcopy(fx)
+    edited["provenance"]["t_end"] = "4"
+    with pytest.raises(L.FixtureMismatch):
+        L.read_fixture(edited)
+    # without provenance the digest is the one written before provenance existed
+    plain = section7.to_fixture(12)
+    assert {k: v for k, v in fx.items() if k not in ("provenance", "digest")} == \
+        {k: v for k, v in plain.items() if k != "digest"}
+
+
+@pytest.mark.parametrize("prov", [["a list"], {1: "int key"}, {"x": {1, 2}}, {"x": float("nan")}])
+def test_provenance_must_be_plain_json(section7, prov):
+    with pytest.raises(L.InvalidArgument, match="provenance"):
+        section7.to_fixture(12, provenance=prov)
+
+
+@pytest.mark.parametrize("edit, fragment", [
+    (lambda d: d.update(provenance="a string"), "provenance"),
+    (lambda d: d.update(provenance={"builder": 3}), "provenance/builder"),
+    (lambda d: d.update(provenance={"parameters": []}), "provenance/parameters"),
+])
+def test_validate_rejects_bad_provenance(section7_fixture, edit, fragment):
+    with pytest.raises(L.FormatError, match="fixture") as err:
+        validate_fixture(_broken(section7_fixture, edit))
+    assert fragment in str(err.value)
