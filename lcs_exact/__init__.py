@@ -16,7 +16,7 @@ from .system import LCS, WellPosedness
 from .accumulation import Accumulation
 from .trajectory import Branches, Event, Status, Trajectory
 from .modemap import ModeMap, Region
-from . import examples, models, sources  # lcs_exact.examples, .models, .sources as attributes
+from . import examples, models, sources, zoo  # lcs_exact.examples, .models, .sources, .zoo as attributes
 
 __all__ = [
     "LCS", "Mode", "simulate", "Branches", "Accumulation", "Status", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
@@ -25,7 +25,7 @@ __all__ = [
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
     "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied", "HorizonExceeded",
     "read_fixture", "validate_fixture", "compare", "convergence_order", "ComparisonReport",
-    "FixtureTrajectory", "ModeMap", "Region", "examples", "models", "sources",
+    "FixtureTrajectory", "ModeMap", "Region", "examples", "models", "sources", "zoo",
 ]
 
 __version__ = "0.1.0"

@@ -6,6 +6,8 @@
     lcs-exact select MODEL [--x0 a,b,c]   S(x0) and the initial solution for a model file
     lcs-exact check MODEL                 Theorem 6.3, leading indices, Markov parameters, modes
     lcs-exact compare FIXTURE SOL.csv [MORE.csv ...] [--json] [--event-tol W]
+    lcs-exact zoo DIR [--digits D] [--sample N] [--only NAME,...]
+                                          the suite of certified fixtures (lcs_exact.zoo) into DIR
     lcs-exact --version
 
 A model file (TOML or JSON) has ``A``, ``B``, ``C``, ``D`` as lists of rows of numbers or
@@ -14,7 +16,8 @@ rational strings ("1/3"), and optionally ``x0``, ``t_end``, ``name``, ``states``
 TOML decimal such as 1e-400 is the rational 10^-400 (never a float).
 
 ``--digits`` is 1..10000 (MAX_DIGITS), ``--max-events`` >= 0, ``--time-limit`` > 0 seconds;
-``--x0 -1,2`` needs no ``=``.
+``--x0 -1,2`` needs no ``=``.  For ``zoo``, ``--sample N`` is the number of grid intervals of
+each problem (the step is t_end / N: one setting fits problems on any time scale).
 
 Exit status: 0 on success; 2 with a one-line reason on bad input; 3 when a run stops early (a
 limit, an accumulation of events, a deadlock, an unresolved sign) - the partial fixture is still
@@ -357,6 +360,14 @@ def _int(text: str) -> int:
         raise argparse.ArgumentTypeError(f"must be an integer, got {text[:30]!r}") from None
 
 
+def _intervals(text: str) -> int:
+    from .fixture import MAX_SAMPLES
+    v = _int(text)
+    if not 1 <= v < MAX_SAMPLES:
+        raise argparse.ArgumentTypeError(f"must be a number of grid intervals in 1..{MAX_SAMPLES - 1}, got {v}")
+    return v
+
+
 def _seconds(text: str) -> float:
     try:
         v = float(text)
@@ -368,7 +379,7 @@ def _seconds(text: str) -> float:
 
 
 # options whose values may begin with '-' (argparse would read "-1,2" as an option)
-_VALUE_OPTIONS = ("--x0", "--t-end", "--digits", "--max-events", "--time-limit", "--sample", "--event-tol")
+_VALUE_OPTIONS = ("--x0", "--t-end", "--digits", "--max-events", "--time-limit", "--sample", "--event-tol", "--only")
 
 
 def _join_values(argv: list[str]) -> list[str]:
@@ -415,6 +426,13 @@ def _parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--json", action="store_true", help="print JSON instead of tables")
     cmp_.add_argument("--event-tol", help="half-width of the window left out around each event "
                       "(default: twice the solution's largest step)")
+    zoo = sub.add_parser("zoo", help="write the suite of certified fixtures of standard problems, "
+                         "an index.json and a README.md into DIR")
+    zoo.add_argument("dir", metavar="DIR")
+    zoo.add_argument("--digits", type=_digits, default=20, help=f"correct digits, 1..{MAX_DIGITS} (default 20)")
+    zoo.add_argument("--sample", type=_intervals, default=100, metavar="N",
+                     help="grid intervals per problem: the sample step is t_end / N (default 100)")
+    zoo.add_argument("--only", metavar="NAME,...", help="comma-separated problem names (default: all)")
     return parser
 
 
@@ -526,6 +544,20 @@ def _compare(args) -> int:
     return 0
 
 
+def _zoo(args) -> int:
+    import time
+    from .zoo import write_zoo
+    t0 = time.perf_counter()
+    index = write_zoo(args.dir, digits=args.digits, samples=args.sample, only=args.only, out=print)
+    partial = [e["name"] for e in index["problems"] if e["partial"]]
+    print(f"{len(index['problems'])} fixtures ({index['suite']}, {args.digits} digits, {args.sample} grid "
+          f"intervals each), index.json and README.md written to {args.dir} in {time.perf_counter() - t0:.1f} s")
+    if partial:
+        print(f"lcs-exact: runs stopped early (partial fixtures written): {', '.join(partial)}", file=sys.stderr)
+        return 3
+    return 0
+
+
 def _one_line(e: BaseException) -> str:
     return " ".join(str(e).split())
 
@@ -569,6 +601,8 @@ def _main(argv: list[str] | None) -> int:
             check_report(lcs)
         elif args.cmd == "compare":
             return _compare(args)
+        elif args.cmd == "zoo":
+            return _zoo(args)
     except BrokenPipeError:  # the reader went away (`lcs-exact ... | head`): stop quietly
         import os
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
