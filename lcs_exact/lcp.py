@@ -60,14 +60,29 @@ def _schur(m: fmpq_mat) -> fmpq_mat:
     return out
 
 
+def _leading_violation(m: fmpq_mat) -> tuple[int, ...] | None:
+    """None when every leading principal minor of m is > 0, else the first index set 0..j whose
+    minor is <= 0: the pivots of the successive Schur complements are the ratios of the leading
+    minors (k steps)."""
+    a, k = m, m.nrows()
+    for j in range(k):
+        if a[0, 0] <= 0:
+            return tuple(range(j + 1))
+        if j + 1 < k:
+            a = _schur(a)
+    return None
+
+
 def p_matrix_violation(m: Any) -> tuple[int, ...] | None:
     """None if M is a P-matrix, else a (0-based) index set whose principal minor is <= 0.
 
     det M[pre ∪ S] = det M[pre] * det (M/M[pre])[S], so a nonpositive leading entry found in a
     Schur complement names the principal minor on pre ∪ {i}.  The test visits 2^k Schur
-    complements: a nonsymmetric M above ``MAX_P_TEST_K`` = 20 is refused
-    (:class:`~lcs_exact.errors.Unsupported`); a larger symmetric M is tested by its leading minors
-    (P iff positive definite), so mechanical systems (N = E M^{-1} E^T) have no such limit.
+    complements, so it runs only when quicker tests say nothing: a symmetric M is P iff its
+    leading minors are positive (positive definite), and M is P when its symmetric part is
+    positive definite (Theorem 3.5) - mechanical systems (N = E M^{-1} E^T) and most circuits
+    never enumerate.  A nonsymmetric M above ``MAX_P_TEST_K`` = 20 that fails the second test
+    is refused (:class:`~lcs_exact.errors.Unsupported`).
 
     >>> p_matrix_violation([[1, 2], [0, 1]]) is None
     True
@@ -78,16 +93,13 @@ def p_matrix_violation(m: Any) -> tuple[int, ...] | None:
     if m.nrows() != m.ncols():
         raise ShapeError(f"a P-matrix must be square, got {m.nrows()}x{m.ncols()}")
     k = m.nrows()
-    if k > MAX_P_TEST_K and m == m.transpose():
-        # symmetric: P iff positive definite iff every leading minor is > 0 (Sylvester); the
-        # pivots of the Schur complements are their ratios (k steps instead of 2^k)
-        a = m
-        for j in range(k):
-            if a[0, 0] <= 0:
-                return tuple(range(j + 1))
-            if j + 1 < k:
-                a = _schur(a)
-        return None
+    if m == m.transpose():
+        # symmetric: P iff positive definite iff every leading minor is > 0 (Sylvester); a
+        # nonpositive diagonal entry is reported first (the smallest violation, the clearest)
+        bad = next((i for i in range(k) if m[i, i] <= 0), None)
+        return (bad,) if bad is not None else _leading_violation(m)
+    if k and _leading_violation((m + m.transpose()) / 2) is None:
+        return None  # x^T M x > 0 for x != 0: positive definite, so P (Theorem 3.5)
     check_enumerable(k, "the P-matrix test of a nonsymmetric matrix", MAX_P_TEST_K)
 
     def rec(a: fmpq_mat, labels: tuple[int, ...], pre: tuple[int, ...]):

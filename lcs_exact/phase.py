@@ -28,7 +28,7 @@ from .reals import (ExactVector, ExpVector, RationalVector, ScaledVector, algebr
 from .polyhedra import eliminate
 from .rational import is_zero, submatrix, vstack, zeros
 from .roots import ExpSum, RootReal, newton_ball
-from .subspaces import in_row_span, invariant_forms, orbit_zero_forms, rank, row_basis
+from .subspaces import RowSpan, invariant_forms, orbit_zero_forms, rank, row_basis
 
 __all__ = ["Constraint", "Phase", "PhaseFunction", "EventState"]
 
@@ -186,10 +186,16 @@ class Phase:
         coefficient of such an x_i is exactly 0: balls computed through the spectral factors
         are replaced by exact zeros (a constrained cart's position samples as exactly 0)."""
         if "_zero_coords" not in self.__dict__:
-            Z, n = self.zero_forms, self.M.nrows()
-            self._zero_coords = [i for i in range(n) if Z.nrows() and
-                                 in_row_span(fmpq_mat(1, n, [int(j == i) for j in range(n)]), Z)]
+            span = self.zero_span
+            self._zero_coords = [i for i in range(self.M.nrows()) if span.dim and span.has_unit(i)]
         return self._zero_coords
+
+    @property
+    def zero_span(self) -> RowSpan:
+        """The span of the forms vanishing on the phase, for membership tests (built once)."""
+        if "_zero_span" not in self.__dict__:
+            self._zero_span = RowSpan(self.zero_forms)
+        return self._zero_span
 
     def function(self, c: Constraint) -> PhaseFunction:
         key = (c.kind, c.index)
@@ -210,7 +216,7 @@ class Phase:
         identically (Cayley-Hamilton: n zeros suffice)."""
         for j in range(self.lcs.n):
             form = self.gM(c, j)
-            if self.zero_forms.nrows() and in_row_span(form, self.zero_forms):
+            if form in self.zero_span:
                 continue
             s = self.base.sign_of_form(form)
             if s:

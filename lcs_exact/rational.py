@@ -402,9 +402,13 @@ def mat_rows(m: fmpq_mat) -> list[list[fmpq]]:
 
 def submatrix(m: fmpq_mat, rows: Sequence[int] | None = None, cols: Sequence[int] | None = None) -> fmpq_mat:
     """m[rows, cols] (``None`` keeps all)."""
-    rows = range(m.nrows()) if rows is None else list(rows)
-    cols = range(m.ncols()) if cols is None else list(cols)
-    return fmpq_mat(len(rows), len(cols), [m[i, j] for i in rows for j in cols])
+    r, c = m.nrows(), m.ncols()
+    rows = range(r) if rows is None else list(rows)
+    cols = range(c) if cols is None else list(cols)
+    if 4 * len(rows) * len(cols) < r * c:  # a small part: entry by entry
+        return fmpq_mat(len(rows), len(cols), [m[i, j] for i in rows for j in cols])
+    e = m.entries()  # row-major, one C call
+    return fmpq_mat(len(rows), len(cols), [e[i * c + j] for i in rows for j in cols])
 
 
 def column(m: fmpq_mat, j: int) -> fmpq_mat:
@@ -417,14 +421,8 @@ def hstack(*ms: fmpq_mat, nrows: int | None = None) -> fmpq_mat:
     if any(m.nrows() != r for m in ms):
         raise ShapeError("hstack: blocks have different numbers of rows")
     c = sum(m.ncols() for m in ms)
-    out = fmpq_mat(r, c)
-    off = 0
-    for m in ms:
-        for i in range(r):
-            for j in range(m.ncols()):
-                out[i, off + j] = m[i, j]
-        off += m.ncols()
-    return out
+    blocks = [(m.entries(), m.ncols()) for m in ms]
+    return fmpq_mat(r, c, [x for i in range(r) for e, w in blocks for x in e[i * w:(i + 1) * w]])
 
 
 def vstack(*ms: fmpq_mat, ncols: int | None = None) -> fmpq_mat:
@@ -432,8 +430,7 @@ def vstack(*ms: fmpq_mat, ncols: int | None = None) -> fmpq_mat:
     c = ms[0].ncols() if ms else (ncols or 0)
     if any(m.ncols() != c for m in ms):
         raise ShapeError("vstack: blocks have different numbers of columns")
-    entries = [m[i, j] for m in ms for i in range(m.nrows()) for j in range(c)]
-    return fmpq_mat(sum(m.nrows() for m in ms), c, entries)
+    return fmpq_mat(sum(m.nrows() for m in ms), c, [x for m in ms for x in m.entries()])
 
 
 def pivot_tableau(T: list, r: int, c: int) -> None:
@@ -450,7 +447,7 @@ def pivot_tableau(T: list, r: int, c: int) -> None:
 
 def is_zero(m: fmpq_mat) -> bool:
     """All entries zero (fmpq_mat has no is_zero)."""
-    return all(m[i, j] == 0 for i in range(m.nrows()) for j in range(m.ncols()))
+    return not any(m.entries())
 
 
 def mat_equal(a: fmpq_mat, b: fmpq_mat) -> bool:

@@ -36,7 +36,7 @@ from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_fo
 from .errors import LCSError, NotRational, ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of
 from .rational import is_zero, to_fmpq, to_int, to_matrix, to_vector, vector_entries, zeros
-from .subspaces import in_row_span, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
+from .subspaces import RowSpan, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
 __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
            "AlgebraicReal", "ExactVector", "RationalVector", "ScaledVector", "ExpVector", "ProjectedVector",
@@ -674,6 +674,14 @@ class ExactVector(_Node):
         self._ca_done = False
 
     # --- structure ----------------------------------------------------------------------------
+    @property
+    def zero_span(self) -> RowSpan:
+        """The span of ``zero_forms``, for membership tests (built once; a cache)."""
+        span = self.__dict__.get("_zero_span")
+        if span is None:
+            span = self._zero_span = RowSpan(self.zero_forms)
+        return span
+
     def known_rational(self) -> fmpq_mat | None:
         """The vector as an n x 1 ``fmpq_mat`` when already known to be rational (cheap)."""
         return self._twin.known_rational() if self._twin is not None else None
@@ -707,7 +715,7 @@ class ExactVector(_Node):
             return self._twin.q[i, 0] == 0
         if not self.zero_forms.nrows():
             return False
-        return in_row_span(fmpq_mat(1, self.n, [int(j == i) for j in range(self.n)]), self.zero_forms)
+        return self.zero_span.has_unit(i)
 
     def closed_form(self, derive: bool = True):
         """A SymPy column vector when every component has a proven closed form, else None.
@@ -749,7 +757,7 @@ class ExactVector(_Node):
             return (v > 0) - (v < 0)
         if is_zero(form):
             return 0
-        if self.zero_forms.nrows() and in_row_span(form, self.zero_forms):
+        if self.zero_forms.nrows() and form in self.zero_span:
             return 0
         s = self._structural_sign(form)
         if s is not None:

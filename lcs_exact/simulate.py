@@ -626,6 +626,6 @@ def _impulse(mode, z: ExactVector) -> dict:
     q = z.known_rational()
     forms = impulse_forms(lcs, q if q is not None else z) if lcs.well_posedness() else rcp_data(mode)["impulse"]
     for i, U in enumerate(forms):
-        if any(e != 0 for e in U.entries()):
+        if any(U.entries()):
             out[i] = RationalVector(U * q, z.policy) if q is not None else ProjectedVector(U, z)
     return out

@@ -14,7 +14,7 @@ from .rational import hstack, identity, submatrix, vstack, zeros
 __all__ = [
     "rref", "rank", "kernel", "image", "left_kernel", "subspace_sum", "intersection",
     "complement", "contains", "same_subspace", "solve_any", "projection",
-    "row_basis", "in_row_span", "orbit_zero_forms", "invariant_forms", "pulled_back_forms",
+    "row_basis", "in_row_span", "RowSpan", "orbit_zero_forms", "invariant_forms", "pulled_back_forms",
 ]
 
 
@@ -164,11 +164,45 @@ def row_basis(*ms: fmpq_mat) -> fmpq_mat:
     return image(m.transpose()).transpose()
 
 
+class RowSpan:
+    """The row span of R, built once (rref rows and pivots) for many membership tests: a phase
+    or an exact vector tests many forms against the same known relations.
+
+    >>> Z = RowSpan(fmpq_mat([[1, 1, 0], [0, 0, 1]]))
+    >>> fmpq_mat([[2, 2, 0]]) in Z, fmpq_mat([[1, 0, 0]]) in Z, Z.dim
+    (True, False, 2)
+    """
+
+    __slots__ = ("rows", "pivots", "n")
+
+    def __init__(self, R: fmpq_mat):
+        self.n = n = R.ncols()
+        r, piv = rref(R) if R.nrows() else (R, [])
+        e = r.entries()
+        self.rows = [e[i * n:(i + 1) * n] for i in range(len(piv))]
+        self.pivots = piv
+
+    @property
+    def dim(self) -> int:
+        return len(self.pivots)
+
+    def __contains__(self, form: fmpq_mat) -> bool:
+        f = form.entries()
+        for row, p in zip(self.rows, self.pivots):
+            c = f[p]
+            if c != 0:
+                f = [a - c * b for a, b in zip(f, row)]
+        return not any(f)
+
+    def has_unit(self, i: int) -> bool:
+        """e_i in the span (coordinate i vanishes wherever the relations hold)."""
+        return fmpq_mat(1, self.n, [int(j == i) for j in range(self.n)]) in self
+
+
 def in_row_span(form: fmpq_mat, R: fmpq_mat) -> bool:
-    """True when the row ``form`` lies in the row span of R (exact)."""
-    if R.nrows() == 0:
-        return all(form[0, j] == 0 for j in range(form.ncols()))
-    return rank(vstack(R, form)) == rank(R)
+    """True when the row ``form`` lies in the row span of R (exact); see :class:`RowSpan` for
+    many tests against one R."""
+    return form in RowSpan(R)
 
 
 def orbit_zero_forms(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:

@@ -387,9 +387,15 @@ def test_enumeration_limits():
 
 
 def test_p_matrix_test_limits():
-    # a nonsymmetric matrix above MAX_P_TEST_K is refused (2^k Schur complements) ...
+    # a nonsymmetric matrix above MAX_P_TEST_K whose symmetric part is positive definite is P
+    # (Theorem 3.5): diag 2, superdiagonal 1 has the symmetric part tridiag(1/2, 2, 1/2), whose
+    # Gershgorin discs lie in [1, 3] ...
     k = MAX_P_TEST_K + 1
     m = [[Fraction(2) if i == j else Fraction(1) if j == i + 1 else Fraction(0) for j in range(k)] for i in range(k)]
+    assert is_p_matrix(m)
+    # ... one whose symmetric part is not (diag 1, superdiagonal 3: x = (1, -1, 0, ...) gives
+    # x^T M x = 1 + 1 - 3 < 0) would need 2^k Schur complements: refused
+    m = [[Fraction(1) if i == j else Fraction(3) if j == i + 1 else Fraction(0) for j in range(k)] for i in range(k)]
     raises(Unsupported, lambda: is_p_matrix(m), "nonsymmetric", f"k = {k}")
     # ... a symmetric one of any size is decided by its leading minors (Sylvester): the tridiagonal
     # (-1, 2, -1) of size 40 is positive definite (leading minors j + 1 > 0); with its last diagonal
