@@ -459,7 +459,7 @@ def main():
     start = time.perf_counter()
     args.siconos_missing = siconos_available()
     siconos_note = ("not run: " + args.siconos_missing) if args.siconos_missing else \
-        ("python3-siconos (Debian) under /usr/bin/python3 with OPENBLAS_NUM_THREADS=1, one "
+        ("python3-siconos (Debian's package, run by the system Python) with OPENBLAS_NUM_THREADS=1, one "
          "subprocess per run; Moreau-Jean and event-driven for the mechanical systems, "
          "Euler-Moreau for circuits and general LCS (see the doc's notes for what does not run).")
 

@@ -112,7 +112,10 @@ def read_model(path: str) -> dict:
         raise FormatError(f"model file {path} is not UTF-8 text (JSON or TOML): byte {e.start}") from None
     try:
         if p.suffix.lower() == ".toml":
-            import tomllib
+            try:
+                import tomllib
+            except ModuleNotFoundError:  # pragma: no cover - Python 3.10 has no TOML reader
+                raise FormatError("TOML model files need Python 3.11 or later (tomllib); write it as JSON") from None
             data = tomllib.loads(text, parse_float=_exact_number)
         else:
             data = json.loads(text, parse_float=_exact_number, parse_int=_exact_int,

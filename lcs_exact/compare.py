@@ -401,7 +401,7 @@ class EventComparison:
 class ComparisonReport:
     """The error of a solution against a fixture (:func:`compare`).
 
-    ``max_error`` is a certified ball of max |x_i(t) - X_i| over components and compared points
+    ``max_error`` is a certified ball of ``max |x_i(t) - X_i|`` over components and compared points
     (those outside the event windows), ``component_errors`` the same per component;
     ``events`` compares each event time with the solver's switch.
     """

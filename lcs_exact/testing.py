@@ -1,13 +1,13 @@
 """Test helpers for other solvers' test suites: compare a numerical solution with a certified
-fixture in one line (docs/extensions.md).
+fixture in one line (docs/fixtures.md, docs/zoo.md).  In a pytest test of a solver::
 
     from lcs_exact.testing import assert_matches_fixture
-    assert_matches_fixture("ball.json", t, X, atol=1e-3)      # in a pytest test of a solver
+    assert_matches_fixture("ball.json", t, X, atol=1e-3)
 
 The fixture's states at the times t are its certified samples where t is on the sample grid, and
 recomputed exactly from the fixture's system and x0 elsewhere (``read_fixture``); a fixture
 whose content does not match its digest is refused (``FixtureMismatch``).  The check is
-|X - x| <= atol + rtol |x| componentwise; a failure is an ``AssertionError`` whose message names
+``|X - x| <= atol + rtol |x|`` componentwise; a failure is an ``AssertionError`` whose message names
 the worst point: its time, component (by name), the solver's value, the exact value with its
 certified digits, and the error.
 """
@@ -38,11 +38,17 @@ def assert_matches_fixture(fixture: Any, t: Sequence[Any], X: Any, atol: float =
 
     Parameters
     ----------
-    fixture : a fixture dict, the path of its JSON file, or a ``FixtureTrajectory``
-    t : sequence of times (floats are read as their shortest decimals)
-    X : len(t) x n array-like of the solver's states
-    atol, rtol : tolerances of |X - x| <= atol + rtol |x|, componentwise
-    digits : digits of the exact values computed for the comparison (and printed)
+    fixture : dict, str or FixtureTrajectory
+        A fixture dict, the path of its JSON file, or a fixture read back (``read_fixture``).
+    t : sequence of numbers
+        The solver's times (floats are read as their shortest decimals).  Off the fixture's
+        sample grid the exact values are recomputed, which needs a rational x0.
+    X : array-like, len(t) x n
+        The solver's states at those times.
+    atol, rtol : float
+        Tolerances: ``|X - x| <= atol + rtol |x|``, componentwise.
+    digits : int
+        Digits of the exact values computed for the comparison (and printed).
 
     Raises
     ------

@@ -51,9 +51,13 @@ __all__ = ["SUITE", "DEFAULT_DIGITS", "DEFAULT_SAMPLES", "INDEX_FILE", "README_F
 
 #: the suite's name and version: the list of problems, their parameters, x0 and t_end
 SUITE = "lcs-exact/zoo/1"
+#: significant digits of the numbers in the fixtures (``--digits``)
 DEFAULT_DIGITS = 20
-DEFAULT_SAMPLES = 100  # grid intervals per problem: the step is t_end / DEFAULT_SAMPLES
+#: grid intervals per problem: the sample step is t_end / DEFAULT_SAMPLES (``--sample``)
+DEFAULT_SAMPLES = 100
+#: the index of the suite written beside the fixtures
 INDEX_FILE = "index.json"
+#: the table of the suite written beside the fixtures
 README_FILE = "README.md"
 
 # the builders a problem may name, by their public dotted names

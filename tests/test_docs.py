@@ -1,0 +1,118 @@
+"""The reference docs: the Sphinx build passes with warnings as errors, the API page covers every
+public name, the model-file page says what the reader accepts (its examples load), the docs cite
+no file outside the repository, and the README links every notebook and docs page."""
+from __future__ import annotations
+
+import html
+import importlib
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import lcs_exact as L
+from lcs_exact.cli import MODEL_KEYS, load_model
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+PAGES = sorted(p for p in DOCS.iterdir() if p.suffix in (".md", ".rst"))
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    out = tmp_path_factory.mktemp("html")
+    p = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-b", "html", str(DOCS), str(out)],
+                       cwd=ROOT, capture_output=True, text=True, timeout=600)
+    assert p.returncode == 0, p.stderr[-5000:]
+    return out
+
+
+def text_of(page: Path) -> str:
+    return html.unescape(re.sub(r"<[^>]+>", "", page.read_text(encoding="utf-8")))
+
+
+def test_sphinx_build_passes_with_warnings_as_errors(built):
+    for page in PAGES:
+        assert (built / f"{page.stem}.html").is_file(), page.name
+    index = (built / "index.html").read_text(encoding="utf-8")
+    for page in PAGES:   # every page is reachable from the index
+        if page.stem != "index":
+            assert f'href="{page.stem}.html' in index, page.name
+
+
+def test_api_reference_covers_every_public_name(built):
+    api = (DOCS / "api.rst").read_text(encoding="utf-8")
+    documented = set(re.findall(r"^\.\. auto(?:class|function|exception|data)::\s+(\w+)\s*$", api, re.M))
+    modules = set(re.findall(r"^\.\. automodule::\s+lcs_exact\.(\w+)", api, re.M))
+    names = set(L.__all__)
+    module_names = {n for n in names if type(getattr(L, n)).__name__ == "module"}
+    assert names - module_names - documented == set()
+    assert module_names | {"models", "examples", "sources", "testing", "zoo", "sweep"} <= modules
+    # and the built page holds each name with its docstring's first words
+    page = text_of(built / "api.html")
+    for name in sorted(names - module_names):
+        obj = getattr(L, name)
+        assert f"lcs_exact.{name}" in page, name
+        first = (obj.__doc__ or "").strip().split("\n")[0][:25].strip()
+        if first and "|" not in first and "`" not in first and "*" not in first:
+            assert first in page.replace("\n", " ") or first.replace("'", "\u2019") in page.replace("\n", " "), name
+    for mod in ("models", "examples", "sources", "testing", "zoo"):
+        public = importlib.import_module(f"lcs_exact.{mod}").__all__
+        for name in public:
+            if mod == "models" and name not in ("mechanical", "driven", "circuit", "circuit_ports", "relay"):
+                continue   # the examples, documented under lcs_exact.examples
+            assert f"lcs_exact.{mod}.{name}" in page, (mod, name)
+
+
+def test_model_file_page_matches_the_reader(tmp_path):
+    text = (DOCS / "model-files.md").read_text(encoding="utf-8")
+    keys = re.findall(r"^\| `(\w+)` \| (?:yes|no) \|", text, re.M)
+    assert tuple(keys) == MODEL_KEYS
+    blocks = re.findall(r"```(json|toml)\n(.*?)```", text, re.S)
+    assert [k for k, _ in blocks] == ["json", "toml"]
+    for kind, body in blocks:
+        path = tmp_path / f"model.{kind}"
+        path.write_text(body, encoding="utf-8")
+        lcs, data = load_model(str(path))
+        assert set(data) == set(MODEL_KEYS)
+        tr = L.simulate(lcs, data["x0"], data["t_end"], digits=10)
+        assert tr.certified and len(tr.events) >= 1
+    # the page's unknown-key message is the reader's
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"A": [[0]], "B": [[1]], "C": [[1]], "D": [[0]], "x": 1}))
+    with pytest.raises(L.FormatError) as err:
+        load_model(str(bad))
+    assert "unknown key 'x' (allowed: A, B, C, D, x0, t_end, name, states, inputs)" in str(err.value)
+    assert "unknown key 'x' (allowed: A, B, C, D, x0, t_end, name, states,\ninputs)" in text
+
+
+PATH = re.compile(r"(?<![\w/.:-])((?:[\w.-]+/)+[\w.-]+\.(?:md|py|ipynb|json|toml|png|rst|csv|txt|cfg|ini))\b")
+
+
+def test_docs_cite_only_files_in_the_repository(built):
+    texts = {p.name: p.read_text(encoding="utf-8") for p in PAGES}
+    texts["conf.py"] = (DOCS / "conf.py").read_text(encoding="utf-8")
+    texts["api.html (docstrings)"] = text_of(built / "api.html")
+    for name, text in texts.items():
+        assert "DESIGN" not in text, name
+        assert not re.search(r"(?<![\w.])(/usr/|/opt/|/home/|/etc/|/tmp/|/work/|~/|[A-Z]:\\)", text), name
+        for path in PATH.findall(text):
+            if path.startswith(("docs/_build", "fixtures/", "DIR/")):   # outputs the pages tell the reader to make
+                continue
+            assert (ROOT / path).exists() or (DOCS / path).exists(), (name, path)
+
+
+def test_readme_links_every_notebook_and_docs_page():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    links = set(re.findall(r"\]\(([^)\s]+)\)", readme))
+    for link in links:
+        if not link.startswith(("http://", "https://", "#")):
+            assert (ROOT / link.split("#")[0]).exists(), link
+    for nb in sorted((ROOT / "notebooks").glob("*.ipynb")):
+        assert f"notebooks/{nb.name}" in links, nb.name
+    for page in PAGES:
+        assert f"docs/{page.name}" in links, page.name
+    assert "lcs-exact zoo" in readme and "sphinx-build -W -b html docs" in readme
