@@ -277,7 +277,7 @@ def write_zoo(directory: Any, digits: int = DEFAULT_DIGITS, samples: int = DEFAU
 
     Examples
     --------
-    >>> import json, pathlib, tempfile
+    >>> import pathlib, shutil, tempfile
     >>> d = pathlib.Path(tempfile.mkdtemp())
     >>> index = write_zoo(d, digits=10, samples=4, only="filippov_spiral")
     >>> entry = index["problems"][0]
@@ -285,6 +285,7 @@ def write_zoo(directory: Any, digits: int = DEFAULT_DIGITS, samples: int = DEFAU
     (9, 9, 1, 'lcs_exact.examples.filippov_spiral')
     >>> sorted(p.name for p in d.iterdir())
     ['README.md', 'filippov_spiral.json', 'index.json']
+    >>> shutil.rmtree(d)
     """
     _check_settings(digits, samples)
     chosen = _selected(only)
