@@ -12,6 +12,7 @@ For a phase (:mod:`lcs_exact.phase`) every monitored function f = g e^{A_I t} z 
 """
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from flint import arb, fmpq
@@ -23,7 +24,7 @@ from .modes import format_mode
 from .phase import Constraint, Phase
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, Real, as_exact_vector, as_real
 from .polyroots import exact_first_crossing
-from .roots import RootReal, first_crossing, positive_step
+from .roots import RootReal, first_crossing, float_crossing, positive_step
 
 __all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound"]
 
@@ -160,7 +161,7 @@ def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]
     found: list = []
     limit = hb
     search = min(prec, SEARCH_PREC)
-    for c in phase.constraints:
+    for c in _by_estimate(phase, hb, search):
         r = first_root(phase, c, limit, search)
         if r is None:
             continue
@@ -182,6 +183,23 @@ def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]
     simultaneous = [first_c] + [c for c, r in found if r is not first and
                                 compare_roots(phase, r, c, first, first_c) == 0]
     return first, simultaneous
+
+
+def _by_estimate(phase: Phase, horizon: fmpq, prec: int) -> list[Constraint]:
+    """The constraints, those whose float estimate crosses zero first in front: the certified
+    search of the first one then bounds the others' (a constraint that never crosses is certified
+    only up to the event, not over the whole horizon).  Only the order depends on floats; every
+    decision stays certified.  The sums are those the search uses next (same precision)."""
+    if len(phase.constraints) < 2:
+        return list(phase.constraints)
+    keyed = []
+    for i, c in enumerate(phase.constraints):
+        est = None
+        if phase.start_order(c)[0] > 0:
+            est = float_crossing(phase.function(c).at(prec), 0.0, float(horizon))
+        keyed.append((math.inf if est is None else est, i, c))
+    keyed.sort(key=lambda e: (e[0], e[1]))
+    return [c for _, _, c in keyed]
 
 
 def theta(lcs, x0: Any, I, horizon: Any, *, time_limit: float | None = None) -> Real | None:

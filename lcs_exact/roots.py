@@ -39,9 +39,11 @@ from .balls import Policy, ball_sign, dyadic, dyadic_lower, dyadic_upper, workpr
 from .reals import Real
 
 __all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic", "newton_ball",
-           "positive_step"]
+           "positive_step", "float_crossing", "float_root"]
 
 TAYLOR_ORDER = 4
+#: extra bits for the exponential sum when a root is refined to a given precision
+ROOT_GUARD = 32
 _SPLITS = (fmpq(1, 2), fmpq(7, 16), fmpq(9, 16), fmpq(3, 8), fmpq(5, 8), fmpq(13, 32), fmpq(19, 32))
 
 
@@ -99,6 +101,33 @@ class ExpSum:
         """f^{(d)}(t)."""
         return self.values(t, range(d, d + 1))[0]
 
+    def floats(self) -> tuple:
+        """(lambda, weight, coefficients) as numpy arrays of the balls' midpoints: for float
+        estimates that only guide the certified search (see :func:`float_crossing`)."""
+        if "_floats" not in self.__dict__:
+            import numpy as np  # only for guesses; `import lcs_exact` stays without numpy
+            lam = np.array([complex(l) for l, _, _ in self.terms], dtype=complex)
+            w = np.array([float(w) for _, w, _ in self.terms])
+            deg = max((len(cs) for _, _, cs in self.terms), default=1)
+            cs = np.array([[complex(c) for c in cs] + [0] * (deg - len(cs)) for _, _, cs in self.terms],
+                          dtype=complex).reshape(len(lam), deg)
+            self._floats = (lam, w, cs)
+        return self._floats
+
+    def float_values(self, t, d: int = 0):
+        """f^{(d)} at the float points t (midpoints of the terms; overflow gives inf/nan)."""
+        import numpy as np
+        lam, w, cs = self.floats()
+        deg = cs.shape[1]
+        for _ in range(d):  # (e^{lambda t} P)' = e^{lambda t} (lambda P + P')
+            cs = cs * lam[:, None] + np.hstack([cs[:, 1:] * np.arange(1, deg), np.zeros((len(lam), 1))])
+        with np.errstate(all="ignore"):
+            E = np.exp(np.outer(t, lam))
+            P = np.zeros_like(E)
+            for j in range(deg - 1, -1, -1):
+                P = P * t[:, None] + cs[:, j][None, :]
+            return (E * P).real @ w
+
     def sign_enclose(self, lo: fmpq, hi: fmpq, d: int = 0) -> arb:
         """An enclosure of e^{-mu t} f^{(d)}(t) on [lo, hi], mu a dyadic near the largest real
         part of the exponents: the same sign as f^{(d)} everywhere (e^{-mu t} > 0), but a ball
@@ -138,6 +167,40 @@ class ExpSum:
             # where one exponential dominates (e^{-10^6 t} on [0, 1]): keep the intersection
             direct = self.values(X, range(d, d + 1))[0]
             return out.intersection(direct) if out.overlaps(direct) else direct
+
+
+def float_crossing(f: ExpSum, a: float, b: float, points: int = 64) -> float | None:
+    """A float estimate of the first t in (a, b] where f turns negative (None: none seen), from
+    the midpoints of the terms on a grid fine enough for the fastest oscillation (at most 4096
+    points).  A heuristic for the order of the certified searches only: never a decision."""
+    import numpy as np
+    lam, _, _ = f.floats()
+    if not len(lam) or not b > a:
+        return None
+    omega = float(np.max(np.abs(lam.imag)))
+    n = int(min(4096, max(points, 8 * omega * (b - a) + 1)))
+    t = np.linspace(a, b, n + 1)[1:]
+    vals = f.float_values(t)
+    neg = np.nonzero(vals < 0)[0]
+    return float(t[neg[0]]) if len(neg) and np.isfinite(vals[neg[0]]) else None
+
+
+def float_root(f: ExpSum, lo: float, hi: float) -> float | None:
+    """A float root of f in (lo, hi) by Newton's method from the midpoint (None if it leaves the
+    interval or does not settle): a guess that the certified refinement then checks."""
+    import numpy as np
+    t = (lo + hi) / 2
+    for _ in range(40):
+        v, dv = f.float_values(np.array([t]))[0], f.float_values(np.array([t]), 1)[0]
+        if not (np.isfinite(v) and np.isfinite(dv)) or dv == 0:
+            return None
+        step = v / dv
+        t -= step
+        if not lo < t < hi:
+            return None
+        if abs(step) <= 4e-16 * max(1.0, abs(t)):
+            return t
+    return None
 
 
 class RootFunction(Protocol):
@@ -403,7 +466,11 @@ class RootReal(Real):
         # relative to the root's size, read off the end of the bracket nearer to 0 (a bracket
         # (0, 10^98] must be refined to the root near 1.57, not to 10^98 * 2^-prec)
         target = fmpq(1, 2 ** (prec + 2)) * max(1, min(abs(self.lo), abs(self.hi)))
-        f = self.function.at(prec)
+        # the function's ball loses bits to cancellation, and a small f' at the root costs
+        # more: evaluated with a margin learnt from this root's earlier calls, the bracket
+        # reaches the target here instead of exhausting the precision and being asked again
+        # at twice the precision
+        f = self.function.at(prec + ROOT_GUARD)
         if self.simple:
             self._newton(f, prec, target)
         else:
@@ -415,17 +482,26 @@ class RootReal(Real):
         bisection step where Newton does not contract (a wide bracket), a stop where the
         precision is exhausted."""
         certified = False  # f' < 0 on the bracket; it stays so on every sub-bracket
+        guessed = False
         for _ in range(64 + 4 * prec.bit_length()):
             if self.hi - self.lo <= target:
                 return
-            dX = f.enclose(self.lo, self.hi, 1)
+            scale = max(1, abs(self.hi))
+            narrow = (self.hi - self.lo) < scale * fmpq(1, 2 ** 20)
+            X = arb(self.lo).union(arb(self.hi))
+            # on a narrow bracket the direct interval value of f' is tight (one evaluation,
+            # not a Taylor form's three)
+            dX = f.value(X, 1) if narrow else f.enclose(self.lo, self.hi, 1)
             certified = certified or dX < 0
+            if certified and not narrow and not guessed:
+                guessed = True
+                if self._float_shortcut(f):
+                    continue
             if not certified:
                 if not f.sign_enclose(self.lo, self.hi, 1) < 0:
                     self.simple = False
                     return self._bisect(f, prec, target)
                 certified = True
-            X = arb(self.lo).union(arb(self.hi))
             m = dyadic(X)
             fm = f.value(m)
             if not dX < 0:  # f' < 0 is certified, but this enclosure is too loose: bisect once
@@ -452,6 +528,24 @@ class RootReal(Real):
                 self.lo, self.hi = lo2, sp[0]
             else:
                 self.lo, self.hi = sp[0], hi2
+
+    def _float_shortcut(self, f: ExpSum) -> bool:
+        """Narrow a bracket on which f' < 0 is certified to (t - d, t + d] around a float root t,
+        when f(t - d) > 0 > f(t + d) is certified (two evaluations instead of the first
+        Newton steps from a wide bracket)."""
+        t = float_root(f, float(self.lo), float(self.hi))
+        if t is None:
+            return False
+        with workprec(64):
+            c = dyadic(arb(t))
+        d = max(1, abs(c)) * fmpq(1, 2 ** 40)
+        lo, hi = c - d, c + d
+        if not (self.lo < lo and hi < self.hi):
+            return False
+        if f.value(lo) > 0 and f.value(hi) < 0:
+            self.lo, self.hi = lo, hi
+            return True
+        return False
 
     def _bisect(self, f: ExpSum, prec: int, target: fmpq) -> None:
         """Bisection keeping "no crossing before lo" (a search on the left part at each step)."""
