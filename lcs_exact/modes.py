@@ -114,14 +114,14 @@ class Mode:
         return self._cache["W"]
 
     def consistent_subspace(self) -> fmpq_mat:
-        """V_I = V(A, B_.I, C_I., D_II) (Def. 3.1, recursion (3.2)): an n x dim basis (columns)."""
+        """V_I = ``V(A, B_.I, C_I., D_II)`` (Def. 3.1, recursion (3.2)): an n x dim basis (columns)."""
         if "V" not in self._cache:
             self._cache["V"] = kernel(self.annihilator())
         return self._cache["V"]
 
     # --- T_I (3.5) ---------------------------------------------------------------------------
     def jump_space(self) -> fmpq_mat:
-        """T_I = T(A, B_.I, C_I., D_II) (recursion (3.5)): an n x dim basis (columns)."""
+        """T_I = ``T(A, B_.I, C_I., D_II)`` (recursion (3.5)): an n x dim basis (columns)."""
         if "T" not in self._cache:
             n, A = self.lcs.n, self.lcs.A
             L, M, N = self._L, self._M, self._N
@@ -173,7 +173,7 @@ class Mode:
             raise NotAutonomous(f"mode {format_mode(self.I)} is not autonomous: {self.autonomy_reason}")
 
     def free_inputs(self) -> fmpq_mat:
-        """A basis (columns, |I| x d) of Ker[B_I; D_II]: directions of u_I that change neither
+        """A basis (columns, ``|I| x d``) of ``Ker[B_I; D_II]``: directions of u_I that change neither
         the state nor y_I (d = 0 for an autonomous mode)."""
         if "free" not in self._cache:
             m = len(self.I)
@@ -205,7 +205,7 @@ class Mode:
         return self._cache["P"]
 
     def feedback(self) -> fmpq_mat:
-        """F_I (|I| x n): u_I = F_I x keeps x in V_I and y_I = 0 (section 4.1); F_I T_I = 0."""
+        """F_I (``|I| x n``): u_I = F_I x keeps x in V_I and y_I = 0 (section 4.1); F_I T_I = 0."""
         if "F" not in self._cache:
             self.require_state_determined()
             n, m = self.lcs.n, len(self.I)
@@ -225,7 +225,7 @@ class Mode:
         return self._cache["F"]
 
     def closed_loop(self) -> fmpq_mat:
-        """A_I = A + B_.I F_I: x' = A_I x on V_I."""
+        """A_I = ``A + B_.I F_I``: x' = A_I x on V_I."""
         if "AI" not in self._cache:
             self._cache["AI"] = self.lcs.A + self._L * self.feedback() if self.I else self.lcs.A
         return self._cache["AI"]

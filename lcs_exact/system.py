@@ -246,7 +246,7 @@ class LCS:
         return self._cache["chi"]
 
     def spectral_scales(self):
-        """(smallest nonzero |lambda|, largest |lambda|) over the eigenvalues lambda of A, as
+        """(smallest nonzero ``|lambda|``, largest ``|lambda|``) over the eigenvalues lambda of A, as
         certified ``arb`` balls, or None when A is nilpotent: the slowest and fastest rates of
         mode 0 (x' = Ax), which bound the horizons ``simulate`` accepts (docs/limits.md).
 
