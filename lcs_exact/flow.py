@@ -17,7 +17,7 @@ from typing import Any
 
 from flint import arb, fmpq
 
-from .balls import Deadline, Policy, dyadic_lower, dyadic_upper, workprec
+from .balls import Deadline, Policy, ball_sign, dyadic_lower, dyadic_upper, workprec
 from .closedforms import prove_root, prove_touch
 from .errors import LCSError
 from .modes import format_mode
@@ -56,11 +56,16 @@ class _Toucher(_Finder):
         return prove_touch(ph.spectrum, self.c.g, ph.base, lo, hi, ph.policy.deadline)
 
 
-def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> Real | None | str:
+def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: float | None = None
+               ) -> Real | None | str:
     """The first t in (0, horizon] where f = g x(t) turns negative: a :class:`RootReal` (or an
     exact :class:`~lcs_exact.reals.AlgebraicReal` on a polynomial phase from an exact start,
     :mod:`lcs_exact.polyroots`), None (no event in (0, horizon]) or "now" (f is negative right
-    after t = 0)."""
+    after t = 0).
+
+    ``estimate``: a float guess of the crossing (:func:`~lcs_exact.roots.float_crossing`).  The
+    certified search covers (0, estimate] first and, only when it finds no crossing there, the
+    rest of the horizon: a guess can cost time, never the result."""
     sign, order = phase.start_order(c)
     if sign == 0:
         return None  # f = 0 on the whole phase
@@ -75,7 +80,19 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int) -> Real | 
     a, prec = _start(phase, c, fn, order, horizon, prec)
     if a >= horizon:
         return None
-    br = first_crossing(fn, a, horizon, prec, touch=_Toucher(phase, c))
+    touch = _Toucher(phase, c)
+    br = None
+    if estimate is not None:
+        with workprec(64):
+            b1 = min(horizon, dyadic_upper(arb(estimate)))
+        if a < b1 < horizon:
+            br = first_crossing(fn, a, b1, prec, touch=touch)
+            # go on from b1 only where f(b1) > 0 is certified (the search's precondition); an
+            # estimate that lands on a root (an exact time such as 1) is searched again whole
+            if br is None and ball_sign(fn.at(prec).value(b1)) > 0:
+                a = b1
+    if br is None and a < horizon:
+        br = first_crossing(fn, a, horizon, prec, touch=touch)
     if br is None:
         return None
     return RootReal(fn, br, _Finder(phase, c))
@@ -161,8 +178,8 @@ def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]
     found: list = []
     limit = hb
     search = min(prec, SEARCH_PREC)
-    for c in _by_estimate(phase, hb, search):
-        r = first_root(phase, c, limit, search)
+    for est, c in _by_estimate(phase, hb, search):
+        r = first_root(phase, c, limit, search, est)
         if r is None:
             continue
         if r == "now":
@@ -178,28 +195,34 @@ def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]
             first_c, first = c, r
     if phase.policy.closed_forms == "eager":
         first.closed_form
-    if (first - H).sign() > 0:
-        return None
+    with workprec(64):
+        h_low = dyadic_lower(H.arb(64))
+    if not (isinstance(first, RootReal) and first.hi < h_low) and (first - H).sign() > 0:
+        return None  # (the bracket settles the usual case without a sign decision)
     simultaneous = [first_c] + [c for c, r in found if r is not first and
                                 compare_roots(phase, r, c, first, first_c) == 0]
     return first, simultaneous
 
 
-def _by_estimate(phase: Phase, horizon: fmpq, prec: int) -> list[Constraint]:
-    """The constraints, those whose float estimate crosses zero first in front: the certified
-    search of the first one then bounds the others' (a constraint that never crosses is certified
-    only up to the event, not over the whole horizon).  Only the order depends on floats; every
-    decision stays certified.  The sums are those the search uses next (same precision)."""
-    if len(phase.constraints) < 2:
-        return list(phase.constraints)
+def _by_estimate(phase: Phase, horizon: fmpq, prec: int) -> list[tuple[float | None, Constraint]]:
+    """[(estimate, constraint)], those whose float estimate crosses zero first in front: the
+    certified search of the first one then bounds the others' (a constraint that never crosses is
+    certified only up to the event, not over the whole horizon), and each search looks up to its
+    estimate first.  Only the order and the windows depend on floats; every decision stays
+    certified.  The sums are those the search uses next (same precision)."""
     keyed = []
     for i, c in enumerate(phase.constraints):
         est = None
         if phase.start_order(c)[0] > 0:
-            est = float_crossing(phase.function(c).at(prec), 0.0, float(horizon))
-        keyed.append((math.inf if est is None else est, i, c))
+            est = float_crossing(phase.function(c).at(prec), 0.0, _float(horizon))
+        keyed.append((math.inf if est is None else est, i, est, c))
     keyed.sort(key=lambda e: (e[0], e[1]))
-    return [c for _, _, c in keyed]
+    return [(est, c) for _, _, est, c in keyed]
+
+
+def _float(q: fmpq) -> float:
+    """q as a float, capped at 1e300 (a horizon of 10^400 is only looked into so far)."""
+    return float(min(q, fmpq(10) ** 300))
 
 
 def theta(lcs, x0: Any, I, horizon: Any, *, time_limit: float | None = None) -> Real | None:

@@ -29,6 +29,7 @@ and the phase start's ball at that precision (it is anchored like every node of
 """
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass
 from typing import Callable, Protocol
@@ -169,30 +170,63 @@ class ExpSum:
             return out.intersection(direct) if out.overlaps(direct) else direct
 
 
+#: how many float points an estimate of a crossing looks at, at most
+MAX_FLOAT_POINTS = 1 << 14
+
+
 def float_crossing(f: ExpSum, a: float, b: float, points: int = 64) -> float | None:
     """A float estimate of the first t in (a, b] where f turns negative (None: none seen), from
-    the midpoints of the terms on a grid fine enough for the fastest oscillation (at most 4096
-    points).  A heuristic for the order of the certified searches only: never a decision."""
+    the midpoints of the terms on a grid fine enough for the fastest oscillation (8 points a
+    radian), scanned in chunks from a so that an early crossing costs one chunk however long
+    the horizon.  A heuristic for the order and windows of the certified searches only: never a
+    decision."""
     import numpy as np
     lam, _, _ = f.floats()
     if not len(lam) or not b > a:
         return None
     omega = float(np.max(np.abs(lam.imag)))
-    n = int(min(4096, max(points, 8 * omega * (b - a) + 1)))
-    t = np.linspace(a, b, n + 1)[1:]
-    vals = f.float_values(t)
-    neg = np.nonzero(vals < 0)[0]
-    return float(t[neg[0]]) if len(neg) and np.isfinite(vals[neg[0]]) else None
+    step = (b - a) / points if omega * (b - a) < points / 8 else 1 / (8 * omega)
+    chunk = 256
+    lo, b = a, min(b, a + MAX_FLOAT_POINTS * step)  # a long horizon: the estimate looks ahead only so far
+    while lo < b:
+        hi = min(b, lo + chunk * step)
+        n = max(1, int(round((hi - lo) / step)))
+        t = np.linspace(lo, hi, n + 1)[1:]
+        vals = f.float_values(t)
+        neg = np.nonzero(vals < 0)[0]
+        if len(neg):
+            return float(t[neg[0]]) if np.isfinite(vals[neg[0]]) else None
+        if not np.all(np.isfinite(vals)):
+            return None
+        lo = hi
+    return None
 
 
 def float_root(f: ExpSum, lo: float, hi: float) -> float | None:
     """A float root of f in (lo, hi) by Newton's method from the midpoint (None if it leaves the
     interval or does not settle): a guess that the certified refinement then checks."""
-    import numpy as np
+    lam, w, cs = f.floats()
+    terms = [(complex(l), float(wt), [complex(c) for c in row]) for l, wt, row in zip(lam, w, cs)]
+
+    def f_df(t: float) -> tuple[float, float]:
+        v = dv = 0.0
+        for l, wt, row in terms:  # scalar complex arithmetic: cheaper than numpy on one point
+            p = dp = 0j
+            for c in reversed(row):
+                dp = dp * t + p
+                p = p * t + c
+            e = cmath.exp(l * t)
+            v += wt * (e * p).real
+            dv += wt * (e * (l * p + dp)).real
+        return v, dv
+
     t = (lo + hi) / 2
     for _ in range(40):
-        v, dv = f.float_values(np.array([t]))[0], f.float_values(np.array([t]), 1)[0]
-        if not (np.isfinite(v) and np.isfinite(dv)) or dv == 0:
+        try:
+            v, dv = f_df(t)
+        except OverflowError:
+            return None
+        if not (math.isfinite(v) and math.isfinite(dv)) or dv == 0:
             return None
         step = v / dv
         t -= step
