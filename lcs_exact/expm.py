@@ -145,8 +145,11 @@ class Spectrum:
         return self._roots[1]
 
     def _krylov_columns(self, T: fmpq_mat, Cm: fmpq_mat, eig: list, work: int) -> list[acb_mat]:
-        """[K_lambda(T) c_j for each column c_j of Cm] as n x e matrices (column k: eigenvalue
-        k), K_lambda(T) = q_lambda(T) / r'(lambda), T = S or S^T."""
+        """[K_lambda(T) C_lambda for each eigenvalue], C_lambda the first m_lambda columns of Cm
+        (n x m_lambda balls), K_lambda(T) = q_lambda(T) / r'(lambda), T = S or S^T.  The first
+        column for every eigenvalue at once is one product (Horner vectors) x (Vandermonde);
+        the further columns, needed by the few multiple eigenvalues only, are sums of the
+        Horner blocks."""
         c = self.r.coeffs()
         d = len(c) - 1
         n, e = self.n, len(eig)
@@ -162,7 +165,17 @@ class Spectrum:
             vs = [Y]
             for i in range(1, d):
                 vs.append(Tb * vs[-1] + Y * arb(c[d - i]))
-            return [acb_mat([[v[row, j] for v in vs] for row in range(n)]) * Lv for j in range(Cm.ncols())]
+            first = acb_mat([[v[row, 0] for v in vs] for row in range(n)]) * Lv
+            out = []
+            for k, (_, _, m) in enumerate(eig):
+                if m == 1:
+                    out.append(acb_mat([[first[row, k]] for row in range(n)]))
+                    continue
+                block = acb_mat(n, Cm.ncols())
+                for i, v in enumerate(vs):
+                    block += acb_mat(v) * Lv[i, k]
+                out.append(acb_mat([[block[row, j] for j in range(m)] for row in range(n)]))
+            return out
 
     def factors(self, prec: int) -> list[tuple[acb, int, acb_mat, acb_mat]]:
         """[(lambda, weight, R_lambda, H_lambda)] with K_lambda = R_lambda H_lambda (n x m and
@@ -187,8 +200,7 @@ class Spectrum:
             with workprec(work):
                 try:
                     for k, (lam, w, m) in enumerate(eig):
-                        R = acb_mat([[right[j][i, k] for j in range(m)] for i in range(n)])
-                        L = acb_mat([[left[j][i, k] for i in range(n)] for j in range(m)])
+                        R, L = right[k], left[k].transpose()
                         G = L * acb_mat(_columns(C, m))
                         out.append((lam, w, R, G.solve(L)))
                 except ZeroDivisionError:  # G not certified invertible: other probes
