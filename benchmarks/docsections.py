@@ -1,10 +1,11 @@
-"""docs/performance.md is written by three scripts: run.py (the head), scaling.py (from
-``<!-- scaling -->``) and sweep_hook.py (from ``<!-- sweeps -->``); each replaces only its part."""
+"""docs/performance.md is written by four scripts: run.py (the head), scaling.py (from
+``<!-- scaling -->``), scale.py (from ``<!-- scale -->``) and sweep_hook.py (from
+``<!-- sweeps -->``); each replaces only its part."""
 from __future__ import annotations
 
 from pathlib import Path
 
-MARKERS = ["<!-- head -->", "<!-- scaling -->", "<!-- sweeps -->"]
+MARKERS = ["<!-- head -->", "<!-- scaling -->", "<!-- scale -->", "<!-- sweeps -->"]
 
 
 def write_section(path: Path, marker: str, text: str) -> None:

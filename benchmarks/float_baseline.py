@@ -3,11 +3,12 @@
 An event-driven loop around ``scipy.integrate.solve_ivp``: in mode I the constraints y_I = 0 are
 held by u_I = -H_II^{-1} (C A^r x)_I (H = D for relative degree r = 0, C A^{r-1} B otherwise);
 terminal events stop the integration when some u_i (i in I) or y_j (j not in I) crosses zero
-downwards; the next mode is chosen by an LCP at the level of the first non-vanishing derivative
-(acceleration level for mechanics; for r = 0 the triggering constraint is toggled, as the
-sign of y at the switch is a rounding error), and an impact (r = 2, y_j = 0 with y_j' < 0) is resolved by
-the velocity-level LCP (Newton's law with e = 0, Moreau's rule). Tolerances are plain floats
-(``tol_y``): exactly the kind of decision lcs_exact refuses to take on a guess.
+downwards; the next mode is chosen by an LCP (Lemke's pivoting method, :func:`lcp`) at the level
+of the first non-vanishing derivative (acceleration level for mechanics; for r = 0 the triggering
+constraint is toggled, as the sign of y at the switch is a rounding error), and an impact (r = 2,
+y_j = 0 with y_j' < 0) is resolved by the velocity-level LCP (Newton's law with e = 0, Moreau's
+rule). Tolerances are plain floats (``tol_y``): exactly the kind of decision lcs_exact refuses to
+take on a guess.
 """
 from __future__ import annotations
 
@@ -18,8 +19,71 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 
-def lcp(W, q, eps=1e-12):
-    """Solve 0 <= w = q + W u  ⊥  u >= 0 by enumerating active sets (small k only)."""
+def lcp(W, q, eps=1e-12, max_pivots=None):
+    """Solve 0 <= w = q + W u  ⊥  u >= 0 by Lemke's complementary pivoting (covering vector
+    e = 1, lexicographic ratio test against cycling on degenerate LCPs), in floats with
+    tolerances: O(k^2) per pivot, a handful of pivots on the LCPs here.  Finds the solution of
+    every P-matrix LCP (W here is C A^{r-1} B or D of a well-posed system); raises RuntimeError
+    on ray termination (no solution found)."""
+    W = np.asarray(W, dtype=float)
+    q = np.asarray(q, dtype=float)
+    k = len(q)
+    if k == 0:
+        return np.zeros(0)
+    if np.all(q >= -eps):
+        return np.zeros(k)
+    # tableau [B^-1 | B^-1 (-W) | B^-1 (-e) | B^-1 q] over the columns w (0..k-1), u (k..2k-1),
+    # z0 (2k); the basis starts at w = q
+    T = np.hstack([np.eye(k), -W, -np.ones((k, 1)), q.reshape(-1, 1)])
+    basis = list(range(k))
+    Z0 = 2 * k
+    scale = 1.0 + np.abs(T).max()
+    ptol = 1e-12 * scale
+
+    def pivot(r, c):
+        T[r] /= T[r, c]
+        col = T[:, c].copy()
+        col[r] = 0.0
+        T[:] -= np.outer(col, T[r])
+
+    # z0 enters where q is most negative; among ties the largest index keeps the rows
+    # lexicographically positive
+    qmin = q.min()
+    r = max(i for i in range(k) if q[i] <= qmin + 1e-12 * (1.0 + abs(qmin)))
+    pivot(r, Z0)
+    leaving, basis[r] = basis[r], Z0
+    for _ in range(max_pivots or 50 * (k + 1)):
+        entering = leaving + k if leaving < k else leaving - k     # the complement
+        d = T[:, entering]
+        rows = np.nonzero(d > ptol)[0]
+        if len(rows) == 0:
+            raise RuntimeError("LCP: Lemke's ray termination (no solution found)")
+        ratio = T[rows, -1] / d[rows]
+        m = ratio.min()
+        tied = rows[ratio <= m + 1e-12 * (1.0 + abs(m))]
+        if any(basis[i] == Z0 for i in tied):
+            r = next(i for i in tied if basis[i] == Z0)
+        else:  # lexicographic rule on the rows of B^-1 / d
+            for j in range(k):
+                if len(tied) == 1:
+                    break
+                v = T[tied, j] / d[tied]
+                tied = tied[v <= v.min() + 1e-12 * (1.0 + abs(v.min()))]
+            r = int(tied[0])
+        pivot(r, entering)
+        leaving, basis[r] = basis[r], entering
+        if leaving == Z0:
+            u = np.zeros(k)
+            for i, b in enumerate(basis):
+                if k <= b < 2 * k:
+                    u[b - k] = T[i, -1]
+            return np.maximum(u, 0.0)
+    raise RuntimeError("LCP: Lemke's algorithm did not end within its pivot limit")
+
+
+def _lcp_enumerate(W, q, eps=1e-12):
+    """The former float LCP, 2^k active sets: kept only as the reference of :func:`self_test`
+    (no benchmark uses it)."""
     k = len(q)
     if k == 0:
         return np.zeros(0)
@@ -37,6 +101,39 @@ def lcp(W, q, eps=1e-12):
             if np.all(uS >= -eps) and np.all(q + W @ u >= -eps * (1 + np.abs(q).max())):
                 return np.maximum(u, 0.0)
     raise RuntimeError("LCP without solution (float enumeration)")
+
+
+def self_test(trials=400, seed=1, kmax=8):
+    """:func:`lcp` (Lemke) against :func:`_lcp_enumerate` on random P-matrix LCPs: symmetric
+    positive definite W, nonsymmetric W = SPD + skew, and Delassus-like W = E M^-1 E^T of a
+    cart chain; q Gaussian with some entries set to exactly 0 (degenerate pivots).  P-matrix
+    LCPs have one solution, so both must return it.  Returns (trials, largest difference,
+    largest complementarity/feasibility residual); raises AssertionError past 1e-8."""
+    rng = np.random.default_rng(seed)
+    worst = resid = 0.0
+    for t in range(trials):
+        k = 1 + t % kmax
+        G = rng.standard_normal((k, k))
+        kind = t % 3
+        if kind == 0:
+            W = G @ G.T + 0.1 * np.eye(k)
+        elif kind == 1:
+            S = rng.standard_normal((k, k))
+            W = G @ G.T + 0.1 * np.eye(k) + (S - S.T)
+        else:
+            N = 2 * k + 1
+            K = 2 * np.eye(N) - np.eye(N, k=1) - np.eye(N, k=-1)
+            E = np.zeros((k, N))
+            E[np.arange(k), 2 * np.arange(k)] = 1.0
+            W = E @ np.linalg.inv(K + np.eye(N)) @ E.T
+        q = rng.standard_normal(k)
+        q[rng.random(k) < 0.25] = 0.0
+        u1, u2 = lcp(W, q), _lcp_enumerate(W, q)
+        w = q + W @ u1
+        worst = max(worst, float(np.abs(u1 - u2).max()) / (1.0 + float(np.abs(u2).max())))
+        resid = max(resid, float(max(-w.min(), -u1.min(), np.abs(u1 * w).max(), 0.0)))
+    assert worst < 1e-8 and resid < 1e-8, (worst, resid)
+    return trials, worst, resid
 
 
 def simulate_float(A, B, C, D, x0, T, r, rtol=1e-8, atol=None, method="DOP853", tol_y=1e-9,

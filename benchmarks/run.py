@@ -452,7 +452,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="a few minutes: fewer steps and digits")
     ap.add_argument("--only", help="comma-separated case names (two_carts, rlc_diode, d_positive, "
-                    "stiff_rc, chain2, chain4, chain8, chain16, long_run)")
+                    "stiff_rc, chain2, chain4, chain8, chain16, chain24, chain32, long_run)")
     ap.add_argument("--no-write", action="store_true", help="print only; do not write docs/")
     ap.add_argument("--json", help="also dump the raw results to this file")
     args = ap.parse_args()

@@ -128,7 +128,7 @@ def long_run() -> Case:
 
 
 def all_cases(quick: bool = False) -> list[Case]:
-    chains = [chain(N) for N in (2, 4, 8, 16)]
+    chains = [chain(N) for N in (2, 4, 8, 16, 24, 32)]
     return [two_carts(), rlc_diode(), d_positive(), stiff_rc_diode(), *chains, long_run()]
 
 

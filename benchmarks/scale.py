@@ -1,0 +1,536 @@
+"""Scale (issue 14): lcs_exact beside Siconos and the SciPy float baseline at the sizes numerical
+solvers run, every ratio taken within one run, each measurement printed next to the issue's
+target (reported, not judged).  Run from the repository root:
+
+    python benchmarks/scale.py            # full: N = 8, 16, 24, 32, 5 repeats (~6-10 min)
+    python benchmarks/scale.py --quick    # N = 8, 16, 24, fewer repeats (~2 min)
+    python benchmarks/scale.py --write    # also replace the "Scale" section of docs/performance.md
+    python benchmarks/scale.py --profile 32   # only: cProfile of the N = 32 chain (top 15, cumulative)
+
+What is measured (the machine has 2 shared cores: every comparison alternates the programs, one
+run of each per repeat, and reports medians; a ratio is the median over repeats of the ratio of
+the two runs of that repeat):
+
+1. Chain of N unit carts (``systems.chain(N)``: ``lcs_exact.examples.cart_chain(N)``, q0 =
+   (1, -1, 1, ...)/2, v0 = 0, T = 10), N = 8, 16, 24, 32 (n = 2N, k = N/2).  lcs_exact:
+   ``simulate(lcs, x0, 10, digits=30)``, each run in a fresh interpreter after a warm-up run of
+   a small system (imports, caches), timed around ``simulate`` alone; the same process then
+   evaluates every event time and x(T) as 30-digit balls (reported apart).  Siconos: Moreau-Jean,
+   theta = 1/2 (the convention of benchmarks/core.py), h = 1e-4, through
+   ``benchmarks/siconos_runs.py`` under /usr/bin/python3 with OPENBLAS_NUM_THREADS=1; its time is
+   the time loop inside that process (model construction and interpreter start excluded).  SciPy:
+   ``float_baseline.simulate_float`` with DOP853, rtol = 1e-10, atol = 1e-12 (run.py's atol =
+   rtol/100), in this process after a warm-up run.  Time per event uses lcs_exact's count of
+   events; the exponent is the least-squares slope of log(time per event) on log(n).
+2. The float baseline's LCP is Lemke's method (``float_baseline.lcp``), checked here against the
+   former 2^k enumeration on random P-matrix LCPs (``float_baseline.self_test``).
+3. 1000 events: ``systems.long_run()`` (two masses, one stop) with max_events = 1000, in a fresh
+   interpreter after a warm-up; the time stamps of the events come from the public progress hook
+   (``simulate(..., progress=True)`` with a stand-in for tqdm that records perf_counter at every
+   update: one update per event, included in the total).  Siconos: Euler-Moreau (the first-order
+   formulation, FirstOrderLinearTIDS + EulerMoreauOSI), theta = 1/2, h = 1e-3, to the time of
+   lcs_exact's 1000th event.
+4. Two carts (section 7: x0 = expm_action(A, -1, (0, -1, -1, 0)), T = 3): lcs_exact
+   ``simulate(..., digits=30)`` against the SciPy baseline (DOP853, rtol = 1e-10, atol = 1e-12),
+   in this process, alternated, after a warm-up; a fresh LCS and x0 for every lcs_exact repeat
+   (built outside the timed region, like SciPy's float x0).
+5. Cold start: ``python -m lcs_exact two-carts`` against ``python -c "import lcs_exact"`` as
+   whole processes (wall time around ``subprocess.run``), alternated A B A B after one unrecorded
+   run of each.
+
+Every program here runs with OPENBLAS_NUM_THREADS=1 (set before numpy is imported).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import time
+from fractions import Fraction
+from pathlib import Path
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+ROOT = Path(__file__).resolve().parents[1]
+BENCH = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(BENCH))
+
+import float_baseline as FB  # noqa: E402
+import systems as S  # noqa: E402
+
+SICONOS_PY = "/usr/bin/python3"
+SICONOS_SCRIPT = str(BENCH / "siconos_runs.py")
+ENV1 = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
+MARKER = "<!-- scale -->"
+
+# one lcs_exact point in a fresh interpreter: warm-up, then the timed run; prints one JSON line
+CHILD = r"""
+import json, sys, time, types
+sys.path.insert(0, BENCH)
+spec = json.loads(SPEC)
+stamps = []
+class _Bar:  # stands in for tqdm: simulate(progress=True) calls update once per event
+    def __init__(self, *a, **k):
+        self.n = 0.0
+    def update(self, d):
+        stamps.append(time.perf_counter())
+        self.n += d
+    def close(self):
+        pass
+_m = types.ModuleType("tqdm.auto")
+_m.tqdm = _Bar
+sys.modules["tqdm.auto"] = _m
+import lcs_exact as L
+import systems as S
+from lcs_exact.models import two_carts
+L.simulate(two_carts(), [1, 0, 0, 0], 2)            # warm-up: imports, caches
+case = S.chain(spec["N"]) if spec["what"] == "chain" else S.long_run()
+lcs, x0 = case.lcs(), case.exact_x0()
+T = case.t_end
+out = {"status": "ok"}
+t0 = time.perf_counter()
+try:
+    tr = L.simulate(lcs, x0, T, digits=30, max_events=case.max_events, progress=spec["what"] == "long_run")
+except L.LimitExceeded as e:
+    tr = e.trajectory
+    out["status"] = "max_events" if len(tr.events) >= case.max_events else type(e).__name__
+out["time"] = time.perf_counter() - t0
+out["events"] = len(tr.events)
+out["certified"] = bool(tr.certified)
+out["t_last"] = float(tr.events[-1].time) if tr.events else None
+if spec["what"] == "chain" and out["status"] == "ok":
+    t1 = time.perf_counter()
+    for ev in tr.events:
+        ev.time.ball(30)
+    [c.ball(30) for c in tr.state(T)]
+    out["eval"] = time.perf_counter() - t1
+if stamps:
+    d = [b - a for a, b in zip([t0] + stamps, stamps)]   # d[i]: wall time of event i + 1
+    def window(lo, hi):
+        w = d[lo:hi]
+        return {"median": sorted(w)[len(w) // 2], "mean": sum(w) / len(w), "range": [lo + 1, min(hi, len(d))]}
+    out["near100"] = window(75, 125)
+    out["near1000"] = window(len(d) - 50, len(d))
+    out["stamps"] = len(stamps)
+print(json.dumps(out))
+"""
+
+
+def lcs_point(spec, timeout=900):
+    code = CHILD.replace("BENCH", repr(str(BENCH))).replace("SPEC", repr(json.dumps(spec)))
+    t0 = time.perf_counter()
+    try:
+        p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                           env=ENV1, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"status": f"timeout after {timeout} s"}
+    if p.returncode != 0:
+        return {"status": "error: " + (p.stderr.strip().splitlines() or ["?"])[-1][:120]}
+    out = json.loads(p.stdout.strip().splitlines()[-1])
+    out["process"] = time.perf_counter() - t0
+    return out
+
+
+# --- Siconos -------------------------------------------------------------------------------------
+def siconos_check():
+    """None when /usr/bin/python3 imports siconos.kernel, else the reason."""
+    if not os.path.exists(SICONOS_PY):
+        return f"{SICONOS_PY} not found"
+    p = subprocess.run([SICONOS_PY, "-c", "import siconos, siconos.kernel; print(siconos.__file__)"],
+                       capture_output=True, text=True, env=ENV1)
+    if p.returncode:
+        return "siconos not importable: " + (p.stderr.strip().splitlines() or ["?"])[-1]
+    return None
+
+
+def siconos_version():
+    p = subprocess.run(["dpkg-query", "-W", "-f=${Version}", "python3-siconos"], capture_output=True,
+                       text=True)
+    return p.stdout.strip() or "?"
+
+
+def run_siconos(job, timeout=600):
+    try:
+        p = subprocess.run([SICONOS_PY, SICONOS_SCRIPT], input=json.dumps(job), capture_output=True,
+                           text=True, env=ENV1, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"error": f"timeout after {timeout} s"}
+    if p.returncode != 0:
+        lines = [ln for ln in p.stderr.strip().splitlines() if ln.strip()]
+        return {"error": (lines or [f"exit {p.returncode}"])[-1][:120]}
+    return json.loads(p.stdout)
+
+
+def fl(v):
+    return repr(float(Fraction(v)))
+
+
+def moreau_jean_job(case, T, h):
+    x0 = case.float_x0()
+    m = len(case.mech["M"])
+    return {"kind": "lagrangian", "M": case.mech["M"], "K": case.mech["K"], "E": case.mech["E"],
+            "q0": [repr(v) for v in x0[:m]], "v0": [repr(v) for v in x0[m:]], "t_end": float(T),
+            "method": "moreau_jean", "theta": 0.5, "h": h, "grid_stride": 1000}
+
+
+def euler_moreau_job(case, T, h):
+    mat = lambda M: [[fl(v) for v in row] for row in M]  # noqa: E731
+    return {"kind": "first_order", "A": mat(case.A), "B": mat(case.B), "C": mat(case.C),
+            "D": mat(case.D), "x0": [repr(v) for v in case.float_x0()], "t_end": float(T),
+            "method": "euler_moreau", "theta": 0.5, "h": h, "grid_stride": 1000}
+
+
+# --- SciPy ---------------------------------------------------------------------------------------
+def scipy_run(case, T):
+    A, B, C, D = ([[float(Fraction(v)) for v in row] for row in M] for M in (case.A, case.B, case.C, case.D))
+    segs, evs, wall = FB.simulate_float(A, B, C, D, case.float_x0(), float(T), case.r, rtol=1e-10,
+                                        atol=1e-12, method="DOP853")
+    return wall, len(evs)
+
+
+# --- helpers -------------------------------------------------------------------------------------
+def med(xs):
+    xs = [x for x in xs if x is not None]
+    return statistics.median(xs) if xs else None
+
+
+def paired_ratio(a, b):
+    """Median over repeats of a[i] / b[i] (the two runs of one repeat)."""
+    return med([x / y for x, y in zip(a, b) if x is not None and y])
+
+
+def fit(xs, ys):
+    """Least-squares slope of log y against log x (None with fewer than 2 points)."""
+    pts = [(math.log(x), math.log(y)) for x, y in zip(xs, ys) if x and y and x > 0 and y > 0]
+    if len(pts) < 2:
+        return None
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx if sxx else None
+
+
+def ts(s):
+    if s is None:
+        return "—"
+    return f"{s * 1e3:.1f} ms" if s < 1 else f"{s:.2f} s"
+
+
+def rs(r):
+    return "—" if r is None else (f"{r:.3g}" if r < 100 else f"{r:.0f}")
+
+
+class Out:
+    """Collects markdown lines and prints them as they come."""
+
+    def __init__(self):
+        self.lines = []
+
+    def __call__(self, s=""):
+        self.lines.append(s)
+        print(s, flush=True)
+
+    def table(self, head, rows):
+        self("| " + " | ".join(head) + " |")
+        self("|" + "---|" * len(head))
+        for r in rows:
+            self("| " + " | ".join(str(c) for c in r) + " |")
+        self()
+
+
+def git_state():
+    try:
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                              cwd=ROOT).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--short", "--", "lcs_exact"], capture_output=True,
+                               text=True, cwd=ROOT).stdout.split("\n")
+        dirty = [ln[3:].strip() for ln in dirty if ln.strip()]
+    except OSError:
+        return "?"
+    if not dirty:
+        return head
+    shown = [f for f in dirty if (ROOT / f).is_file()]   # the docs cite only files that exist
+    gone = len(dirty) - len(shown)
+    return (head + f" with uncommitted changes in {', '.join(shown)}"
+            + (f" and {gone} removed or renamed files" if gone else ""))
+
+
+# --- the five measurements ------------------------------------------------------------------------
+def chain_section(out, Ns, repeat, sic_ok, summary, log):
+    res = {N: {"lcs": [], "eval": [], "sic": [], "sp": [], "events": None, "cert": [], "status": [],
+               "sp_events": None} for N in Ns}
+    cases = {N: S.chain(N) for N in Ns}
+    for N in Ns:   # SciPy warm-up (imports, first-call costs) in this process
+        scipy_run(cases[N], cases[N].t_end)
+    for rep in range(repeat):
+        for N in Ns:
+            c = cases[N]
+            r = lcs_point({"what": "chain", "N": N})
+            d = res[N]
+            d["status"].append(r["status"])
+            if "time" in r:
+                d["lcs"].append(r["time"])
+                d["eval"].append(r.get("eval"))
+                d["events"] = r["events"]
+                d["cert"].append(r["certified"])
+            else:
+                d["lcs"].append(None)
+            if sic_ok:
+                s = run_siconos(moreau_jean_job(c, c.t_end, 1e-4))
+                d["sic"].append(s.get("wall"))
+                if "error" in s:
+                    d.setdefault("sic_err", s["error"])
+            w, ne = scipy_run(c, c.t_end)
+            d["sp"].append(w)
+            d["sp_events"] = ne
+            log(f"  repeat {rep + 1}/{repeat}, N = {N}: lcs_exact {ts(d['lcs'][-1])} ({r['status']}), "
+                f"Siconos {ts(d['sic'][-1]) if sic_ok else '—'}, SciPy {ts(w)}")
+    rows, xs, ys = [], [], []
+    for N in Ns:
+        d = res[N]
+        t = med(d["lcs"])
+        ev = d["events"]
+        per = t / ev if t and ev else None
+        cert = ("yes" if all(d["cert"]) else f"NO ({sum(not c for c in d['cert'])} of {len(d['cert'])})") \
+            if d["cert"] else "—"
+        st = ", ".join(sorted(set(d["status"])))
+        r_sic = paired_ratio(d["lcs"], d["sic"]) if sic_ok else None
+        r_sp = paired_ratio(d["lcs"], d["sp"])
+        tgt_sic = {16: "≤ 0.02", 32: "≤ 0.1"}.get(N, "")
+        tgt_sp = "≤ 3" if N in (16, 32) else ""
+        d.update(t=t, per=per, r_sic=r_sic, r_sp=r_sp, cert_s=cert)
+        rows.append((N, 2 * N, N // 2, ts(t) + ("" if st == "ok" else f" ({st})"), ev, cert, ts(per),
+                     ts(med(d["eval"])), ts(med(d["sic"])) if sic_ok else d.get("sic_err", "not run"),
+                     ts(med(d["sp"])), d["sp_events"], rs(r_sic), tgt_sic, rs(r_sp), tgt_sp))
+        if per and 16 <= 2 * N <= 64:
+            xs.append(2 * N)
+            ys.append(per)
+    out("### Chain of N carts to t = 10: lcs_exact (30 digits) beside Siconos and SciPy\n")
+    out(f"Medians of {repeat} repeats; in each repeat lcs_exact (fresh interpreter after a warm-up), "
+        "Siconos and SciPy run one after the other for each N. *+ balls*: every event time and x(10) "
+        "evaluated as 30-digit balls after `simulate` (same process, not in the time). Ratios are "
+        "medians of the per-repeat ratios.\n")
+    out.table(["N", "n", "k", "lcs_exact", "events", "certified", "per event", "+ balls",
+               "Siconos MJ h=1e-4", "SciPy DOP853 1e-10", "SciPy events", "lcs/Siconos", "target",
+               "lcs/SciPy", "target"], rows)
+    e = fit(xs, ys)
+    out(f"Fitted exponent of lcs_exact's time per event against n (least squares on log-log, "
+        f"n = {', '.join(map(str, xs))}): **{'—' if e is None else f'{e:.2f}'}** (target: ≤ 2.5 from n = 16 "
+        f"to n = 64{'' if 64 in xs else '; this run stops at n = ' + str(max(xs, default=0))}).\n")
+    for N in Ns:
+        d = res[N]
+        if N in (16, 32):
+            summary.append((f"chain of {N} carts: lcs_exact / Siconos MJ h=1e-4", rs(d["r_sic"]),
+                            "≤ 0.02" if N == 16 else "≤ 0.1",
+                            f"{ts(d['t'])} vs {ts(med(d['sic']))}; certified: {d['cert_s']}"))
+            summary.append((f"chain of {N} carts: lcs_exact / SciPy DOP853 rtol 1e-10", rs(d["r_sp"]), "≤ 3",
+                            f"{ts(d['t'])} vs {ts(med(d['sp']))}"))
+    summary.append(("time per event against n (exponent)", "—" if e is None else f"{e:.2f}", "≤ 2.5",
+                    f"n = {', '.join(map(str, xs))}"))
+    return res, e
+
+
+def long_run_section(out, repeat, sic_ok, summary, log):
+    lcs, sic = [], []
+    runs = []
+    for rep in range(repeat):
+        r = lcs_point({"what": "long_run"}, timeout=1800)
+        runs.append(r)
+        lcs.append(r.get("time"))
+        if sic_ok and r.get("t_last"):
+            s = run_siconos(euler_moreau_job(S.long_run(), r["t_last"], 1e-3), timeout=900)
+            sic.append(s.get("wall"))
+            if "error" in s:
+                log(f"  Siconos Euler-Moreau failed: {s['error']}")
+        log(f"  repeat {rep + 1}/{repeat}: lcs_exact {ts(r.get('time'))} ({r.get('status')}, "
+            f"{r.get('events')} events), Siconos {ts(sic[-1]) if sic else '—'}")
+    ok = [r for r in runs if "near100" in r]
+    t = med(lcs)
+    n_ev = runs[-1].get("events")
+    t_last = runs[-1].get("t_last")
+    n100 = med([r["near100"]["median"] for r in ok])
+    n1000 = med([r["near1000"]["median"] for r in ok])
+    m100 = med([r["near100"]["mean"] for r in ok])
+    m1000 = med([r["near1000"]["mean"] for r in ok])
+    ratio = paired_ratio(lcs, sic) if sic_ok else None
+    flat = n1000 / n100 if n100 and n1000 else None
+    out("### 1000 events: two masses, one stop (`systems.long_run()`, max_events = 1000)\n")
+    out(f"Medians of {repeat} alternated repeats (lcs_exact in a fresh interpreter after a warm-up, then "
+        f"Siconos). Siconos: Euler-Moreau (first-order formulation), θ = 1/2, h = 1e-3, to the time of "
+        f"lcs_exact's 1000th event, t = {t_last:.4f} ({round(t_last / 1e-3)} steps). Per event: the "
+        "wall time between consecutive events (progress-hook time stamps), median and mean over "
+        f"events {ok[0]['near100']['range'][0]}-{ok[0]['near100']['range'][1]} and "
+        f"{ok[0]['near1000']['range'][0]}-{ok[0]['near1000']['range'][1]}, then the median over "
+        "repeats.\n" if ok and t_last else "")
+    rows = [("lcs_exact, 30 digits: total", f"{ts(t)} for {n_ev} events ({ts(t / n_ev if t and n_ev else None)} "
+             f"per event), status {', '.join(sorted({str(r.get('status')) for r in runs}))}", ""),
+            ("Siconos Euler-Moreau h = 1e-3, same horizon", ts(med(sic)) if sic_ok else "not run", ""),
+            ("lcs_exact / Siconos", rs(ratio), "≤ 0.2"),
+            ("lcs_exact per event near event 100 (median / mean)", f"{ts(n100)} / {ts(m100)}", ""),
+            ("lcs_exact per event near event 1000 (median / mean)", f"{ts(n1000)} / {ts(m1000)}", ""),
+            ("per event, event ~1000 / event ~100 (medians)", rs(flat), "flat (≈ 1)")]
+    out.table(["measure", "value", "target"], rows)
+    summary.append(("1000 events: lcs_exact / Siconos Euler-Moreau h=1e-3", rs(ratio), "≤ 0.2",
+                    f"{ts(t)} vs {ts(med(sic))}"))
+    summary.append(("1000 events: per event near 1000 / near 100", rs(flat), "flat",
+                    f"{ts(n100)} → {ts(n1000)}"))
+
+
+def two_carts_section(out, repeat, summary):
+    import lcs_exact as L
+    case = S.two_carts()
+    T = case.t_end
+    same_lcs, same_x0 = case.lcs(), case.exact_x0()
+
+    def lcs_run(balls=False, fresh=True):
+        lcs, x0 = (case.lcs(), case.exact_x0()) if fresh else (same_lcs, same_x0)
+        t0 = time.perf_counter()
+        tr = L.simulate(lcs, x0, T, digits=30)
+        if balls:
+            for ev in tr.events:
+                ev.time.ball(30)
+            [c.ball(30) for c in tr.state(T)]
+        return time.perf_counter() - t0, tr
+
+    for _ in range(3):      # warm-up
+        lcs_run(True)
+        lcs_run(fresh=False)
+        scipy_run(case, T)
+    a, ab, ar, b = [], [], [], []
+    cert = True
+    for _ in range(repeat):
+        t, tr = lcs_run()
+        a.append(t)
+        cert = cert and tr.certified
+        b.append(scipy_run(case, T)[0])
+        ab.append(lcs_run(True)[0])
+        ar.append(lcs_run(fresh=False)[0])
+    r, rb, rr = paired_ratio(a, b), paired_ratio(ab, b), paired_ratio(ar, b)
+    out("### Two carts (section 7), T = 3: lcs_exact at 30 digits beside SciPy, in this process\n")
+    out(f"Medians of {repeat} alternated repeats after 3 warm-up runs of each; {len(tr.events)} events, "
+        f"certified: {'yes' if cert else 'NO'}. lcs_exact gets a new `LCS` and x0 for every run (built "
+        "outside the timed region) except on the *same LCS* row, which reuses one LCS object and x0 "
+        "(what benchmarks/run.py and benchmarks/core.py time).\n")
+    out.table(["measure", "value", "target"],
+              [("lcs_exact `simulate(..., digits=30)`", ts(med(a)), ""),
+               ("lcs_exact, + event times and x(3) as 30-digit balls", ts(med(ab)), ""),
+               ("lcs_exact, same LCS object and x0 every run", ts(med(ar)), ""),
+               ("SciPy DOP853 rtol 1e-10 (float baseline)", ts(med(b)), ""),
+               ("lcs_exact / SciPy (simulate)", rs(r), "≤ 1"),
+               ("lcs_exact / SciPy (+ balls)", rs(rb), ""),
+               ("lcs_exact / SciPy (same LCS)", rs(rr), "")])
+    summary.append(("two carts: lcs_exact 30 digits / SciPy DOP853 rtol 1e-10", rs(r), "≤ 1",
+                    f"{ts(med(a))} vs {ts(med(b))} (with 30-digit balls: {rs(rb)}; same LCS: {rs(rr)})"))
+
+
+def cold_section(out, repeat, summary):
+    A = [sys.executable, "-m", "lcs_exact", "two-carts"]
+    B = [sys.executable, "-c", "import lcs_exact"]
+
+    def run(cmd):
+        t0 = time.perf_counter()
+        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, cwd=ROOT, env=ENV1)
+        el = time.perf_counter() - t0
+        if p.returncode:
+            raise RuntimeError(f"{' '.join(cmd[1:])} exited {p.returncode}: {p.stderr[-200:]}")
+        return el
+    run(A)
+    run(B)
+    ta, tb = [], []
+    for _ in range(repeat):
+        ta.append(run(A))
+        tb.append(run(B))
+    r = paired_ratio(ta, tb)
+    out("### Cold start: whole processes\n")
+    out(f"Wall time of each process (`subprocess.run`), {repeat} alternated pairs A B A B after one "
+        "unrecorded run of each; medians.\n")
+    out.table(["measure", "value", "target"],
+              [("A: `python -m lcs_exact two-carts`", ts(med(ta)), ""),
+               ("B: `python -c \"import lcs_exact\"`", ts(med(tb)), ""),
+               ("A / B", rs(r), "≤ 2")])
+    summary.append(("cold start: `python -m lcs_exact two-carts` / `import lcs_exact`", rs(r), "≤ 2",
+                    f"{ts(med(ta))} vs {ts(med(tb))}"))
+
+
+def profile(N):
+    """cProfile of one lcs_exact chain run (after a warm-up), top 15 by cumulative time."""
+    import cProfile
+    import pstats
+    import lcs_exact as L
+    from lcs_exact.models import two_carts
+    L.simulate(two_carts(), [1, 0, 0, 0], 2)
+    case = S.chain(N)
+    lcs, x0 = case.lcs(), case.exact_x0()
+    pr = cProfile.Profile()
+    t0 = time.perf_counter()
+    pr.enable()
+    tr = L.simulate(lcs, x0, case.t_end, digits=30)
+    pr.disable()
+    print(f"chain of {N} carts: {len(tr.events)} events, certified {tr.certified}, "
+          f"{time.perf_counter() - t0:.2f} s under cProfile")
+    pstats.Stats(pr).sort_stats("cumulative").print_stats(15)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="N up to 24, fewer repeats (~2-3 min)")
+    ap.add_argument("--write", action="store_true", help="replace the Scale section of docs/performance.md")
+    ap.add_argument("--profile", type=int, metavar="N", help="only: cProfile of the N-cart chain")
+    args = ap.parse_args()
+    if args.profile:
+        profile(args.profile)
+        return
+    q = args.quick
+    Ns = (8, 16, 24) if q else (8, 16, 24, 32)
+    reps = {"chain": 3 if q else 5, "long": 2 if q else 5, "carts": 11 if q else 31, "cold": 5 if q else 9}
+    start = time.perf_counter()
+    load0 = os.getloadavg()[0]
+    out = Out()
+    summary = []
+
+    def log(s):
+        print(s, file=sys.stderr, flush=True)
+
+    sic_err = siconos_check()
+    sic_ok = sic_err is None
+    n_trials, worst, resid = FB.self_test()
+    out("## Scale (issue 14 targets)\n")
+    out(f"Generated by `python benchmarks/scale.py{' --quick' if q else ''}` on {time.strftime('%Y-%m-%d')} "
+        f"(lcs_exact at {git_state()}; {os.cpu_count()} cores shared with other jobs, load average "
+        f"{load0:.1f} at the start). The machine is noisy: the compared programs "
+        "alternate, every time is a median of repeats and every ratio the median of the ratios within "
+        "a repeat. Targets are the issue's, printed beside the measurements, not judged. Siconos: "
+        + (f"python3-siconos {siconos_version()} (Debian's package, run by the system Python), time "
+           "loop only." if sic_ok else f"not run ({sic_err}).") + " All programs run with "
+        "OPENBLAS_NUM_THREADS=1.\n")
+    out(f"The SciPy baseline's LCP is Lemke's pivoting method (`float_baseline.lcp`); against the former "
+        f"2^k enumeration on {n_trials} random P-matrix LCPs (k = 1..8, symmetric, nonsymmetric and "
+        f"Delassus-like, degenerate q) the largest difference is {worst:.1e} and the largest "
+        f"complementarity residual {resid:.1e}.\n")
+    log("chain ...")
+    chain_section(out, Ns, reps["chain"], sic_ok, summary, log)
+    log("1000 events ...")
+    long_run_section(out, reps["long"], sic_ok, summary, log)
+    log("two carts ...")
+    two_carts_section(out, reps["carts"], summary)
+    log("cold start ...")
+    cold_section(out, reps["cold"], summary)
+    out("### Summary: measurements beside the issue's targets\n")
+    out.table(["measurement", "value", "target", "times"], summary)
+    out(f"Whole run: {(time.perf_counter() - start) / 60:.1f} min; load average at the end "
+        f"{os.getloadavg()[0]:.1f}.")
+    text = "\n".join(out.lines)
+    if args.write:
+        from docsections import write_section
+        write_section(ROOT / "docs" / "performance.md", MARKER, text)
+        print("wrote docs/performance.md (Scale section)")
+
+
+if __name__ == "__main__":
+    main()
