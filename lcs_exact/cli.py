@@ -245,7 +245,7 @@ def report_selection(lcs: LCS, x0, out=print) -> None:
 def print_events(traj, digits: int, out=print) -> None:
     """One line per event: time (closed form when proven), modes, states."""
     for e in traj.events:
-        closed = e.time.closed_form  # first: a proven rational time then prints exactly
+        closed = e.time.closed  # first: a proven rational time then prints exactly (no SymPy)
         t = e.time.decimal(digits)
         cf = f" = {closed}" if closed is not None and str(closed) != t else ""
         mb = "start" if e.mode_before is None else format_mode(e.mode_before)
@@ -501,7 +501,7 @@ def _print_samples(traj, args, names) -> None:
 
 
 def _fmt_t(t) -> str:
-    cf = t.closed_form
+    cf = t.closed
     return str(cf) if cf is not None else t.decimal(15).split(" +/-")[0]
 
 

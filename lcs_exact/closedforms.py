@@ -28,6 +28,7 @@ from . import calcium
 from .balls import closed_form_arb, workprec
 from .errors import LCSError, UnresolvedSign
 from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
+from .forms import Closed
 from .rational import matrix_to_sympy
 from .reals import RationalVector, orbit_start
 from .subspaces import in_row_span
@@ -38,26 +39,25 @@ __all__ = ["candidates", "prove_root", "prove_zero_at", "function_closed_form", 
 _MAX_SIMPLIFY_OPS = 400
 
 
-def _frequencies(M: fmpq_mat) -> tuple[list, list]:
-    """(omega of the complex-pair quadratic factors, real rational eigenvalues) of chi(M)."""
-    import sympy
-    omegas, lambdas = [], []
+def _frequencies(M: fmpq_mat) -> tuple[list[fmpq], list[fmpq]]:
+    """(omega^2 of the complex-pair quadratic factors, real rational eigenvalues) of chi(M),
+    exactly (no SymPy)."""
+    squares, lambdas = [], []
     for p, _ in M.charpoly().factor()[1]:
-        c = [sympy.Rational(int(x.p), int(x.q)) for x in p.coeffs()]
+        c = p.coeffs()
         if p.degree() == 1:
             lambdas.append(-c[0] / c[1])
         elif p.degree() == 2:
             q, pp, a2 = c
             disc = q / a2 - (pp / a2) ** 2 / 4
             if disc > 0:  # a complex pair; a real irrational pair gives no candidate here
-                omegas.append(sympy.sqrt(disc))
-    return omegas, lambdas
+                squares.append(disc)
+    return squares, lambdas
 
 
-def candidates(theta: arb, M: fmpq_mat) -> list:
+def candidates(theta: arb, M: fmpq_mat) -> list[Closed]:
     """Small-height candidates near the ball ``theta``: rationals, (p/q) pi/omega, log(p/q)/lambda
-    (SymPy expressions, positive, without repetition)."""
-    import sympy
+    (light :class:`~lcs_exact.forms.Closed` forms, nonnegative, without repetition)."""
     from mpmath import mp, mpf
     out = []
     with mp.workdps(40):
@@ -68,22 +68,23 @@ def candidates(theta: arb, M: fmpq_mat) -> list:
             return {f.limit_denominator(d) for d in (1, 2, 3, 4, 6, 8, 12, 16, 24, 100, 1000)}
 
         for f in approx(x):
-            out.append(sympy.Rational(f.numerator, f.denominator))
-        omegas, lambdas = _frequencies(M)
-        for w in [sympy.Integer(1)] + omegas:
-            wv = mpf(str(sympy.N(w, 40)))
+            out.append(Closed.rational(fmpq(f.numerator, f.denominator)))
+        squares, lambdas = _frequencies(M)
+        for w2 in [fmpq(1)] + squares:
+            wv = mp.sqrt(mpf(int(w2.p)) / int(w2.q))
             for f in approx(x * wv / mp.pi):
-                if f:
-                    out.append(sympy.Rational(f.numerator, f.denominator) * sympy.pi / w)
+                if f > 0:
+                    out.append(Closed.pi_over_sqrt(w2) * fmpq(f.numerator, f.denominator))
         for lam in lambdas:
             if lam != 0:
                 v = mp.exp(mpf(int(lam.p)) / int(lam.q) * x)
                 for f in approx(v):
-                    if f > 0 and f != 1:
-                        out.append(sympy.log(sympy.Rational(f.numerator, f.denominator)) / lam)
+                    # log(f) / lam >= 0: f > 1 with lam > 0, or f < 1 with lam < 0
+                    if f > 0 and f != 1 and (f > 1) == (lam > 0):
+                        out.append(Closed.log(fmpq(f.numerator, f.denominator)) * (1 / lam))
     seen, uniq = set(), []
     for c in out:
-        if c not in seen and c.is_nonnegative:
+        if c not in seen and (c.terms or c.const >= 0):
             seen.add(c)
             uniq.append(c)
     return uniq
@@ -95,10 +96,10 @@ def _shifted_candidates(b: arb, spectrum: Spectrum, v: Any):
     (a touch at sqrt 2 is pi-free on the orbit of w: its candidate is c - s)."""
     yield from candidates(b, spectrum.M)
     inner, shift = orbit_start(v, spectrum.M)
-    sc = shift.closed_form if shift is not None else None
-    if sc is not None and sc != 0:
+    sc = shift.closed if shift is not None else None
+    if sc is not None and not sc.is_zero:
         with workprec(200):
-            bs = b + closed_form_arb(sc)
+            bs = b + sc.arb()
         for c in candidates(bs, spectrum.M):
             yield c - sc
 
@@ -110,7 +111,7 @@ def _inside(cand, lo: fmpq, hi: fmpq) -> bool:
     if w > 0:
         bits = max(64, int(w.q.bit_length() - w.p.bit_length()) + 64)
     with workprec(bits):
-        cb = closed_form_arb(cand)
+        cb = cand.arb()
         return bool(cb >= arb(lo) and cb <= arb(hi))
 
 
@@ -123,12 +124,12 @@ def prove_zero_at(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, *, derivative: 
         gd = gd * spectrum.M
     inner, shift = orbit_start(v, spectrum.M)
     if shift is not None:  # v = e^{M s} w: f(t*) = g e^{M (t* + s)} w
-        sc = shift.closed_form
+        sc = shift.closed
         if sc is not None:
             v, cand = inner, cand + sc
     q = v.exact_rational()
     if q is not None:
-        if cand == 0:
+        if cand.is_zero:
             return (gd * q)[0, 0] == 0
         v = RationalVector(q)
     elif calcium.available():
@@ -140,7 +141,7 @@ def prove_zero_at(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, *, derivative: 
             return proof
     if calcium.available():
         try:
-            tc = calcium.from_sympy(cand)
+            tc = cand.to_ca()
             vc = v.to_ca()
             if tc is not None and vc is not None:
                 x = spectrum.ca_apply(tc, vc, calcium)
@@ -161,11 +162,10 @@ def _rational_propagator_zero(spectrum: Spectrum, g: fmpq_mat, v: Any, cand) -> 
     """g e^{M t*} v == 0 through a rational e^{M t*} (e.g. -I at t* = pi for a unit-frequency
     oscillator): True when g E lies in the span of v's proven zero forms, False when its sign at v
     is certified nonzero, None otherwise (also when e^{M t*} is not rational)."""
-    import sympy
-    if not (cand.has(sympy.pi) and cand.is_number):
+    if not cand.has_pi:
         return None
     try:
-        tc = calcium.from_sympy(cand)
+        tc = cand.to_ca()
         E = spectrum.exact_at(tc, calcium) if tc is not None else None
     except (ValueError, ZeroDivisionError, UnresolvedSign):
         return None
@@ -184,7 +184,7 @@ def _sympy_vanishes(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadline) -> 
     sym = function_closed_form(spectrum, g, v)
     if sym is None:
         return None
-    expr = sympy.expand_trig(sym.subs(t_symbol(), cand))
+    expr = sympy.expand_trig(sym.subs(t_symbol(), cand.to_sympy()))
     if sympy.count_ops(expr) > _MAX_SIMPLIFY_OPS:
         return None  # SymPy's simplify can take minutes on large expressions
     if deadline is not None:
@@ -228,14 +228,15 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
     lo, hi = root.interval()
     for cand in _shifted_candidates(b, spectrum, v):
         if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
-            return cand, (calcium.from_sympy(cand) if calcium.available() else None)
+            return cand, cand.to_ca()
     sym = function_closed_form(spectrum, g, v)
     if sym is None:
         return None
     for more in (exp_candidates, solve_candidates, harmonic_candidates):  # cheap ones first
-        for cand in more(sym, b):
+        for expr in more(sym, b):
+            cand = Closed.of_sympy(expr)
             if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
-                return cand, (calcium.from_sympy(cand) if calcium.available() else None)
+                return cand, cand.to_ca()
     return None
 
 
@@ -249,8 +250,8 @@ def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, dea
         yield from _shifted_candidates(mid, spectrum, v)
         sym = function_closed_form(spectrum, g * spectrum.M, v)  # f': t* is one of its roots
         if sym is not None:
-            yield from exp_candidates(sym, mid)
-            yield from solve_candidates(sym, mid)
+            yield from (Closed.of_sympy(e) for e in exp_candidates(sym, mid))
+            yield from (Closed.of_sympy(e) for e in solve_candidates(sym, mid))
 
     for cand in stream():
         if not _inside(cand, lo, hi):

@@ -150,7 +150,7 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
         if not tried and (prec >= 2 * start or prec >= policy.max_prec):
             tried = True
             if policy.closed_forms != "off":
-                fa, fb = a.closed_form, b.closed_form
+                fa, fb = a.closed, b.closed
                 if fa is not None and fb is not None:
                     d = _equal_closed(a, b)
                     if d is True:
@@ -162,6 +162,8 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
 
 
 def _equal_closed(a: RootReal, b: RootReal) -> bool | None:
+    if a.closed == b.closed:  # the same form: the same number
+        return True
     xa, xb = a.to_ca(), b.to_ca()
     if xa is not None and xb is not None:
         return (xa - xb).is_zero()
@@ -194,7 +196,7 @@ def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]
         if compare_roots(phase, r, c, first, first_c) < 0:
             first_c, first = c, r
     if phase.policy.closed_forms == "eager":
-        first.closed_form
+        first.closed
     with workprec(64):
         h_low = dyadic_lower(H.arb(64))
     if not (isinstance(first, RootReal) and first.hi < h_low) and (first - H).sign() > 0:

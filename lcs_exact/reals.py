@@ -35,6 +35,7 @@ from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_fo
                     digits_to_bits, dyadic_lower, dyadic_upper, long_int_strings, workprec)
 from .errors import LCSError, NotRational, ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of
+from .forms import Closed
 from .rational import is_zero, to_fmpq, to_int, to_matrix, to_vector, vector_entries, zeros
 from .subspaces import RowSpan, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
@@ -149,26 +150,37 @@ class Real(_Node):
         (lazy, like ``closed_form``); None when it is not proven rational."""
         q = self.known_rational()
         if q is None and self.policy.closed_forms != "off":
-            cf = self.closed_form
-            if cf is not None and cf.is_Rational:
-                q = fmpq(int(cf.p), int(cf.q))
+            cf = self.closed
+            if cf is not None and cf.is_rational:
+                q = cf.to_fmpq()
         return q
+
+    @property
+    def closed(self) -> Closed | None:
+        """The proven closed form as a light :class:`~lcs_exact.forms.Closed` (derived on first
+        access, without SymPy for the common forms), else None."""
+        if not self._cf_done:
+            self._cf = None if self.policy.closed_forms == "off" else self._closed()
+            self._cf_done = True
+        return self._cf
+
+    def _closed(self) -> Closed | None:
+        expr = self._closed_form()  # subclasses that build SymPy expressions
+        return None if expr is None else Closed.of_sympy(expr)
 
     @property
     def closed_form(self):
         """A SymPy expression of the value when proven (derived on first access), else None."""
-        if not self._cf_done:
-            self._cf = None if self.policy.closed_forms == "off" else self._closed_form()
-            self._cf_done = True
-        return self._cf
+        cf = self.closed
+        return None if cf is None else cf.to_sympy()
 
     def _closed_form(self):
         return None
 
     @property
     def known_closed_form(self):
-        """The closed form if it has already been derived (never derives one), else None."""
-        return self._cf if self._cf_done else None
+        """The closed form (SymPy) if it has already been derived (never derives one), else None."""
+        return self._cf.to_sympy() if self._cf_done and self._cf is not None else None
 
     def to_ca(self):
         """The value as a Calcium number (exact), or None when no closed form is known."""
@@ -214,8 +226,8 @@ class Real(_Node):
         unless it is exact."""
         digits = to_int(digits, "digits", 1, MAX_DIGITS)
         q = self.known_rational()
-        if q is None and self._cf_done and self._cf is not None and self._cf.is_Rational:
-            q = fmpq(int(self._cf.p), int(self._cf.q))  # a closed form already proven rational
+        if q is None and self._cf_done and self._cf is not None and self._cf.is_rational:
+            q = self._cf.to_fmpq()  # a closed form already proven rational
         if q is not None:
             return decimal_of_fmpq(q, digits)
         return decimal_of_ball(self.ball(min(digits + 2, MAX_DIGITS)), digits)  # the bound covers the rest
@@ -291,7 +303,7 @@ class Real(_Node):
         return self.decimal(15).split(" +/-")[0]
 
     def __repr__(self):
-        cf = self.closed_form
+        cf = self.closed
         if cf is not None:
             return f"Real({cf})"
         return f"Real({self.decimal(20)})"
@@ -319,9 +331,8 @@ class RationalReal(Real):
     def known_rational(self):
         return self.q
 
-    def _closed_form(self):
-        import sympy
-        return sympy.Rational(int(self.q.p), int(self.q.q))
+    def _closed(self):
+        return Closed.rational(self.q)
 
     def to_ca(self):
         from . import calcium
@@ -386,15 +397,14 @@ class _Linear(Real):
                 self._q = const + sum((c * q for (c, _), q in zip(terms, qs)), fmpq(0))
         return self._q
 
-    def _closed_form(self):
-        import sympy
+    def _closed(self):
         const, terms = linear_terms(self)
-        out = sympy.Rational(int(const.p), int(const.q))
+        out = Closed.rational(const)
         for c, x in terms:
-            cf = x.closed_form
+            cf = x.closed
             if cf is None:
                 return None
-            out += sympy.Rational(int(c.p), int(c.q)) * cf
+            out = out + cf * c
         return out
 
     def to_ca(self):
@@ -463,7 +473,7 @@ class ClosedFormReal(Real):
         self.expr = sympy.sympify(expr)
         with workprec(64):
             closed_form_arb(self.expr)  # validate now: raises for unsupported expressions
-        self._cf, self._cf_done = self.expr, True
+        self._cf, self._cf_done = Closed.of_sympy(self.expr), True
 
     def _compute(self, prec):
         return closed_form_arb(self.expr)
@@ -506,13 +516,15 @@ class ComponentReal(Real):
         e = fmpq_mat(1, self.vec.n, [int(j == self.i) for j in range(self.vec.n)])
         return self.vec.sign_of_form(e)
 
-    def _closed_form(self):
+    def _closed(self):
         q = self.known_rational()
         if q is not None:
-            import sympy
-            return sympy.Rational(int(q.p), int(q.q))
+            return Closed.rational(q)
+        q = self.vec.rational()  # rational when proven so (no SymPy)
+        if q is not None:
+            return Closed.rational(q[self.i, 0])
         cf = self.vec.closed_form()
-        return None if cf is None else cf[self.i]
+        return None if cf is None else Closed.of_sympy(cf[self.i])
 
     def to_ca(self):
         v = self.vec.to_ca()
@@ -879,9 +891,9 @@ class ScaledVector(ExactVector):
 
     def _exact_rational(self, depth):
         qv = self.v.exact_rational(depth)
-        cf = self.c.closed_form if qv is not None else None
-        if cf is not None and cf.is_Rational:
-            return qv * fmpq(int(cf.p), int(cf.q))
+        cf = self.c.closed if qv is not None else None
+        if cf is not None and cf.is_rational:
+            return qv * cf.to_fmpq()
         return None
 
     def closed_form(self, derive: bool = True):
@@ -1001,13 +1013,13 @@ class ExpVector(ExactVector):
         q = inner.exact_rational(depth)
         if q is None:
             return None
-        tc = self.t.closed_form
+        tc = self.t.closed
         if tc is not None and s is not None:
-            sc = s.closed_form
+            sc = s.closed
             tc = None if sc is None else tc + sc
         if tc is None:
             return None
-        if tc == 0:
+        if tc.is_zero:
             return q
         if all(q[i, 0] == 0 for i in range(self.n)):
             return q
@@ -1015,8 +1027,10 @@ class ExpVector(ExactVector):
         if not calcium.available():
             return None
         try:  # e^{M t*} q exactly (Calcium), rational when every component is
-            xs = self.spectrum.ca_apply(calcium.from_sympy(tc), [calcium.Ca(q[i, 0]) for i in range(self.n)],
-                                        calcium)
+            tca = tc.to_ca()
+            if tca is None:
+                return None
+            xs = self.spectrum.ca_apply(tca, [calcium.Ca(q[i, 0]) for i in range(self.n)], calcium)
             qs = None if xs is None else [x.to_fmpq() for x in xs]
         except (ValueError, ZeroDivisionError, UnresolvedSign):
             return None

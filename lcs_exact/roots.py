@@ -37,6 +37,7 @@ from typing import Callable, Protocol
 from flint import acb, arb, fmpq
 
 from .balls import Policy, ball_sign, dyadic, dyadic_lower, dyadic_upper, workprec
+from .forms import Closed
 from .reals import Real
 
 __all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic", "newton_ball",
@@ -205,8 +206,7 @@ def float_crossing(f: ExpSum, a: float, b: float, points: int = 64) -> float | N
 def float_root(f: ExpSum, lo: float, hi: float) -> float | None:
     """A float root of f in (lo, hi) by Newton's method from the midpoint (None if it leaves the
     interval or does not settle): a guess that the certified refinement then checks."""
-    lam, w, cs = f.floats()
-    terms = [(complex(l), float(wt), [complex(c) for c in row]) for l, wt, row in zip(lam, w, cs)]
+    terms = [(complex(l), float(wt), [complex(c) for c in cs]) for l, wt, cs in f.terms]
 
     def f_df(t: float) -> tuple[float, float]:
         v = dv = 0.0
@@ -484,7 +484,7 @@ class RootReal(Real):
         self.function = function
         self.lo, self.hi, self.simple = bracket.lo, bracket.hi, bracket.simple
         self._finder = closed_form_finder
-        self._proven = None  # (sympy expr, Calcium number) once proven
+        self._proven = None  # (Closed form, Calcium number) once proven
         self._q = None  # the root as an exact rational, when proven so
 
     def _deps(self):
@@ -605,10 +605,9 @@ class RootReal(Real):
                     return self._newton(f, prec, target)
 
     # --- closed forms -------------------------------------------------------------------------
-    def _closed_form(self):
+    def _closed(self):
         if self._q is not None:
-            import sympy
-            return sympy.Rational(int(self._q.p), int(self._q.q))
+            return Closed.rational(self._q)
         if self._proven is None and self._finder is not None:
             self._proven = self._finder(self) or False
         return self._proven[0] if self._proven else None
@@ -617,19 +616,16 @@ class RootReal(Real):
         if self._q is not None:
             from . import calcium
             return calcium.Ca(self._q) if calcium.available() else None
-        self.closed_form
+        self.closed
         if self._proven and self._proven[1] is None:
-            from . import calcium
-            self._proven = (self._proven[0], calcium.from_sympy(self._proven[0]))
+            self._proven = (self._proven[0], self._proven[0].to_ca())
         return self._proven[1] if self._proven else None
 
     def known_rational(self):
         if self._q is not None:
             return self._q
         if self._proven:
-            e = self._proven[0]
-            if e.is_Rational:
-                return fmpq(int(e.p), int(e.q))
+            return self._proven[0].to_fmpq()
         return None
 
     def __getstate__(self):
@@ -648,10 +644,12 @@ class RootReal(Real):
         self.lo = self.hi = q
         self._ball, self._prec = None, 0  # recomputed as arb(q) at the precision asked
 
-    def set_proven(self, expr, ca) -> None:
-        """Record a closed form proven by the caller (an exact zero of f in the bracket)."""
-        self._proven = (expr, ca)
-        self._cf, self._cf_done = expr, True
+    def set_proven(self, form, ca) -> None:
+        """Record a closed form (a :class:`~lcs_exact.forms.Closed`, or a SymPy expression)
+        proven by the caller (an exact zero of f in the bracket)."""
+        form = form if isinstance(form, Closed) else Closed.of_sympy(form)
+        self._proven = (form, ca)
+        self._cf, self._cf_done = form, True
 
 
 def newton_ball(f: ExpSum, X: arb, steps: int = 60) -> arb:
