@@ -26,7 +26,7 @@ from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, R
 from .polyroots import exact_first_crossing
 from .roots import RootReal, first_crossing, float_crossing, positive_step
 
-__all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound"]
+__all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound", "IMMEDIATE", "Immediate"]
 
 #: precision at which roots are searched for (escalated when a decision needs more); the
 #: bracket found is then refined to the run's working precision by interval Newton alone
@@ -56,12 +56,26 @@ class _Toucher(_Finder):
         return prove_touch(ph.spectrum, self.c.g, ph.base, lo, hi, ph.policy.deadline)
 
 
+class Immediate:
+    """The answer of :func:`first_root` when f is negative right after t = 0 (Example 4.5:
+    theta = 0; the selected mode cannot continue smoothly)."""
+
+    __slots__ = ()
+
+    def __repr__(self):
+        return "IMMEDIATE"
+
+
+#: the single :class:`Immediate` value
+IMMEDIATE = Immediate()
+
+
 def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: float | None = None
-               ) -> Real | None | str:
+               ) -> Real | Immediate | None:
     """The first t in (0, horizon] where f = g x(t) turns negative: a :class:`RootReal` (or an
     exact :class:`~lcs_exact.reals.AlgebraicReal` on a polynomial phase from an exact start,
-    :mod:`lcs_exact.polyroots`), None (no event in (0, horizon]) or "now" (f is negative right
-    after t = 0).
+    :mod:`lcs_exact.polyroots`), None (no event in (0, horizon]) or :data:`IMMEDIATE` (f is
+    negative right after t = 0).
 
     ``estimate``: a float guess of the crossing (:func:`~lcs_exact.roots.float_crossing`).  The
     certified search covers (0, estimate] first and, only when it finds no crossing there, the
@@ -70,7 +84,7 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: 
     if sign == 0:
         return None  # f = 0 on the whole phase
     if sign < 0:
-        return "now"
+        return IMMEDIATE
     fn = phase.function(c)
     exact = fn.exact_coefficients()
     if exact is not None:  # a polynomial phase from an exact start: its roots exactly
@@ -184,7 +198,7 @@ def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]
         r = first_root(phase, c, limit, search, est)
         if r is None:
             continue
-        if r == "now":
+        if r is IMMEDIATE:
             raise LCSError(f"internal inconsistency: {c.name} of the selected mode "
                            f"{format_mode(phase.mode.I)} is negative at the start of the phase")
         found.append((c, r))

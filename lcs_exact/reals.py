@@ -303,9 +303,13 @@ class Real(_Node):
         return self.decimal(15).split(" +/-")[0]
 
     def __repr__(self):
-        cf = self.closed
+        # a repr never derives a closed form (that may run a proof): a known one, else digits
+        cf = self._cf if self._cf_done else None
         if cf is not None:
             return f"Real({cf})"
+        q = self.known_rational()
+        if q is not None:
+            return f"Real({q})"
         return f"Real({self.decimal(20)})"
 
     def _repr_latex_(self):

@@ -258,7 +258,7 @@ def rcp(lcs, x0: Any) -> list[RCPSolution]:
 # ---------------------------------------------------------------------------------------------
 
 
-@dataclass
+@dataclass(frozen=True)
 class LDCPSolution:
     """The solution of LDCP_kappa(x0) (unique up to ``undetermined`` entries, Theorem 6.9).
 
@@ -276,7 +276,7 @@ class LDCPSolution:
     inactive: frozenset  # J: y lexicographically positive
     undecided: frozenset  # K: u and y zero so far
     undetermined: frozenset
-    modes: set = field(default_factory=set)
+    modes: frozenset = field(default_factory=frozenset)
 
     @property
     def impulse(self) -> dict:
@@ -361,7 +361,7 @@ def ldcp(lcs, x0: Any, kappa: int) -> LDCPSolution:
         Y[i] = y
     K = frozenset(range(k)) - I - J
     undetermined = frozenset((l, j) for l in range(k) for j in range(max(kappa - eta[l] + 1, -n + 1), kappa + 1))
-    modes = {frozenset(I) | frozenset(c) for r in range(len(K) + 1) for c in combinations(sorted(K), r)}
+    modes = frozenset(frozenset(I) | frozenset(c) for r in range(len(K) + 1) for c in combinations(sorted(K), r))
     return LDCPSolution(lcs, x, kappa, {j: _evaluate(f, x) for j, f in U.items()},
                         {i: _evaluate(f, x) for i, f in Y.items()}, frozenset(I), frozenset(J), K,
                         undetermined, modes)
