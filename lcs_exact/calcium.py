@@ -51,14 +51,8 @@ Pitfalls
   cannot be interrupted; the examples in ``tests/test_calcium.py`` take milliseconds.
 * ``Ca`` objects cannot be pickled; ``copy.copy`` returns the same (immutable) object.
 
-Layout
-------
-The struct layouts below are those of FLINT 3.6.0 on 64-bit Linux (``src/ca_types.h``,
-``src/qqbar.h``, ``src/acb_types.h``, ``src/arb_types.h``, ``src/arf_types.h``,
-``src/fmpz_types.h``, ``src/flint.h.in``; identical from 3.3.0 to the development head).
-On first use they are checked against the library itself (sentinel-filled buffers around
-``ca_ctx_init``, ``ca_init``, ``ca_i``, ``qqbar_init``, ``acb_init``); a mismatch makes
-:func:`available` return False instead of risking memory corruption.
+The ctypes layer (struct layouts checked against the library, signatures, the context and
+the lock) is :mod:`lcs_exact.flintlib`.
 
 >>> from lcs_exact import calcium
 >>> calcium.available()
@@ -69,367 +63,23 @@ True
 """
 from __future__ import annotations
 
-import atexit
 import contextlib
 import ctypes
-import threading
 from fractions import Fraction  # noqa: F401 -- used by the doctests
 from numbers import Integral
-from pathlib import Path
 from typing import Any, Sequence
 
 import flint
-from flint import acb, arb, arf, fmpq, fmpz
+from flint import acb, arb, fmpq, fmpz
 
 from .errors import NotRational, UnresolvedSign
+from .flintlib import (CA_UNDEFINED, CA_UNKNOWN, CA_WORDS, AcbStruct, FmpqStruct, FmpzPolyStruct, QqbarStruct,
+                       TempFmpz, acb_from_address, available, backend, c_ulong, fmpz_to_int, take_str, truth)
 from .rational import to_fmpq
 
 __all__ = ["available", "Ca", "real_roots"]
 
-# ---------------------------------------------------------------------------------------------
-# FLINT 3.6 struct layouts (64-bit).  fmpz is one slong; truth_t is an enum (int).
-# ---------------------------------------------------------------------------------------------
-
-_slong = ctypes.c_int64
-_ulong = ctypes.c_uint64
-_ptr = ctypes.c_void_p
-
-T_TRUE, T_FALSE, T_UNKNOWN = 0, 1, 2              # gr_types.h: typedef enum {T_TRUE, T_FALSE, T_UNKNOWN}
-_CA_UNKNOWN, _CA_UNDEFINED, _CA_INF = 1, 2, 3     # ca.h: low bits of ca_struct.field for special values
-_CA_OPT_PREC_LIMIT, _CA_OPT_QQBAR_DEG_LIMIT, _CA_OPT_LOW_PREC = 3, 4, 5
-
-
-class _fmpq(ctypes.Structure):
-    _fields_ = [("num", _slong), ("den", _slong)]
-
-
-class _fmpz_poly(ctypes.Structure):
-    _fields_ = [("coeffs", _ptr), ("alloc", _slong), ("length", _slong)]
-
-
-class _fmpq_poly(ctypes.Structure):
-    _fields_ = [("coeffs", _ptr), ("alloc", _slong), ("length", _slong), ("den", _slong)]
-
-
-class _mag(ctypes.Structure):
-    _fields_ = [("exp", _slong), ("man", _ulong)]
-
-
-class _arf(ctypes.Structure):
-    _fields_ = [("exp", _slong), ("size", _slong), ("d", _ulong * 2)]   # ARF_NOPTR_LIMBS = 2
-
-
-class _arb(ctypes.Structure):
-    _fields_ = [("mid", _arf), ("rad", _mag)]
-
-
-class _acb(ctypes.Structure):
-    _fields_ = [("real", _arb), ("imag", _arb)]
-
-
-class _qqbar(ctypes.Structure):
-    _fields_ = [("poly", _fmpz_poly), ("enclosure", _acb)]
-
-
-class _lnf_elem(ctypes.Structure):
-    _fields_ = [("num", _slong), ("den", _slong)]
-
-
-class _qnf_elem(ctypes.Structure):
-    _fields_ = [("num", _slong * 3), ("den", _slong)]
-
-
-class _nf_elem(ctypes.Union):
-    _fields_ = [("elem", _fmpq_poly), ("lelem", _lnf_elem), ("qelem", _qnf_elem)]
-
-
-class _ca_elem(ctypes.Union):
-    _fields_ = [("q", _fmpq), ("nf", _nf_elem), ("mpoly_q", _ptr)]
-
-
-class _ca(ctypes.Structure):
-    _fields_ = [("field", _ulong), ("elem", _ca_elem)]
-
-
-class _ca_cache(ctypes.Structure):      # ca_ext_cache_struct and ca_field_cache_struct
-    _fields_ = [("items", _ptr), ("length", _slong), ("alloc", _slong),
-                ("hash_size", _slong), ("hash_table", _ptr)]
-
-
-class _ca_ctx(ctypes.Structure):
-    _fields_ = [("ext_cache", _ca_cache), ("field_cache", _ca_cache), ("field_qq", _ulong),
-                ("field_qq_i", _ulong), ("mctx", _ptr), ("mctx_len", _slong),
-                ("options", ctypes.POINTER(_slong))]
-
-
-#: sizeof() of each struct, as read in the FLINT 3.6 headers (checked at first use).
-STRUCT_SIZES = {"fmpz": 8, "fmpq": 16, "fmpz_poly_struct": 24, "mag_struct": 16, "arf_struct": 32,
-                "arb_struct": 48, "acb_struct": 96, "qqbar_struct": 120, "ca_struct": 40,
-                "ca_ctx_struct": 120}
-_CTYPES = {"fmpz": _slong, "fmpq": _fmpq, "fmpz_poly_struct": _fmpz_poly, "mag_struct": _mag,
-           "arf_struct": _arf, "arb_struct": _arb, "acb_struct": _acb, "qqbar_struct": _qqbar,
-           "ca_struct": _ca, "ca_ctx_struct": _ca_ctx}
-_CA_WORDS = 2 * STRUCT_SIZES["ca_struct"] // 8          # over-allocation: 2 x sizeof
-_SENTINEL = 0xA5A5A5A5A5A5A5A5
-
-# name: (restype, argtypes); pointers are passed as ints (addresses) or ctypes byref.
-_P, _S, _I, _C = _ptr, _slong, ctypes.c_int, ctypes.c_char_p
-_SIGNATURES: dict[str, tuple[Any, list[Any]]] = {
-    "ca_ctx_init": (None, [_P]), "ca_ctx_clear": (None, [_P]),
-    "ca_init": (None, [_P, _P]), "ca_clear": (None, [_P, _P]), "ca_set": (None, [_P, _P, _P]),
-    "ca_set_si": (None, [_P, _S, _P]),
-    "ca_set_fmpq": (None, [_P, _P, _P]), "ca_set_qqbar": (None, [_P, _P, _P]),
-    "ca_pi": (None, [_P, _P]), "ca_i": (None, [_P, _P]),
-    "ca_neg": (None, [_P, _P, _P]), "ca_add": (None, [_P, _P, _P, _P]),
-    "ca_sub": (None, [_P, _P, _P, _P]), "ca_mul": (None, [_P, _P, _P, _P]),
-    "ca_inv": (None, [_P, _P, _P]), "ca_pow_si": (None, [_P, _P, _S, _P]),
-    "ca_exp": (None, [_P, _P, _P]), "ca_log": (None, [_P, _P, _P]), "ca_sqrt": (None, [_P, _P, _P]),
-    "ca_sin": (None, [_P, _P, _P]), "ca_cos": (None, [_P, _P, _P]), "ca_atan": (None, [_P, _P, _P]),
-    "ca_acos": (None, [_P, _P, _P]), "ca_asin": (None, [_P, _P, _P]), "ca_re": (None, [_P, _P, _P]),
-    "ca_im": (None, [_P, _P, _P]), "ca_conj": (None, [_P, _P, _P]), "ca_abs": (None, [_P, _P, _P]),
-    "ca_check_is_zero": (_I, [_P, _P]), "ca_check_is_rational": (_I, [_P, _P]),
-    "ca_check_is_real": (_I, [_P, _P]), "ca_check_gt": (_I, [_P, _P, _P]),
-    "ca_get_fmpq": (_I, [_P, _P, _P]), "ca_get_acb": (None, [_P, _P, _S, _P]),
-    "ca_get_str": (_P, [_P, _P]), "ca_ctx_get_option": (_S, [_P, _S]),
-    "qqbar_init": (None, [_P]), "qqbar_clear": (None, [_P]),
-    "_qqbar_vec_init": (_P, [_S]), "_qqbar_vec_clear": (None, [_P, _S]),
-    "qqbar_roots_fmpz_poly": (None, [_P, _P, _I]), "qqbar_equal": (_I, [_P, _P]),
-    "qqbar_sgn_im": (_I, [_P]), "ca_get_qqbar": (_I, [_P, _P, _P]),
-    "qqbar_degree": (_S, [_P]), "qqbar_get_acb": (None, [_P, _P, _S]),
-    "fmpz_clear": (None, [_P]), "fmpz_set_str": (_I, [_P, _C, _I]),
-    "fmpz_get_str": (_P, [_P, _I, _P]),
-    "fmpq_clear": (None, [_P]),
-    "fmpz_poly_init": (None, [_P]), "fmpz_poly_clear": (None, [_P]),
-    "fmpz_poly_set_coeff_fmpz": (None, [_P, _S, _P]),
-    "acb_init": (None, [_P]), "acb_clear": (None, [_P]),
-    "arf_init": (None, [_P]), "arf_clear": (None, [_P]), "arf_set_mag": (None, [_P, _P]),
-    "arf_get_fmpz_2exp": (None, [_P, _P, _P]), "arf_is_finite": (_I, [_P]), "mag_is_finite": (_I, [_P]),
-    "flint_free": (None, [_P]),
-}
-
 _PREC_LIMIT_ALGEBRAIC = 8192        # bits: root selection in Ca.algebraic gives up above this
-
-
-# ---------------------------------------------------------------------------------------------
-# the library and the context
-# ---------------------------------------------------------------------------------------------
-
-class _Backend:
-    """The loaded library, the one ``ca_ctx_t``, and the lock around every FLINT call."""
-
-    __slots__ = ("lib", "path", "version", "ctx_buf", "ctx", "lock", "alive")
-
-    def __init__(self, lib: ctypes.CDLL, path: Path, version: str):
-        self.lib, self.path, self.version = lib, path, version
-        self.lock = threading.RLock()
-        self.ctx_buf = (_ulong * (2 * STRUCT_SIZES["ca_ctx_struct"] // 8))(
-            *([_SENTINEL] * (2 * STRUCT_SIZES["ca_ctx_struct"] // 8)))
-        self.ctx = ctypes.addressof(self.ctx_buf)
-        self.alive = False
-
-    def close(self) -> None:
-        with self.lock:
-            if self.alive:
-                self.alive = False
-                self.lib.ca_ctx_clear(self.ctx)
-
-
-_backend: _Backend | None = None
-_backend_error: str | None = None
-_init_lock = threading.Lock()
-
-
-def _find_library() -> Path:
-    """The libflint that python-flint loads (wheel: ``site-packages/python_flint.libs/``), else
-    the system's libflint (a python-flint built against a shared FLINT)."""
-    libdir = Path(flint.__file__).resolve().parent.parent / "python_flint.libs"
-    found = sorted(libdir.glob("libflint*.so*"))
-    if found:
-        return found[0]
-    import ctypes.util
-    name = ctypes.util.find_library("flint")
-    if name is None:
-        raise OSError(f"no libflint*.so* in {libdir} and no system libflint")
-    return Path(name)
-
-
-def _self_check(b: _Backend) -> None:
-    """Check the struct layouts against the library (raises RuntimeError on a mismatch)."""
-    for name, size in STRUCT_SIZES.items():
-        if ctypes.sizeof(_CTYPES[name]) != size:
-            raise RuntimeError(f"ctypes sizeof({name}) = {ctypes.sizeof(_CTYPES[name])}, expected {size}")
-    lib, n = b.lib, STRUCT_SIZES["ca_ctx_struct"] // 8
-    # the context: ca_ctx_init writes exactly the first 120 bytes of a sentinel-filled buffer
-    lib.ca_ctx_init(b.ctx)
-    b.alive = True
-    words = list(b.ctx_buf)
-    if any(w != _SENTINEL for w in words[n:]):
-        raise RuntimeError("ca_ctx_init wrote past sizeof(ca_ctx_struct) = 120")
-    cx = _ca_ctx.from_address(b.ctx)
-    if not (cx.field_qq and cx.field_qq_i and cx.mctx is None and cx.mctx_len == 0
-            and cx.ext_cache.length >= 1 and cx.field_cache.length >= 2):
-        raise RuntimeError("ca_ctx_struct fields are not where FLINT 3.6 puts them")
-    for opt, default in ((_CA_OPT_PREC_LIMIT, 4096), (_CA_OPT_QQBAR_DEG_LIMIT, 120), (_CA_OPT_LOW_PREC, 64)):
-        if cx.options[opt] != default or lib.ca_ctx_get_option(b.ctx, opt) != default:
-            raise RuntimeError("ca_ctx_struct.options is not where FLINT 3.6 puts it")
-    # a number: ca_init makes 0 in QQ (field = ctx->field_qq, num 0, den 1); ca_i puts i in QQ(i)
-    m = _CA_WORDS
-    buf = (_ulong * m)(*([_SENTINEL] * m))
-    lib.ca_init(ctypes.addressof(buf), b.ctx)
-    if list(buf[:3]) != [cx.field_qq, 0, 1] or any(w != _SENTINEL for w in buf[3:]):
-        raise RuntimeError("ca_init does not write ca_struct as expected")
-    lib.ca_i(ctypes.addressof(buf), b.ctx)
-    ok = buf[0] == cx.field_qq_i and all(w == _SENTINEL for w in buf[STRUCT_SIZES["ca_struct"] // 8:])
-    lib.ca_clear(ctypes.addressof(buf), b.ctx)
-    if not ok:
-        raise RuntimeError("ca_i does not write ca_struct as expected")
-    # acb_init zeroes exp/size of each arf and exp/man of each mag; qqbar_init makes the
-    # number 0 with minimal polynomial s (poly = {coeffs, alloc >= 2, length 2}) and acb_init
-    acb_words = [0, 1, 4, 5, 6, 7, 10, 11]      # real.mid.exp/size, real.rad, imag.mid.exp/size, imag.rad
-    for init, clear, size in (("qqbar_init", "qqbar_clear", 120), ("acb_init", "acb_clear", 96)):
-        k = size // 8
-        buf = (_ulong * (2 * k))(*([_SENTINEL] * (2 * k)))
-        getattr(lib, init)(ctypes.addressof(buf))
-        w = list(buf)
-        degree = lib.qqbar_degree(ctypes.addressof(buf)) if init == "qqbar_init" else None
-        getattr(lib, clear)(ctypes.addressof(buf))
-        if init == "qqbar_init":
-            ok = w[0] not in (0, _SENTINEL) and 2 <= w[1] < _SENTINEL and w[2] == 2 and degree == 1
-            ok = ok and all(w[3 + i] == 0 for i in acb_words)
-        else:
-            ok = all(w[i] == 0 for i in acb_words)
-        if not ok or any(x != _SENTINEL for x in w[k:]):
-            raise RuntimeError(f"{init} does not write {size} bytes as expected")
-
-
-def _get() -> _Backend:
-    """The backend, loaded and checked on first call; raises RuntimeError when unavailable."""
-    global _backend, _backend_error
-    if _backend is not None:
-        return _backend
-    with _init_lock:
-        if _backend is not None:
-            return _backend
-        if _backend_error is not None:
-            raise RuntimeError(f"Calcium is not available: {_backend_error}")
-        b = None
-        try:
-            if ctypes.sizeof(ctypes.c_long) != 8 or ctypes.sizeof(ctypes.c_void_p) != 8:
-                raise OSError("the binding assumes a 64-bit LP64 platform")
-            path = _find_library()
-            lib = ctypes.CDLL(str(path))        # the library python-flint has already loaded
-            version = ctypes.cast(ctypes.addressof(ctypes.c_char.in_dll(lib, "flint_version")),
-                                  ctypes.c_char_p).value.decode()
-            major, minor = (int(p) for p in version.split(".")[:2])
-            if major != 3 or minor < 3:
-                raise OSError(f"FLINT {version}: the struct layouts are those of FLINT 3.3 to 3.6")
-            for name, (restype, argtypes) in _SIGNATURES.items():
-                fn = getattr(lib, name)         # AttributeError if a symbol is missing
-                fn.restype, fn.argtypes = restype, argtypes
-            b = _Backend(lib, path, version)
-            with b.lock:
-                _self_check(b)
-        except Exception as exc:                # noqa: BLE001 -- any failure means "not available"
-            _backend_error = f"{type(exc).__name__}: {exc}"
-            if b is not None and b.alive:       # never clear (or use) a context whose layout we doubt
-                b.alive = False
-            raise RuntimeError(f"Calcium is not available: {_backend_error}") from exc
-        atexit.register(b.close)
-        _backend = b
-        return b
-
-
-def available() -> bool:
-    """Whether Calcium can be used: library found, symbols present, struct layouts verified.
-
-    Never raises.  The first call loads the library and creates the context.
-
-    Examples
-    --------
-    >>> available()
-    True
-    """
-    try:
-        _get()
-        return True
-    except Exception:                           # noqa: BLE001
-        return False
-
-
-# ---------------------------------------------------------------------------------------------
-# small helpers (call with the lock held)
-# ---------------------------------------------------------------------------------------------
-
-def _truth(t: int) -> bool | None:
-    return True if t == T_TRUE else False if t == T_FALSE else None
-
-
-def _take_str(lib: ctypes.CDLL, address: int | None) -> str:
-    """Copy a FLINT-allocated C string into Python and free it with flint_free."""
-    if not address:
-        raise MemoryError("FLINT returned a NULL string")
-    try:
-        return ctypes.string_at(address).decode()
-    finally:
-        lib.flint_free(address)
-
-
-def _fmpz_to_int(lib: ctypes.CDLL, address: int) -> int:
-    return int(_take_str(lib, lib.fmpz_get_str(None, 16, address)), 16)
-
-
-def _arf_to_python(lib: ctypes.CDLL, address: int) -> tuple[int, int]:
-    """Exact (man, exp) with value man * 2^exp of a finite arf_t."""
-    man, exp = _slong(0), _slong(0)
-    try:
-        lib.arf_get_fmpz_2exp(ctypes.byref(man), ctypes.byref(exp), address)
-        return _fmpz_to_int(lib, ctypes.addressof(man)), _fmpz_to_int(lib, ctypes.addressof(exp))
-    finally:
-        lib.fmpz_clear(ctypes.byref(man))
-        lib.fmpz_clear(ctypes.byref(exp))
-
-
-def _arb_to_flint(lib: ctypes.CDLL, address: int) -> arb:
-    """A python-flint arb containing the arb_t at ``address`` (exact midpoint, radius rounded up)."""
-    mid_at, rad_at = address, address + ctypes.sizeof(_arf)
-    if not (lib.arf_is_finite(mid_at) and lib.mag_is_finite(rad_at)):
-        return arb(0, "inf")                    # [+/- inf]: still contains the value
-    mid = arf(_arf_to_python(lib, mid_at))
-    tmp = (_ulong * (2 * ctypes.sizeof(_arf) // 8))()
-    lib.arf_init(ctypes.addressof(tmp))
-    try:
-        lib.arf_set_mag(ctypes.addressof(tmp), rad_at)           # exact: a mag is a 30-bit float
-        rad = arf(_arf_to_python(lib, ctypes.addressof(tmp)))
-    finally:
-        lib.arf_clear(ctypes.addressof(tmp))
-    ball = arb(mid, rad)
-    # python-flint keeps an arf midpoint exactly and rounds the radius up; check both anyway
-    if not (ball.mid() == arb(mid) and ball.rad() >= arb(rad)):
-        raise RuntimeError("python-flint did not transfer the ball exactly")
-    return ball
-
-
-def _acb_to_flint(lib: ctypes.CDLL, address: int) -> acb:
-    return acb(_arb_to_flint(lib, address), _arb_to_flint(lib, address + ctypes.sizeof(_arb)))
-
-
-class _Fmpz:
-    """A temporary fmpz_t set from a Python int (cleared on exit of the ``with`` block)."""
-
-    __slots__ = ("lib", "v")
-
-    def __init__(self, lib: ctypes.CDLL, value: int):
-        self.lib, self.v = lib, _slong(0)
-        if lib.fmpz_set_str(ctypes.byref(self.v), format(int(value), "x").encode(), 16) != 0:
-            lib.fmpz_clear(ctypes.byref(self.v))
-            raise ValueError(f"fmpz_set_str failed on {value!r}")
-
-    def __enter__(self) -> Any:
-        return ctypes.byref(self.v)
-
-    def __exit__(self, *exc: Any) -> None:
-        self.lib.fmpz_clear(ctypes.byref(self.v))
-
 
 # ---------------------------------------------------------------------------------------------
 # the number
@@ -469,9 +119,9 @@ class Ca:
     # ---- construction -------------------------------------------------------------------
 
     def __init__(self, value: Any = 0):
-        b = _get()
+        b = backend()
         self._b = None
-        self._buf = (_ulong * _CA_WORDS)()
+        self._buf = (c_ulong * CA_WORDS)()
         self._ptr = ctypes.addressof(self._buf)
         if isinstance(value, Ca):
             with b.lock:
@@ -487,10 +137,10 @@ class Ca:
             if d == 1 and -(1 << 62) < p < (1 << 62):
                 b.lib.ca_set_si(self._ptr, p, b.ctx)
             else:
-                fq = _fmpq(0, 0)
+                fq = FmpqStruct(0, 0)
                 try:
                     for field, v in (("num", p), ("den", d)):
-                        ok = b.lib.fmpz_set_str(ctypes.addressof(fq) + getattr(_fmpq, field).offset,
+                        ok = b.lib.fmpz_set_str(ctypes.addressof(fq) + getattr(FmpqStruct, field).offset,
                                                 format(v, "x").encode(), 16)
                         if ok != 0:
                             raise ValueError(f"fmpz_set_str failed on {v!r}")
@@ -501,10 +151,10 @@ class Ca:
     @classmethod
     def _new(cls) -> "Ca":
         """A fresh wrapper holding 0, to be overwritten by a FLINT call (caller holds the lock)."""
-        b = _get()
+        b = backend()
         self = cls.__new__(cls)
         self._b = None
-        self._buf = (_ulong * _CA_WORDS)()
+        self._buf = (c_ulong * CA_WORDS)()
         self._ptr = ctypes.addressof(self._buf)
         b.lib.ca_init(self._ptr, b.ctx)
         self._b = b
@@ -534,7 +184,7 @@ class Ca:
         >>> Ca.pi().enclosure(30).real.overlaps(flint.arb.pi())
         True
         """
-        b = _get()
+        b = backend()
         with b.lock:
             r = cls._new()
             b.lib.ca_pi(r._ptr, b.ctx)
@@ -547,7 +197,7 @@ class Ca:
         >>> (Ca.i() ** 2 + 1).is_zero()
         True
         """
-        b = _get()
+        b = backend()
         with b.lock:
             r = cls._new()
             b.lib.ca_i(r._ptr, b.ctx)
@@ -593,7 +243,7 @@ class Ca:
             except Exception:                   # noqa: BLE001
                 raise TypeError(f"approx {approx!r} is not a number python-flint can read as acb") from None
             target, ball_mode = acb(target.real.mid(), target.imag.mid()), False
-        b = _get()
+        b = backend()
         with b.lock, _distinct_roots(b.lib, ints) as roots:
             chosen = _select_root(b.lib, roots, target, ball_mode, approx, desc)
             r = cls._new()
@@ -608,7 +258,7 @@ class Ca:
         except NotRational:
             return NotImplemented
         x, y = (o, self) if swap else (self, o)
-        b = self._b or _get()
+        b = self._b or backend()
         with b.lock:
             r = Ca._new()
             getattr(b.lib, fname)(r._ptr, x._ptr, y._ptr, b.ctx)
@@ -667,7 +317,7 @@ class Ca:
         if not -(1 << 62) < k < (1 << 62):
             raise OverflowError(f"exponent {k} is too large")
         base = self if k >= 0 else self._inverse()
-        b = self._b or _get()
+        b = self._b or backend()
         with b.lock:
             r = Ca._new()
             b.lib.ca_pow_si(r._ptr, base._ptr, abs(k), b.ctx)
@@ -675,7 +325,7 @@ class Ca:
         return r
 
     def _unary(self, fname: str) -> "Ca":
-        b = self._b or _get()
+        b = self._b or backend()
         with b.lock:
             r = Ca._new()
             getattr(b.lib, fname)(r._ptr, self._ptr, b.ctx)
@@ -688,13 +338,13 @@ class Ca:
         if not field & 3:
             return
         what = fname[3:] if fname.startswith("ca_") else fname
-        if field == _CA_UNKNOWN:
+        if field == CA_UNKNOWN:
             if what == "inv":
                 raise UnresolvedSign("division by a number that Calcium cannot prove nonzero")
             raise UnresolvedSign(f"{what}: Calcium cannot decide whether the argument is a singular point")
         if what == "inv":
             raise ZeroDivisionError("division by a number that is exactly zero")
-        if field == _CA_UNDEFINED:
+        if field == CA_UNDEFINED:
             raise ValueError(f"{what}: the result is undefined")
         raise ValueError(f"{what}: the result is infinite")
 
@@ -793,7 +443,7 @@ class Ca:
     def _predicate(self, fname: str) -> bool | None:
         b = self._b
         with b.lock:
-            return _truth(getattr(b.lib, fname)(self._ptr, b.ctx))
+            return truth(getattr(b.lib, fname)(self._ptr, b.ctx))
 
     def is_zero(self) -> bool | None:
         """True / False when Calcium proves it; None when it cannot decide (never a guess).
@@ -838,7 +488,7 @@ class Ca:
         b = self._b
         with b.lock:
             zero = Ca._new()
-            gt = _truth(b.lib.ca_check_gt(self._ptr, zero._ptr, b.ctx))
+            gt = truth(b.lib.ca_check_gt(self._ptr, zero._ptr, b.ctx))
         return None if gt is None else 1 if gt else -1
 
     def to_fmpq(self) -> fmpq | None:
@@ -849,13 +499,13 @@ class Ca:
         """
         b = self._b
         with b.lock:
-            q = _fmpq(0, 1)
+            q = FmpqStruct(0, 1)
             try:
                 if not b.lib.ca_get_fmpq(ctypes.byref(q), self._ptr, b.ctx):
                     return None
                 base = ctypes.addressof(q)
-                p = _fmpz_to_int(b.lib, base + _fmpq.num.offset)
-                d = _fmpz_to_int(b.lib, base + _fmpq.den.offset)
+                p = fmpz_to_int(b.lib, base + FmpqStruct.num.offset)
+                d = fmpz_to_int(b.lib, base + FmpqStruct.den.offset)
             finally:
                 b.lib.fmpq_clear(ctypes.byref(q))
         return fmpq(p, d)
@@ -879,12 +529,12 @@ class Ca:
             raise ValueError(f"prec must be >= 2, not {prec}")
         b = self._b
         with b.lock:
-            buf = (_ulong * (2 * ctypes.sizeof(_acb) // 8))()
+            buf = (c_ulong * (2 * ctypes.sizeof(AcbStruct) // 8))()
             at = ctypes.addressof(buf)
             b.lib.acb_init(at)
             try:
                 b.lib.ca_get_acb(at, self._ptr, prec, b.ctx)
-                return _acb_to_flint(b.lib, at)
+                return acb_from_address(b.lib, at)
             finally:
                 b.lib.acb_clear(at)
 
@@ -900,14 +550,14 @@ class Ca:
         b = self._b
         lib = b.lib
         with b.lock:
-            buf = (_ulong * (2 * ctypes.sizeof(_qqbar) // 8))()
+            buf = (c_ulong * (2 * ctypes.sizeof(QqbarStruct) // 8))()
             at = ctypes.addressof(buf)
             lib.qqbar_init(at)
             try:
                 if not lib.ca_get_qqbar(at, self._ptr, b.ctx):
                     return None
-                poly = _qqbar.from_address(at).poly
-                return [_fmpz_to_int(lib, poly.coeffs + 8 * j) for j in range(poly.length)]
+                poly = QqbarStruct.from_address(at).poly
+                return [fmpz_to_int(lib, poly.coeffs + 8 * j) for j in range(poly.length)]
             finally:
                 lib.qqbar_clear(at)
 
@@ -927,7 +577,7 @@ class Ca:
     def __str__(self) -> str:
         b = self._b
         with b.lock:
-            return _take_str(b.lib, b.lib.ca_get_str(self._ptr, b.ctx))
+            return take_str(b.lib, b.lib.ca_get_str(self._ptr, b.ctx))
 
     def __repr__(self) -> str:
         return f"Ca({self})"
@@ -950,7 +600,7 @@ def real_roots(coeffs: Sequence[Any]) -> list[Ca]:
     ints, _ = _integer_coefficients(coeffs)
     if len(ints) < 2:
         return []
-    b = _get()
+    b = backend()
     out: list[Ca] = []
     with b.lock, _distinct_roots(b.lib, ints) as roots:
         for at in roots:
@@ -978,13 +628,13 @@ def _distinct_roots(lib: ctypes.CDLL, ints: list[int]):
     """The addresses of the distinct roots (qqbar_t) of the integer polynomial, valid inside the
     ``with`` block (caller holds the lock); cleared on exit."""
     deg = len(ints) - 1
-    qsize = ctypes.sizeof(_qqbar)
-    poly = (_ulong * (2 * ctypes.sizeof(_fmpz_poly) // 8))()
+    qsize = ctypes.sizeof(QqbarStruct)
+    poly = (c_ulong * (2 * ctypes.sizeof(FmpzPolyStruct) // 8))()
     lib.fmpz_poly_init(ctypes.addressof(poly))
     vec = None
     try:
         for j, c in enumerate(ints):
-            with _Fmpz(lib, c) as f:
+            with TempFmpz(lib, c) as f:
                 lib.fmpz_poly_set_coeff_fmpz(ctypes.addressof(poly), j, f)
         vec = lib._qqbar_vec_init(deg)
         lib.qqbar_roots_fmpz_poly(vec, ctypes.addressof(poly), 0)
@@ -1026,7 +676,7 @@ def _poly_str(qs: list[fmpq]) -> str:
 def _select_root(lib: ctypes.CDLL, roots: list[int], target: acb, ball_mode: bool, approx: Any,
                  desc: str) -> int:
     """The address of the root singled out by ``target`` (caller holds the lock)."""
-    buf = (_ulong * (2 * ctypes.sizeof(_acb) // 8))()
+    buf = (c_ulong * (2 * ctypes.sizeof(AcbStruct) // 8))()
     at = ctypes.addressof(buf)
     prec = 64
     while True:
@@ -1035,7 +685,7 @@ def _select_root(lib: ctypes.CDLL, roots: list[int], target: acb, ball_mode: boo
         try:
             for r in roots:
                 lib.qqbar_get_acb(at, r, prec)
-                encl.append(_acb_to_flint(lib, at))
+                encl.append(acb_from_address(lib, at))
         finally:
             lib.acb_clear(at)
         with flint.ctx.workprec(prec + 32):

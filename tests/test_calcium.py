@@ -20,7 +20,7 @@ import mpmath as mp
 import pytest
 from flint import acb, arb, fmpq, fmpq_mat
 
-from lcs_exact import calcium
+from lcs_exact import calcium, flintlib
 from lcs_exact.calcium import Ca
 from lcs_exact.errors import NotRational, UnresolvedSign
 
@@ -260,7 +260,7 @@ def test_unknown_is_none_for_a_tiny_nonzero():
 
 
 def test_is_zero_maps_truth_values():
-    assert [calcium._truth(t) for t in (calcium.T_TRUE, calcium.T_FALSE, calcium.T_UNKNOWN)] == [True, False, None]
+    assert [flintlib.truth(t) for t in (flintlib.T_TRUE, flintlib.T_FALSE, flintlib.T_UNKNOWN)] == [True, False, None]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -397,37 +397,37 @@ def test_str_and_repr():
 # ---------------------------------------------------------------------------------------------
 
 def test_struct_sizes_match_headers_and_python_flint():
-    for name, size in calcium.STRUCT_SIZES.items():
-        assert ctypes.sizeof(calcium._CTYPES[name]) == size, name
+    for name, size in flintlib.STRUCT_SIZES.items():
+        assert ctypes.sizeof(flintlib.CTYPES[name]) == size, name
     # python-flint objects embed the same structs: their sizes differ by the struct sizes
     size = sys.getsizeof
-    assert size(acb(0)) - size(arb(0)) == calcium.STRUCT_SIZES["acb_struct"] - calcium.STRUCT_SIZES["arb_struct"]
-    assert size(arb(0)) - size(flint.arf(0)) == calcium.STRUCT_SIZES["mag_struct"]
-    assert size(fmpq(0)) - size(flint.fmpz(0)) == calcium.STRUCT_SIZES["fmpz"]
-    assert size(flint.fmpq_poly([1])) - size(flint.fmpz_poly([1])) == calcium.STRUCT_SIZES["fmpz"]
-    assert calcium._get().version == flint.__FLINT_VERSION__
+    assert size(acb(0)) - size(arb(0)) == flintlib.STRUCT_SIZES["acb_struct"] - flintlib.STRUCT_SIZES["arb_struct"]
+    assert size(arb(0)) - size(flint.arf(0)) == flintlib.STRUCT_SIZES["mag_struct"]
+    assert size(fmpq(0)) - size(flint.fmpz(0)) == flintlib.STRUCT_SIZES["fmpz"]
+    assert size(flint.fmpq_poly([1])) - size(flint.fmpz_poly([1])) == flintlib.STRUCT_SIZES["fmpz"]
+    assert flintlib.backend().version == flint.__FLINT_VERSION__
 
 
 def test_self_check_on_a_fresh_context(monkeypatch):
-    be = calcium._get()
-    fresh = calcium._Backend(be.lib, be.path, be.version)
+    be = flintlib.backend()
+    fresh = flintlib.Backend(be.lib, be.path, be.version)
     with be.lock:
-        calcium._self_check(fresh)          # sentinel checks around ca_ctx_init, ca_init, ca_i, ...
+        flintlib.self_check(fresh)          # sentinel checks around ca_ctx_init, ca_init, ca_i, ...
     fresh.close()
     assert not fresh.alive
-    monkeypatch.setitem(calcium.STRUCT_SIZES, "ca_ctx_struct", 112)
+    monkeypatch.setitem(flintlib.STRUCT_SIZES, "ca_ctx_struct", 112)
     with pytest.raises(RuntimeError, match="ca_ctx_struct"):
-        calcium._self_check(calcium._Backend(be.lib, be.path, be.version))
+        flintlib.self_check(flintlib.Backend(be.lib, be.path, be.version))
 
 
 def test_unavailable_library_is_reported_not_raised(monkeypatch):
-    monkeypatch.setattr(calcium, "_backend", None)
-    monkeypatch.setattr(calcium, "_backend_error", None)
+    monkeypatch.setattr(flintlib, "_backend", None)
+    monkeypatch.setattr(flintlib, "_backend_error", None)
 
     def missing():
         raise OSError("no libflint here")
 
-    monkeypatch.setattr(calcium, "_find_library", missing)
+    monkeypatch.setattr(flintlib, "_find_library", missing)
     assert calcium.available() is False
     with pytest.raises(RuntimeError, match="no libflint here"):
         Ca(1)
@@ -482,7 +482,7 @@ def test_threads_share_the_context_safely():
 
 
 def test_transfer_of_non_finite_and_exact_balls():
-    be = calcium._get()
+    be = flintlib.backend()
     lib = be.lib
     buf = (ctypes.c_uint64 * 24)()
     at = ctypes.addressof(buf)
@@ -491,11 +491,11 @@ def test_transfer_of_non_finite_and_exact_balls():
         try:
             lib.acb_indeterminate.argtypes = [ctypes.c_void_p]
             lib.acb_indeterminate(at)                     # NaN midpoints, infinite radii
-            z = calcium._acb_to_flint(lib, at)
+            z = flintlib.acb_from_address(lib, at)
             assert not z.real.is_finite() and z.real.contains(10 ** 100) and z.imag.contains(-(10 ** 100))
             lib.acb_set_d_d.argtypes = [ctypes.c_void_p, ctypes.c_double, ctypes.c_double]
             lib.acb_set_d_d(at, -0.1, 2.0 ** -1074)         # exact doubles, one subnormal
-            z = calcium._acb_to_flint(lib, at)
+            z = flintlib.acb_from_address(lib, at)
             assert z.real == arb(-0.1) and z.imag == arb(flint.arf((1, -1074))) and z.real.rad() == 0
         finally:
             lib.acb_clear(at)
