@@ -8,7 +8,7 @@ from .errors import (Deadlock, FixtureMismatch, FormatError, HorizonExceeded, Il
 from .fixture import validate_fixture
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
-from .rational import RationalFunction, RationalMatrix
+from .ratfunc import RationalFunction, RationalMatrix
 from .reals import ExactVector, Real, expm_action
 from .simulate import simulate
 from .sweep import SweepResult, param_sweep, sweep

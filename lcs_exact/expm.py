@@ -27,6 +27,7 @@ from typing import Any, Callable
 from flint import acb, acb_mat, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly
 
 from .balls import closed_form_arb, workprec
+from .ratfunc import resolvent
 from .rational import adjugate_coefficients, identity, is_zero, poly_at_matrix, zeros
 
 __all__ = ["Spectrum", "jordan_chevalley", "spectrum_of", "symbolic_expm", "laplace_closed_form", "t_symbol"]
@@ -453,7 +454,6 @@ def laplace_closed_form(M: fmpq_mat, row: fmpq_mat, z: fmpq_mat):
     otherwise None.
     """
     import sympy
-    from .rational import resolvent
     t = t_symbol()
     s = _SYMBOLS["s"]
     f = resolvent(M, row, z)[0, 0]

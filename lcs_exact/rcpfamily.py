@@ -45,7 +45,8 @@ from dataclasses import dataclass
 from flint import fmpq, fmpq_mat, fmpq_poly
 
 from .errors import LCSError, UnresolvedSign, Unsupported
-from .rational import RationalFunction, RationalMatrix, is_zero, laurent_coefficients, lex_sign, sign_of_form
+from .ratfunc import RationalFunction, RationalMatrix, laurent_coefficients
+from .rational import is_zero, lex_sign, sign_of_form
 
 __all__ = ["RowSeries", "row_series", "RCPFamily", "family", "MAX_ELIMINATION_ROWS"]
 

@@ -42,8 +42,9 @@ from .errors import InvalidArgument, IllPosed, LCSError, NotAutonomous
 from .lcp import murty
 from .modes import LATEX_MAX_N, format_mode, latex_mode
 from .rcpfamily import family, row_series
-from .rational import (MAX_KAPPA, RationalFunction, RationalMatrix, check_enumerable, is_rational_vector,
-                       is_zero, lex_sign, sign_of_form, submatrix, to_int, to_vector, zeros)
+from .ratfunc import RationalFunction, RationalMatrix
+from .rational import (MAX_KAPPA, check_enumerable, is_rational_vector, is_zero, lex_sign, sign_of_form, submatrix,
+                       to_int, to_vector, zeros)
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "ldcp_modes", "LDCPSolution", "select_modes",
            "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data", "impulse_forms",

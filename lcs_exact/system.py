@@ -21,7 +21,8 @@ from flint import fmpq, fmpq_mat, fmpq_poly
 
 from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
-from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, RationalFunction, RationalMatrix,
+from .ratfunc import RationalFunction, RationalMatrix
+from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX,
                        adjugate_coefficients, eigenvalue_moduli, mat_rows, matrix_to_sympy, submatrix, to_fmpq,
                        to_int, to_matrix, to_short, to_vector)
 
