@@ -63,23 +63,21 @@ True
 """
 from __future__ import annotations
 
-import contextlib
 import ctypes
 from fractions import Fraction  # noqa: F401 -- used by the doctests
 from numbers import Integral
 from typing import Any, Sequence
 
-import flint
+import flint  # noqa: F401 -- used by the doctests
 from flint import acb, arb, fmpq, fmpz
 
 from .errors import NotRational, UnresolvedSign
-from .flintlib import (CA_UNDEFINED, CA_UNKNOWN, CA_WORDS, AcbStruct, FmpqStruct, FmpzPolyStruct, QqbarStruct,
-                       TempFmpz, acb_from_address, available, backend, c_ulong, fmpz_to_int, take_str, truth)
+from .flintlib import (CA_UNDEFINED, CA_UNKNOWN, CA_WORDS, AcbStruct, FmpqStruct, QqbarStruct, acb_from_address,
+                       available, backend, c_ulong, fmpz_to_int, qqbar_distinct_roots, select_qqbar_root, take_str,
+                       truth)
 from .rational import to_fmpq
 
 __all__ = ["available", "Ca", "real_roots"]
-
-_PREC_LIMIT_ALGEBRAIC = 8192        # bits: root selection in Ca.algebraic gives up above this
 
 # ---------------------------------------------------------------------------------------------
 # the number
@@ -244,8 +242,8 @@ class Ca:
                 raise TypeError(f"approx {approx!r} is not a number python-flint can read as acb") from None
             target, ball_mode = acb(target.real.mid(), target.imag.mid()), False
         b = backend()
-        with b.lock, _distinct_roots(b.lib, ints) as roots:
-            chosen = _select_root(b.lib, roots, target, ball_mode, approx, desc)
+        with b.lock, qqbar_distinct_roots(b.lib, ints) as roots:
+            chosen = select_qqbar_root(b.lib, roots, target, ball_mode, approx, desc)
             r = cls._new()
             b.lib.ca_set_qqbar(r._ptr, chosen, b.ctx)
         return r
@@ -584,7 +582,7 @@ class Ca:
 
 
 # ---------------------------------------------------------------------------------------------
-# real roots of integer polynomials; root selection for Ca.algebraic
+# real roots of integer polynomials
 # ---------------------------------------------------------------------------------------------
 
 def real_roots(coeffs: Sequence[Any]) -> list[Ca]:
@@ -602,7 +600,7 @@ def real_roots(coeffs: Sequence[Any]) -> list[Ca]:
         return []
     b = backend()
     out: list[Ca] = []
-    with b.lock, _distinct_roots(b.lib, ints) as roots:
+    with b.lock, qqbar_distinct_roots(b.lib, ints) as roots:
         for at in roots:
             if b.lib.qqbar_sgn_im(at) == 0:
                 r = Ca._new()
@@ -621,35 +619,6 @@ def _integer_coefficients(coeffs: Sequence[Any]) -> tuple[list[int], list[fmpq]]
     for q in qs:
         den = den * int(q.q) // _gcd(den, int(q.q))
     return [int(q.p) * (den // int(q.q)) for q in qs], qs
-
-
-@contextlib.contextmanager
-def _distinct_roots(lib: ctypes.CDLL, ints: list[int]):
-    """The addresses of the distinct roots (qqbar_t) of the integer polynomial, valid inside the
-    ``with`` block (caller holds the lock); cleared on exit."""
-    deg = len(ints) - 1
-    qsize = ctypes.sizeof(QqbarStruct)
-    poly = (c_ulong * (2 * ctypes.sizeof(FmpzPolyStruct) // 8))()
-    lib.fmpz_poly_init(ctypes.addressof(poly))
-    vec = None
-    try:
-        for j, c in enumerate(ints):
-            with TempFmpz(lib, c) as f:
-                lib.fmpz_poly_set_coeff_fmpz(ctypes.addressof(poly), j, f)
-        vec = lib._qqbar_vec_init(deg)
-        lib.qqbar_roots_fmpz_poly(vec, ctypes.addressof(poly), 0)
-        roots: list[int] = []
-        for k in range(deg):
-            at = vec + k * qsize
-            if not 1 <= lib.qqbar_degree(at) <= deg:
-                raise RuntimeError("qqbar_roots_fmpz_poly output does not have the expected layout")
-            if not any(lib.qqbar_equal(at, r) for r in roots):
-                roots.append(at)
-        yield roots
-    finally:
-        if vec is not None:
-            lib._qqbar_vec_clear(vec, deg)
-        lib.fmpz_poly_clear(ctypes.addressof(poly))
 
 
 def _gcd(a: int, b: int) -> int:
@@ -671,112 +640,3 @@ def _poly_str(qs: list[fmpq]) -> str:
         term = coef + ("" if j == 0 else "s" if j == 1 else f"s^{j}")
         out = (f"-{term}" if sign == "-" else term) if not out else f"{out} {sign} {term}"
     return out
-
-
-def _select_root(lib: ctypes.CDLL, roots: list[int], target: acb, ball_mode: bool, approx: Any,
-                 desc: str) -> int:
-    """The address of the root singled out by ``target`` (caller holds the lock)."""
-    buf = (c_ulong * (2 * ctypes.sizeof(AcbStruct) // 8))()
-    at = ctypes.addressof(buf)
-    prec = 64
-    while True:
-        encl = []
-        lib.acb_init(at)
-        try:
-            for r in roots:
-                lib.qqbar_get_acb(at, r, prec)
-                encl.append(acb_from_address(lib, at))
-        finally:
-            lib.acb_clear(at)
-        with flint.ctx.workprec(prec + 32):
-            if ball_mode:
-                meet = [k for k, e in enumerate(encl) if e.overlaps(target)]
-                if not meet:
-                    raise ValueError(f"no root of {desc} lies in approx {approx}")
-                if len(meet) == 1:
-                    return roots[meet[0]]
-                failure = f"{len(meet)} roots may lie in it"
-            else:
-                mid = acb(target.real.mid(), target.imag.mid())
-                dist = [abs(e - mid) for e in encl]
-                best = min(range(len(roots)), key=lambda k: dist[k].mid())
-                if all(dist[best] < dist[k] for k in range(len(roots)) if k != best):
-                    return roots[best]
-                failure = f"{sum(1 for d in dist if not dist[best] < d)} roots are as near"
-        prec *= 2
-        if prec > _PREC_LIMIT_ALGEBRAIC:
-            raise ValueError(f"approx {approx} does not single out one root of {desc} ({failure})")
-
-
-# ---------------------------------------------------------------------------------------------
-# closed forms written as SymPy expressions
-# ---------------------------------------------------------------------------------------------
-
-def _sympy_node(e: Any, rec) -> Ca | None:
-    """One node of a SymPy expression tree as a Ca (children through ``rec``); dispatch by class
-    name, so this module never imports SymPy."""
-    name = type(e).__name__
-    if getattr(e, "is_Rational", False):
-        return Ca(fmpq(int(e.p), int(e.q)))
-    if name == "Pi":
-        return Ca.pi()
-    if name == "Exp1":
-        return Ca(1).exp()
-    if name == "ImaginaryUnit":
-        return Ca.i()
-    args = [rec(a) for a in e.args]
-    if any(a is None for a in args):
-        return None
-    if name == "Add":
-        out = args[0]
-        for a in args[1:]:
-            out = out + a
-        return out
-    if name == "Mul":
-        out = args[0]
-        for a in args[1:]:
-            out = out * a
-        return out
-    if name == "Pow":
-        ex = e.args[1]
-        if getattr(ex, "is_Integer", False):
-            return args[0] ** int(ex)
-        if getattr(ex, "is_Rational", False) and int(ex.q) == 2:
-            return args[0].sqrt() ** int(ex.p)
-        return (args[0].log() * args[1]).exp()
-    unary = {"exp": Ca.exp, "log": Ca.log, "sin": Ca.sin, "cos": Ca.cos, "atan": Ca.atan,
-             "acos": Ca.acos, "asin": Ca.asin}
-    if name in unary and len(args) == 1:
-        return unary[name](args[0])
-    if name == "tan" and len(args) == 1:
-        return args[0].sin() / args[0].cos()
-    if name in ("sinh", "cosh") and len(args) == 1:
-        p, m = args[0].exp(), (-args[0]).exp()
-        return (p - m) / 2 if name == "sinh" else (p + m) / 2
-    return None
-
-
-def from_sympy(expr: Any) -> Ca | None:
-    """The Calcium number of a SymPy closed form (rationals, pi, E, I, +, *, integer and
-    half-integer powers, exp, log, sin, cos, tan, atan, asin, acos, sinh, cosh); None when the
-    expression uses anything else or Calcium is unavailable.  The tree is walked with an
-    explicit stack (deep sums cannot exhaust the Python stack).
-
-    >>> import sympy
-    >>> from_sympy(sympy.exp(sympy.I * sympy.pi) + 1).is_zero()
-    True
-    """
-    if not available():
-        return None
-    done: dict = {}
-    stack = [(expr, False)]
-    while stack:
-        node, ready = stack.pop()
-        if id(node) in done:
-            continue
-        if ready:
-            done[id(node)] = _sympy_node(node, lambda a: done[id(a)])
-            continue
-        stack.append((node, True))
-        stack.extend((a, False) for a in node.args if id(a) not in done)
-    return done[id(expr)]

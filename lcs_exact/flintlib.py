@@ -17,6 +17,7 @@ On first use they are checked against the library itself (sentinel-filled buffer
 from __future__ import annotations
 
 import atexit
+import contextlib
 import ctypes
 import threading
 from pathlib import Path
@@ -27,7 +28,8 @@ from flint import acb, arb, arf
 
 __all__ = ["available", "backend", "Backend", "self_check", "CTYPES", "CA_UNKNOWN", "CA_UNDEFINED", "CA_INF", "truth", "take_str", "fmpz_to_int", "acb_from_address",
            "TempFmpz", "CA_WORDS", "STRUCT_SIZES", "T_TRUE", "T_FALSE", "T_UNKNOWN", "c_ptr", "c_ulong",
-           "FmpqStruct", "FmpzPolyStruct", "AcbStruct", "QqbarStruct"]
+           "FmpqStruct", "FmpzPolyStruct", "AcbStruct", "QqbarStruct", "qqbar_distinct_roots", "select_qqbar_root",
+           "PREC_LIMIT_ALGEBRAIC"]
 
 # ---------------------------------------------------------------------------------------------
 # FLINT 3.6 struct layouts (64-bit).  fmpz is one slong; truth_t is an enum (int).
@@ -371,3 +373,74 @@ class TempFmpz:
 
     def __exit__(self, *exc: Any) -> None:
         self.lib.fmpz_clear(ctypes.byref(self.v))
+
+
+# ---------------------------------------------------------------------------------------------
+# algebraic numbers: the distinct roots of an integer polynomial, one of them by an enclosure
+# ---------------------------------------------------------------------------------------------
+
+PREC_LIMIT_ALGEBRAIC = 8192        # bits: root selection gives up above this
+
+
+@contextlib.contextmanager
+def qqbar_distinct_roots(lib: ctypes.CDLL, ints: list[int]):
+    """The addresses of the distinct roots (qqbar_t) of the integer polynomial, valid inside the
+    ``with`` block (caller holds the lock); cleared on exit."""
+    deg = len(ints) - 1
+    qsize = ctypes.sizeof(QqbarStruct)
+    poly = (c_ulong * (2 * ctypes.sizeof(FmpzPolyStruct) // 8))()
+    lib.fmpz_poly_init(ctypes.addressof(poly))
+    vec = None
+    try:
+        for j, c in enumerate(ints):
+            with TempFmpz(lib, c) as f:
+                lib.fmpz_poly_set_coeff_fmpz(ctypes.addressof(poly), j, f)
+        vec = lib._qqbar_vec_init(deg)
+        lib.qqbar_roots_fmpz_poly(vec, ctypes.addressof(poly), 0)
+        roots: list[int] = []
+        for k in range(deg):
+            at = vec + k * qsize
+            if not 1 <= lib.qqbar_degree(at) <= deg:
+                raise RuntimeError("qqbar_roots_fmpz_poly output does not have the expected layout")
+            if not any(lib.qqbar_equal(at, r) for r in roots):
+                roots.append(at)
+        yield roots
+    finally:
+        if vec is not None:
+            lib._qqbar_vec_clear(vec, deg)
+        lib.fmpz_poly_clear(ctypes.addressof(poly))
+
+
+def select_qqbar_root(lib: ctypes.CDLL, roots: list[int], target: acb, ball_mode: bool, approx: Any,
+                 desc: str) -> int:
+    """The address of the root singled out by ``target`` (caller holds the lock)."""
+    buf = (c_ulong * (2 * ctypes.sizeof(AcbStruct) // 8))()
+    at = ctypes.addressof(buf)
+    prec = 64
+    while True:
+        encl = []
+        lib.acb_init(at)
+        try:
+            for r in roots:
+                lib.qqbar_get_acb(at, r, prec)
+                encl.append(acb_from_address(lib, at))
+        finally:
+            lib.acb_clear(at)
+        with flint.ctx.workprec(prec + 32):
+            if ball_mode:
+                meet = [k for k, e in enumerate(encl) if e.overlaps(target)]
+                if not meet:
+                    raise ValueError(f"no root of {desc} lies in approx {approx}")
+                if len(meet) == 1:
+                    return roots[meet[0]]
+                failure = f"{len(meet)} roots may lie in it"
+            else:
+                mid = acb(target.real.mid(), target.imag.mid())
+                dist = [abs(e - mid) for e in encl]
+                best = min(range(len(roots)), key=lambda k: dist[k].mid())
+                if all(dist[best] < dist[k] for k in range(len(roots)) if k != best):
+                    return roots[best]
+                failure = f"{sum(1 for d in dist if not dist[best] < d)} roots are as near"
+        prec *= 2
+        if prec > PREC_LIMIT_ALGEBRAIC:
+            raise ValueError(f"approx {approx} does not single out one root of {desc} ({failure})")

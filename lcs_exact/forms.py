@@ -25,7 +25,7 @@ from . import calcium
 from .balls import closed_form_arb
 from .errors import InvalidArgument
 
-__all__ = ["Closed"]
+__all__ = ["Closed", "ca_of_sympy"]
 
 
 def _squarefree(m: int) -> tuple[int, int]:
@@ -185,7 +185,7 @@ class Closed:
             elif kind == "log":
                 v = calcium.Ca(x).log()
             else:
-                v = calcium.from_sympy(x)
+                v = ca_of_sympy(x)
                 if v is None:
                     return None
             out = out + v * calcium.Ca(c)
@@ -256,3 +256,77 @@ def _pi_text(r: fmpq, c: fmpq) -> str:
     if q != 1:
         body = f"{body}/{q}"
     return f"-{body}" if k < 0 else body
+
+
+# ---------------------------------------------------------------------------------------------
+# closed forms written as SymPy expressions
+# ---------------------------------------------------------------------------------------------
+
+def _sympy_node(e: Any, rec) -> Any:
+    """One node of a SymPy expression tree as a Ca (children through ``rec``); dispatch by class
+    name, so this module never imports SymPy."""
+    name = type(e).__name__
+    if getattr(e, "is_Rational", False):
+        return calcium.Ca(fmpq(int(e.p), int(e.q)))
+    if name == "Pi":
+        return calcium.Ca.pi()
+    if name == "Exp1":
+        return calcium.Ca(1).exp()
+    if name == "ImaginaryUnit":
+        return calcium.Ca.i()
+    args = [rec(a) for a in e.args]
+    if any(a is None for a in args):
+        return None
+    if name == "Add":
+        out = args[0]
+        for a in args[1:]:
+            out = out + a
+        return out
+    if name == "Mul":
+        out = args[0]
+        for a in args[1:]:
+            out = out * a
+        return out
+    if name == "Pow":
+        ex = e.args[1]
+        if getattr(ex, "is_Integer", False):
+            return args[0] ** int(ex)
+        if getattr(ex, "is_Rational", False) and int(ex.q) == 2:
+            return args[0].sqrt() ** int(ex.p)
+        return (args[0].log() * args[1]).exp()
+    unary = {"exp": calcium.Ca.exp, "log": calcium.Ca.log, "sin": calcium.Ca.sin, "cos": calcium.Ca.cos, "atan": calcium.Ca.atan,
+             "acos": calcium.Ca.acos, "asin": calcium.Ca.asin}
+    if name in unary and len(args) == 1:
+        return unary[name](args[0])
+    if name == "tan" and len(args) == 1:
+        return args[0].sin() / args[0].cos()
+    if name in ("sinh", "cosh") and len(args) == 1:
+        p, m = args[0].exp(), (-args[0]).exp()
+        return (p - m) / 2 if name == "sinh" else (p + m) / 2
+    return None
+
+
+def ca_of_sympy(expr: Any) -> Any:
+    """The Calcium number of a SymPy closed form (rationals, pi, E, I, +, *, integer and
+    half-integer powers, exp, log, sin, cos, tan, atan, asin, acos, sinh, cosh); None when the
+    expression uses anything else or Calcium is unavailable.  The tree is walked with an
+    explicit stack (deep sums cannot exhaust the Python stack).
+
+    >>> import sympy
+    >>> ca_of_sympy(sympy.exp(sympy.I * sympy.pi) + 1).is_zero()
+    True
+    """
+    if not calcium.available():
+        return None
+    done: dict = {}
+    stack = [(expr, False)]
+    while stack:
+        node, ready = stack.pop()
+        if id(node) in done:
+            continue
+        if ready:
+            done[id(node)] = _sympy_node(node, lambda a: done[id(a)])
+            continue
+        stack.append((node, True))
+        stack.extend((a, False) for a in node.args if id(a) not in done)
+    return done[id(expr)]

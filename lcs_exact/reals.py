@@ -35,7 +35,7 @@ from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_fo
                     digits_to_bits, dyadic_lower, dyadic_upper, long_int_strings, workprec)
 from .errors import LCSError, NotRational, ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of
-from .forms import Closed
+from .forms import Closed, ca_of_sympy
 from .rational import is_zero, to_fmpq, to_int, to_matrix, to_vector, vector_entries, zeros
 from .subspaces import RowSpan, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
@@ -488,8 +488,7 @@ class ClosedFormReal(Real):
         return None
 
     def to_ca(self):
-        from . import calcium
-        return calcium.from_sympy(self.expr) if calcium.available() else None
+        return ca_of_sympy(self.expr)
 
 
 class ComponentReal(Real):
@@ -572,7 +571,6 @@ def radical_form(c):
         return None
     x = sympy.Symbol("x")
     poly = sympy.Poly(list(reversed(coeffs)), x)
-    from . import calcium
     with workprec(128):
         target = c.enclosure(128).real
         for r in sympy.roots(poly, multiple=True):
@@ -583,7 +581,7 @@ def radical_form(c):
                     continue
             except Exception:  # noqa: BLE001 - an expression the ball evaluator cannot read
                 continue
-            rc = calcium.from_sympy(r)
+            rc = ca_of_sympy(r)
             if rc is not None and (rc - c).is_zero() is True:
                 return sympy.radsimp(r) if len(str(r)) > 40 else r
     return None
