@@ -27,6 +27,7 @@ from typing import Any, Callable
 from flint import acb, acb_mat, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly
 
 from .balls import closed_form_arb, workprec
+from .errors import LCSError
 from .ratfunc import resolvent
 from .rational import adjugate_coefficients, identity, is_zero, poly_at_matrix, zeros
 
@@ -540,7 +541,6 @@ def symbolic_expm(spectrum: Spectrum):
     if "symbolic" in spectrum.__dict__:
         return spectrum.symbolic
     import sympy
-    from .errors import LCSError
     M, n = spectrum.M, spectrum.n
     t = t_symbol()
     unit = [fmpq_mat(n, 1, [int(i == j) for i in range(n)]) for j in range(n)]

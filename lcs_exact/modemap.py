@@ -30,7 +30,8 @@ from typing import Any, Sequence
 from flint import fmpq, fmpq_mat
 
 from .errors import NotAutonomous, ShapeError, Unsupported
-from .modes import format_mode
+from .modes import format_mode, latex_mode
+from .plotting import plot_mode_map
 from .polyhedra import find_point
 from .rational import hstack, identity, to_fmpq, to_vector, zeros
 from .selection import admissibility_forms
@@ -140,7 +141,6 @@ class Region:
         return f"<Region S = {self.label} (dim {self.dimension}){sel}: {self.describe()}>"
 
     def _repr_latex_(self):
-        from .modes import latex_mode
         if sum(len(c) for c in self.inequalities) > 40:
             return None
         modes = r",\ ".join(latex_mode(m) for m in _sorted_modes(self.modes)) or r"\emptyset"
@@ -222,7 +222,6 @@ class ModeMap:
 
     def plot(self, ax=None, **kw):
         """Draw a 2-D map (regions filled and labelled, jump arrows); see plotting.plot_mode_map."""
-        from .plotting import plot_mode_map
         return plot_mode_map(self, ax=ax, **kw)
 
     def __repr__(self):

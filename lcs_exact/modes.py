@@ -28,6 +28,7 @@ from typing import Any
 from flint import fmpq_mat
 
 from .errors import LCSError, NotAutonomous
+from .expm import Spectrum
 from .rational import hstack, identity, matrix_to_sympy, submatrix, vstack, zeros
 from .subspaces import image, intersection, kernel, left_kernel, projection, rank, solve_any
 
@@ -233,7 +234,6 @@ class Mode:
     def spectrum(self):
         """The spectral data of e^{A_I t} (:class:`~lcs_exact.expm.Spectrum`), computed once."""
         if "spectrum" not in self._cache:
-            from .expm import Spectrum
             self._cache["spectrum"] = Spectrum(self.closed_loop())
         return self._cache["spectrum"]
 

@@ -23,6 +23,7 @@ from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
 
 from . import calcium
 from .balls import Policy, workprec
+from .modes import format_mode
 from .reals import (ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, as_real, ca_matvec,
                     orbit_start)
 from .polyhedra import eliminate
@@ -290,7 +291,6 @@ class Phase:
         return repr(self.z)
 
     def __repr__(self):
-        from .modes import format_mode
         return f"<Phase in mode {format_mode(self.mode.I)} from {self.z!r}>"
 
 

@@ -31,12 +31,13 @@ from typing import Any, Callable, Iterator
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
+from . import calcium
 from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_form_arb, decide_sign,
                     digits_to_bits, dyadic_lower, dyadic_upper, long_int_strings, workprec)
 from .errors import LCSError, NotRational, ShapeError, UnresolvedSign
-from .expm import Spectrum, spectrum_of
+from .expm import Spectrum, spectrum_of, symbolic_expm, t_symbol
 from .forms import Closed, ca_of_sympy
-from .rational import is_zero, to_fmpq, to_int, to_matrix, to_vector, vector_entries, zeros
+from .rational import is_zero, matrix_to_sympy, to_fmpq, to_int, to_matrix, to_vector, vector_entries, zeros
 from .subspaces import RowSpan, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
 __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
@@ -191,7 +192,6 @@ class Real(_Node):
         algebraic number (cheap: never derives a closed form), else None."""
         q = self.known_rational()
         if q is not None:
-            from . import calcium
             return calcium.Ca(q) if calcium.available() else None
         return None
 
@@ -339,7 +339,6 @@ class RationalReal(Real):
         return Closed.rational(self.q)
 
     def to_ca(self):
-        from . import calcium
         return calcium.Ca(self.q) if calcium.available() else None
 
 
@@ -412,7 +411,6 @@ class _Linear(Real):
         return out
 
     def to_ca(self):
-        from . import calcium
         if not calcium.available():
             return None
         const, terms = linear_terms(self)
@@ -551,7 +549,6 @@ def _ca_state(c) -> tuple:
 
 
 def _ca_from_state(state: tuple):
-    from . import calcium
     coeffs, ((ap, aq), (bp, bq)) = state
     with workprec(256):
         ball = arb(fmpq(ap, aq)).union(arb(fmpq(bp, bq)))
@@ -660,7 +657,6 @@ class AlgebraicReal(Real):
 
 
 def _rational_ca(q):
-    from . import calcium
     return calcium.Ca(q)
 
 
@@ -746,7 +742,6 @@ class ExactVector(_Node):
         q = self.known_rational()
         if q is None:
             return None
-        from . import calcium
         return [calcium.Ca(q[i, 0]) for i in range(self.n)] if calcium.available() else None
 
     def to_ca(self) -> list | None:
@@ -799,7 +794,6 @@ class ExactVector(_Node):
             self._twin = RationalVector(fmpq_mat(self.n, 1, qs), policy=self.policy)
             v = (form * self._twin.q)[0, 0]
             return v == 0
-        from . import calcium
         acc = calcium.Ca(0)
         for j, c in enumerate(xs):
             if form[0, j] != 0:
@@ -854,7 +848,6 @@ class RationalVector(ExactVector):
         return sympy.Matrix([sympy.Rational(int(self.q[i, 0].p), int(self.q[i, 0].q)) for i in range(self.n)])
 
     def _to_ca(self):
-        from . import calcium
         return [calcium.Ca(self.q[i, 0]) for i in range(self.n)] if calcium.available() else None
 
 
@@ -952,14 +945,12 @@ class ProjectedVector(ExactVector):
         cf = self.v.closed_form(derive)
         if cf is None:
             return None
-        from .rational import matrix_to_sympy
         return (matrix_to_sympy(self.P) * cf).applyfunc(_tidy)
 
     def _to_ca(self):
         xs = self.v.to_ca()
         if xs is None:
             return None
-        from . import calcium
         out = []
         for i in range(self.n):
             acc = calcium.Ca(0)
@@ -1025,7 +1016,6 @@ class ExpVector(ExactVector):
             return q
         if all(q[i, 0] == 0 for i in range(self.n)):
             return q
-        from . import calcium
         if not calcium.available():
             return None
         try:  # e^{M t*} q exactly (Calcium), rational when every component is
@@ -1051,7 +1041,6 @@ class ExpVector(ExactVector):
             tc = self.t.closed_form
             vc = self.v.closed_form(derive) if tc is not None else None
             if vc is not None:
-                from .expm import symbolic_expm, t_symbol
                 E = symbolic_expm(self.spectrum)
                 if E is not None:
                     self._sym = (E.subs(t_symbol(), tc) * vc).applyfunc(_tidy)
@@ -1064,7 +1053,6 @@ class ExpVector(ExactVector):
         xs = self.v.to_ca()
         if xs is None:
             return None
-        from . import calcium
         return self.spectrum.ca_apply(tc, xs, calcium)
 
 
@@ -1109,7 +1097,6 @@ def ca_matvec(P: fmpq_mat, xs: list | None) -> list | None:
     """P x for a rational matrix P and a vector of Calcium numbers (None stays None)."""
     if xs is None:
         return None
-    from . import calcium
     out = []
     for i in range(P.nrows()):
         acc = calcium.Ca(0)
@@ -1154,7 +1141,6 @@ class AlgebraicVector(ExactVector):
         return self.comps
 
     def _structural_sign(self, form):
-        from . import calcium
         acc = calcium.Ca(0)
         for j in range(self.n):
             if form[0, j] != 0:

@@ -36,7 +36,9 @@ from typing import Callable, Protocol
 
 from flint import acb, arb, fmpq
 
+from . import calcium
 from .balls import Policy, ball_sign, dyadic, dyadic_lower, dyadic_upper, workprec
+from .errors import LCSError
 from .forms import Closed
 from .reals import Real
 
@@ -614,7 +616,6 @@ class RootReal(Real):
 
     def to_ca(self):
         if self._q is not None:
-            from . import calcium
             return calcium.Ca(self._q) if calcium.available() else None
         self.closed
         if self._proven and self._proven[1] is None:
@@ -638,7 +639,6 @@ class RootReal(Real):
         """Record that the root is exactly the rational q (proven by the caller, e.g. as the
         root of an exact polynomial inside the bracket); no SymPy involved."""
         if not self.lo <= q <= self.hi:
-            from .errors import LCSError
             raise LCSError(f"internal inconsistency: the rational root {q} is outside its bracket")
         self._q = q
         self.lo = self.hi = q

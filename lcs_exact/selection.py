@@ -38,13 +38,14 @@ from typing import Any
 
 from flint import fmpq_mat
 
-from .errors import InvalidArgument, LCSError, NotAutonomous
+from .errors import Deadlock, InvalidArgument, LCSError, NotAutonomous
 from .modes import LATEX_MAX_N, format_mode, latex_mode
 from .rcpfamily import family, row_series
 from .ldcp import LDCPSolution, impulse_forms, ldcp, ldcp_modes
 from .ratfunc import RationalFunction, RationalMatrix
-from .rational import (as_state, check_enumerable, is_rational_vector, is_zero, lex_sign, sign_of_form, submatrix,
-                       zeros)
+from .rational import (as_state, check_enumerable, identity, is_rational_vector, is_zero, lex_sign, sign_of_form,
+                       submatrix, zeros)
+from .reals import ProjectedVector
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "ldcp_modes", "LDCPSolution", "select_modes",
            "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data", "impulse_forms",
@@ -59,7 +60,6 @@ def _apply(P: fmpq_mat, x):
     """P x: rational for a rational x, else an exact vector."""
     if is_rational_vector(x):
         return P * x
-    from .reals import ProjectedVector
     return ProjectedVector(P, x)
 
 
@@ -310,7 +310,6 @@ class InitialSolution:
 
 def _jump_forms(lcs, impulse_forms: list[fmpq_mat]) -> fmpq_mat:
     """I + sum_i A^i B U^{-i}: the map x0 -> x(0+) of (3.8) for impulse forms U^{-i}."""
-    from .rational import identity
     out = identity(lcs.n)
     for i, u in enumerate(impulse_forms):
         if not is_zero(u):
@@ -325,7 +324,6 @@ def initial_solution(lcs, x0: Any, mode: Any = None) -> InitialSolution:
     P_I x0 as an identity of matrices (it holds for every x0), so the check is exact also for
     exact-real states.  Raises :class:`~lcs_exact.errors.Deadlock` if S(x0) is empty.
     """
-    from .errors import Deadlock
     x = as_state(lcs, x0)
     modes = select_modes(lcs, x)
     if not modes:

@@ -21,10 +21,12 @@ from flint import fmpq, fmpq_mat, fmpq_poly
 
 from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
+from .modemap import mode_map
+from .modes import Mode, format_mode
 from .ratfunc import RationalFunction, RationalMatrix
-from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX,
-                       adjugate_coefficients, eigenvalue_moduli, mat_rows, matrix_to_sympy, submatrix, to_fmpq,
-                       to_int, to_matrix, to_short, to_vector)
+from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, adjugate_coefficients, eigenvalue_moduli, mat_rows,
+                       matrix_to_sympy, submatrix, to_fmpq, to_int, to_matrix, to_short, to_vector)
+from .selection import initial_solution, is_regular, ldcp, rcp, select_modes
 
 __all__ = ["LCS", "WellPosedness", "LATEX_MAX_CHARS"]
 
@@ -172,7 +174,6 @@ class LCS:
         >>> two_carts().describe_mode({0}), LCS([[0]], [[1]], [[1]], [[0]]).describe_mode({0})
         ('stop contact', '{0}')
         """
-        from .modes import format_mode
         key = self._index_set(I)
         free = self._index_set(undetermined)
         if self.roles is None:
@@ -419,7 +420,6 @@ class LCS:
 
     def mode(self, I: Iterable[int]):
         """The mode I (0-based index set): V_I, T_I, P_I, F_I, autonomy.  Built once, on demand."""
-        from .modes import Mode
         key = self._index_set(I)
         m = self._modes.get(key)
         if m is None:
@@ -436,34 +436,28 @@ class LCS:
         autonomous is admissible at x0) or ``"include"``.  See
         :func:`lcs_exact.selection.select_modes`.
         """
-        from .selection import select_modes
         return select_modes(self, x0, method=method, nonautonomous=nonautonomous)
 
     def rcp(self, x0: Any):
         """All solutions of RCP(x0) (5.3)-(5.4), one per admissible mode; see selection.rcp."""
-        from .selection import rcp
         return rcp(self, x0)
 
     def ldcp(self, x0: Any, kappa: int | None = None):
         """LDCP_kappa(x0) (5.10)-(5.12); kappa defaults to n.  See selection.ldcp."""
-        from .selection import ldcp
         return ldcp(self, x0, self.n if kappa is None else kappa)
 
     def initial_solution(self, x0: Any):
         """The initial solution from x0 (unique when N is a P-matrix): mode, impulse, x(0+)."""
-        from .selection import initial_solution
         return initial_solution(self, x0)
 
     def mode_map(self, slice: Any = None):
         """The exact partition of the state space (or of ``slice=(base, directions)``) into the
         polyhedral regions where S(x0) and the re-initialization are constant (docs/paper-to-api.md).
         See :func:`lcs_exact.modemap.mode_map`."""
-        from .modemap import mode_map
         return mode_map(self, slice)
 
     def is_regular(self, x0: Any) -> bool:
         """Theorem 6.8: x0 admits a smooth initial solution."""
-        from .selection import is_regular
         return is_regular(self, x0)
 
     # --- display ------------------------------------------------------------------------------
