@@ -39,7 +39,7 @@ def test_error_classes_and_bases(cls, bases, not_bases):
     marker = object()
     assert cls("partial run", trajectory=marker).trajectory is marker
     assert cls.__name__ in lcs_exact.__all__ and getattr(lcs_exact, cls.__name__) is cls
-    with pytest.raises(LCSError):
+    with pytest.raises(LCSError, match="^caught through the root$"):
         raise cls("caught through the root")
 
 

@@ -563,13 +563,19 @@ def test_expm_action_refuses_a_dict_or_deep_nesting(v):
     raises(ShapeError, lambda: expm_action([[0, 1], [-1, 0]], 1, v), "v")
 
 
-@pytest.mark.parametrize("call", ["ts_str", "digits0", "digits_neg", "digits_str", "ts_none"])
-def test_sample_arguments(call):
+@pytest.mark.parametrize("call, pattern", [
+    ("ts_str", r"^ts must be a sequence of rational times, got str$"),
+    ("digits0", r"^digits must be an integer in 1\.\.10000, got 0$"),
+    ("digits_neg", r"^digits must be an integer in 1\.\.10000, got -5$"),
+    ("digits_str", r"^digits must be an integer, got 'a' \(str\)$"),
+    ("ts_none", r"^ts must be a sequence of rational times, got NoneType$"),
+])
+def test_sample_arguments(call, pattern):
     tr = simulate(carts(), X0, 3)
     fn = {"ts_str": lambda: tr.sample("12"), "digits0": lambda: tr.sample([1], digits=0),
           "digits_neg": lambda: tr.sample([1], digits=-5), "digits_str": lambda: tr.sample([1], digits="a"),
           "ts_none": lambda: tr.sample(None)}[call]
-    with pytest.raises(LCSError):
+    with pytest.raises(LCSError, match=pattern):
         fn()
 
 

@@ -34,9 +34,12 @@ def test_event_state_centered_form():
     root = L.flow.first_root(phase, phase.constraints[0], L.rational.to_fmpq(3), 128)
     x = phase.event_state(root)
     assert isinstance(x, EventState)
+    # the plain enclosure: the same e^{A_I theta} z as an ExpVector (no centered form)
+    plain_x = ExpVector(x.spectrum, x.t, x.v, policy=x.policy, modal=phase.modal)
+    assert type(plain_x) is ExpVector and plain_x.t is root and plain_x.v is phase.base
     with workprec(200):
         centered = x.arb(200)
-        plain = ExpVector._compute(x, 200)
+        plain = plain_x.arb(200)
     for i, want in enumerate([0, -1, -1, 0]):
         assert centered[i, 0].contains(want)
         assert centered[i, 0].rad() <= plain[i, 0].rad()

@@ -2,8 +2,6 @@
 root refinement, on functions whose roots are derived by hand or by mpmath in the test."""
 from __future__ import annotations
 
-import time
-
 import mpmath as mp
 import pytest
 from flint import acb, arb, ctx, fmpq
@@ -97,10 +95,8 @@ def test_near_triple_root_crosses_once():
 def test_gap_of_1e_minus_30_at_the_start():
     """10^-30 - sin t: the root is 10^-30 (to 1e-90), found without searching at that width."""
     fn = Fn([(acb(0, 1), 2, [acb(0, fmpq(1, 2))]), (0, 1, [fmpq(1, 10**30)])])
-    t0 = time.perf_counter()
     r = RootReal(fn, first_crossing(fn, fmpq(0), fmpq(3), 128))
     b = r.ball(30)
-    assert time.perf_counter() - t0 < 5  # generous: it takes milliseconds
     with mp.workdps(220):
         assert holds(b, mp.asin(mp.mpf(10) ** -30), 200)
 
@@ -110,13 +106,11 @@ def test_positive_function_has_no_crossing():
     assert first_crossing(Fn([(acb(0, 3), 2, [fmpq(1, 2)]), (0, 1, [2])]), fmpq(0), fmpq(10), 128) is None
 
 
-def test_touch_without_proof_is_refused_quickly_or_recorded():
-    """(1 - t)^2 touches 0 at 1: with no proof of the touch the search refuses (UnresolvedSign), in
-    well under a second; allowed, it records the assumption and finds no crossing."""
-    t0 = time.perf_counter()
+def test_touch_without_proof_is_refused_or_recorded():
+    """(1 - t)^2 touches 0 at 1: with no proof of the touch the search refuses (UnresolvedSign);
+    allowed, it records the assumption and finds no crossing."""
     with pytest.raises(UnresolvedSign, match="tangential touch"):
         first_crossing(poly(1, -2, 1), fmpq(0), fmpq(3), 128)
-    assert time.perf_counter() - t0 < 5
     fn = Fn([(0, 1, [1, -2, 1])], Policy(allow_unresolved=True))
     assert first_crossing(fn, fmpq(0), fmpq(3), 128) is None and len(fn.policy.assumptions) == 1
 
