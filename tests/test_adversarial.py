@@ -1,10 +1,11 @@
 """Adversarial cases: systems that are NOT in the paper, each checked against an answer derived
-independently in this file.
+independently of the library.
 
 Every expected value comes from a hand analysis written out in the test (mode sequences, jump
 rules, closed forms) and from mpmath at 50 digits applied to matrices and formulas written here
-(mp.expm of closed-loop matrices derived by hand, mp.findroot on a bracket found by a float64 scan
-of the same hand-written functions).  Nothing expected is taken from the library.  Event times
+or in the references ``reference.mechanics`` and ``reference.flows`` (mp.expm of closed-loop
+matrices derived by hand, mp.findroot on a bracket found by a float64 scan of the same
+hand-written functions, event-driven simulators).  Nothing expected is taken from the library.  Event times
 and states are compared to 25 digits after a run at digits=30.
 
 Conventions of the hand analysis (semantics of the library's interface, DESIGN.md section 4):
@@ -17,19 +18,18 @@ Conventions of the hand analysis (semantics of the library's interface, DESIGN.m
 """
 from __future__ import annotations
 
-import itertools
 from fractions import Fraction
 
 import mpmath as mp
-import numpy as np
 import pytest
 import sympy as sp
-from scipy.linalg import expm as fexpm
 
 import lcs_exact as L
 from lcs_exact.models import mechanical
 
 from helpers import mpmath_digits, num as _num
+from reference.flows import Q, first_crossing, mpm, mpv, pl_reference, row
+from reference.mechanics import impact, mech_matrices, mech_reference
 
 mp.mp.dps = 50
 TOL = mp.mpf(10) ** -25
@@ -40,24 +40,8 @@ _mp50 = mpmath_digits(50)
 
 
 # -------------------------------------------------------------------------------------------------
-# helpers (independent of the library)
+# comparison with the library
 # -------------------------------------------------------------------------------------------------
-def Q(x) -> mp.mpf:
-    return mp.mpf(Fraction(x).numerator) / Fraction(x).denominator
-
-
-def mpm(rows) -> mp.matrix:
-    return mp.matrix([[Q(x) for x in r] for r in rows])
-
-
-def mpv(xs) -> mp.matrix:
-    return mp.matrix([Q(x) if not isinstance(x, mp.mpf) else x for x in xs])
-
-
-def npm(m: mp.matrix) -> np.ndarray:
-    return np.array([[float(m[i, j]) for j in range(m.cols)] for i in range(m.rows)])
-
-
 def num(r) -> mp.mpf:
     return _num(r, 40)
 
@@ -78,70 +62,6 @@ def check_vec(v, want, what=""):
     assert len(v) == len(want)
     for i, (r, w) in enumerate(zip(v, want)):
         check(r, w, f"{what}[{i}]")
-
-
-def first_crossing(g, A, x, a, b, step, start_eps=0.0):
-    """First t in (a, b] where g . e^{A (t - a)} x turns negative (a + to - sign change), located
-    by a float64 scan of step `step` (from a + start_eps) and refined by mpmath at 50 digits.
-    Returns None if there is none.  g: mp row (list), A: mp.matrix, x: mp vector at time a."""
-    An, xn, gn = npm(A), np.array([float(c) for c in x]), np.array([float(c) for c in g])
-    f_float = lambda s: float(gn @ (fexpm(An * s) @ xn))
-    s0 = start_eps
-    f0 = f_float(s0) if s0 > 0 else 1.0
-    n = int(float(b - a) / step) + 1
-    for i in range(1, n + 1):
-        s1 = min(start_eps + i * step, float(b - a))
-        f1 = f_float(s1)
-        if f1 < 0 <= f0 or (f0 > 0 and f1 < 0):
-            f = lambda s: sum(gi * vi for gi, vi in zip(g, mp.expm(A * s) * x))
-            return a + mp.findroot(f, (mp.mpf(s0), mp.mpf(s1)), solver="illinois")
-        s0, f0 = s1, f1
-        if s1 >= float(b - a):
-            break
-    return None
-
-
-def mech_matrices(Mm, Dm, Km, E, I=()):
-    """Closed-loop A_I and the contact-force rows F (u = F x) of the constrained mode I of
-    M q'' + D q' + K q = E^T u, derived in the module docstring."""
-    M_, D_, K_, E_ = mpm(Mm), mpm(Dm), mpm(Km), mpm(E)
-    m, k = M_.rows, E_.rows
-    Mi = M_ ** -1
-    KD = mp.zeros(m, 2 * m)
-    for i in range(m):
-        for j in range(m):
-            KD[i, j], KD[i, m + j] = K_[i, j], D_[i, j]
-    F = mp.zeros(k, 2 * m)
-    if I:
-        I = sorted(I)
-        EI = mp.matrix([[E_[i, j] for j in range(m)] for i in I])
-        FI = (EI * Mi * EI.T) ** -1 * EI * Mi * KD
-        for a, i in enumerate(I):
-            for j in range(2 * m):
-                F[i, j] = FI[a, j]
-    acc = -Mi * KD + Mi * E_.T * F
-    A = mp.zeros(2 * m)
-    for i in range(m):
-        A[i, m + i] = 1
-        for j in range(2 * m):
-            A[m + i, j] = acc[i, j]
-    return A, F
-
-
-def impact(Mm, E, x, J):
-    """Inelastic impact on the contacts J: (state after, impulses)."""
-    M_, E_ = mpm(Mm), mpm(E)
-    m = M_.rows
-    Mi = M_ ** -1
-    EJ = mp.matrix([[E_[i, j] for j in range(m)] for i in sorted(J)])
-    v = mp.matrix([x[m + j] for j in range(m)])
-    lam = -(EJ * Mi * EJ.T) ** -1 * (EJ * v)
-    vp = v + Mi * EJ.T * lam
-    return mp.matrix([x[j] for j in range(m)] + [vp[j] for j in range(m)]), lam
-
-
-def row(m: mp.matrix, i: int) -> list:
-    return [m[i, j] for j in range(m.cols)]
 
 
 def sim(lcs, x0, t_end, **kw):
@@ -526,65 +446,6 @@ def test_polynomial_double_root_is_a_graze():
 # -------------------------------------------------------------------------------------------------
 # 8. index-one systems (D a P-matrix, or D = 0 with C B > 0): u continuous, events = mode changes
 # -------------------------------------------------------------------------------------------------
-def pl_closed(A, B, C, D, I):
-    """Mode I: u_I = -D_II^-1 C_I x (D_II != 0) or u_I = -(C_I B_I)^-1 C_I A x (D_II = 0, y_I
-    kept at 0 with C_I B_I invertible); returns (A_I, F) with u = F x."""
-    n, k = A.rows, C.rows
-    I = sorted(I)
-    F = mp.zeros(k, n)
-    if I:
-        CI = mp.matrix([[C[i, j] for j in range(n)] for i in I])
-        DII = mp.matrix([[D[i, j] for j in I] for i in I])
-        if mp.norm(DII) != 0:
-            FI = -(DII ** -1) * CI
-        else:
-            BI = mp.matrix([[B[r, j] for j in I] for r in range(n)])
-            FI = -((CI * BI) ** -1) * CI * A
-        for a, i in enumerate(I):
-            for j in range(n):
-                F[i, j] = FI[a, j]
-    return A + B * F, F
-
-
-def pl_reference(A, B, C, D, x, T, I, step=0.01):
-    """Events of the index-one LCS from x in mode I on (0, T]: each phase ends at the first
-    crossing of some u_i (i in I) or y_j (j not in I); the next mode is the one (unique for these
-    systems) whose own constraints are all >= 0 just after the event (checked at 1e-12, 1e-10)."""
-    k = C.rows
-    t, out = mp.mpf(0), []
-    while True:
-        AI, F = pl_closed(A, B, C, D, I)
-        G = C + D * F
-        forms = [row(F, i) for i in sorted(I)] + [row(G, j) for j in range(k) if j not in I]
-        hits = [first_crossing(g, AI, x, t, T, step, start_eps=1e-9) for g in forms]
-        hits = [h for h in hits if h is not None]
-        if not hits:
-            return out, mp.expm(AI * (T - t)) * x
-        t1 = min(hits)
-        x = mp.expm(AI * (t1 - t)) * x
-        ok = []
-        for r in range(1 << k):
-            J = frozenset(i for i in range(k) if r >> i & 1)
-            try:
-                AJ, FJ = pl_closed(A, B, C, D, J)
-            except ZeroDivisionError:
-                continue
-            yx = C * x
-            if any(D[i, i] == 0 and abs(yx[i]) > mp.mpf(10) ** -40 for i in J):
-                continue  # a relative-degree-one constraint can only be active where y_i = 0
-            good = True
-            for d in (mp.mpf(10) ** -12, mp.mpf(10) ** -10):
-                z = mp.expm(AJ * d) * x
-                u, y = FJ * z, C * z + D * (FJ * z)
-                good &= all(u[i] > -mp.mpf(10) ** -40 for i in J)
-                good &= all(y[j] > -mp.mpf(10) ** -40 for j in range(k) if j not in J)
-            if good:
-                ok.append(J)
-        assert len(ok) == 1, ok
-        out.append((t1, I, ok[0], x))
-        t, I = t1, ok[0]
-
-
 def test_p_matrix_feedthrough_twelve_events():
     """A = [[1/10, 1], [-1, 1/10]] (unstable focus), B = [[1, -1], [0, 1]], C = [[1, 0], [1, 1]],
     D = [[1, -1/2], [1/2, 1]] (a P-matrix: minors 1, 1, 5/4).  From (1, 0), y = C x > 0: mode {}.
@@ -631,76 +492,6 @@ def test_diode_circuit_initial_jump_release_reentry():
 # -------------------------------------------------------------------------------------------------
 # 9. mechanical systems with several contacts: a small independent event-driven reference
 # -------------------------------------------------------------------------------------------------
-def _subsets(Z):
-    Z = sorted(Z)
-    for r in range(len(Z) + 1):
-        yield from (list(c) for c in itertools.combinations(Z, r))
-
-
-def mech_reference(Mm, Dm, Km, E, x, T, step=0.01):
-    """Event-driven reference for M q'' + D q' + K q = E^T u, 0 <= u _|_ E q >= 0 with inelastic
-    impacts (module docstring).  At an event with closed contacts Z (y = 0): the impact set J is
-    the subset of Z with impulses >= 0 and E v+ >= 0 on Z (the impact LCP); then the contacts
-    with y = y' = 0 pick the mode by the force/acceleration LCP (forces >= 0 in the mode,
-    accelerations >= 0 off it; the smallest solution is taken, as in Remark 4.8).
-    Returns [(t, mode_before, J, mode_after, x-, x+)] and x(T).  Starts in mode {} (x0 with
-    y > 0, or y = 0 with an impact at t = 0)."""
-    Em = mpm(E)
-    m, k = Em.cols, Em.rows
-    small = mp.mpf(10) ** -35
-    y = lambda z: [sum(Em[i, j] * z[j] for j in range(m)) for i in range(k)]
-    yd = lambda z: [sum(Em[i, j] * z[m + j] for j in range(m)) for i in range(k)]
-
-    def reinit(xm):
-        Z = [i for i in range(k) if abs(y(xm)[i]) < small]
-        J, xp = [], xm
-        if any(yd(xm)[i] < -small for i in Z):
-            for J in _subsets(Z):
-                if not J:
-                    continue
-                xp, lam = impact(Mm, E, xm, J)
-                if all(l >= -small for l in lam) and all(yd(xp)[i] >= -small for i in Z):
-                    break
-            else:
-                raise AssertionError("no impact solution")
-        Z2 = [i for i in Z if abs(yd(xp)[i]) < small]
-        sols = []
-        for I in _subsets(Z2):
-            AI, F = mech_matrices(Mm, Dm, Km, E, I)
-            u, dx = F * xp, AI * xp
-            acc = [sum(Em[i, j] * dx[m + j] for j in range(m)) for i in range(k)]
-            if all(u[i] >= -small for i in I) and all(acc[i] >= -small for i in Z2 if i not in I):
-                sols.append(frozenset(I))
-        # the smallest admissible mode (a contact that carries no force is not in it)
-        return J, xp, min(sols, key=len)
-
-    t, I, out = mp.mpf(0), frozenset(), []
-    if any(abs(v) < small for v in y(x)):
-        J, xp, I = reinit(x)
-        if J:
-            out.append((t, None, frozenset(J), I, x, xp))
-        x = xp
-    while True:
-        AI, F = mech_matrices(Mm, Dm, Km, E, I)
-        forms = [row(F, i) for i in sorted(I)] + \
-            [[Em[i, j] for j in range(m)] + [0] * m for i in range(k) if i not in I]
-        hits = []
-        for g in forms:
-            val = sum(a * b for a, b in zip(g, x))
-            h = first_crossing(g, AI, x, t, T, step, start_eps=1e-6 if abs(val) < small else 0.0)
-            if h is not None:
-                hits.append(h)
-        if not hits:
-            return out, mp.expm(AI * (T - t)) * x
-        t1 = min(hits)
-        xm = mp.expm(AI * (t1 - t)) * x
-        J, xp, Inew = reinit(xm)
-        if J:  # the jump's mode: the impacting contacts and the closed ones that stay closed
-            J = frozenset(J) | (I & Inew)
-        out.append((t1, I, frozenset(J), Inew, xm, xp))
-        t, I, x = t1, Inew, xp
-
-
 def compare_mech(tr, ref, xT, T):
     evs, (out, xf) = tr.events, (ref, xT)
     assert len(evs) == len(out), (len(evs), len(out))

@@ -2,17 +2,16 @@
 
     y = q + M u,   0 <= y ⊥ u >= 0.
 
-Independent references in this file, in Fractions: principal minors by Gaussian elimination, and
-every solution of a small LCP by enumerating supports.
+Independent references, in Fractions (tests/reference): principal minors by Gaussian elimination
+(reference.linalg), and every solution of a small LCP by enumerating supports (reference.lcp).
 """
 from __future__ import annotations
 
 from fractions import Fraction
-from itertools import combinations
 
 import pytest
 from flint import fmpq, fmpq_mat
-from helpers import F, fdet, vec
+from helpers import F, vec
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -20,64 +19,15 @@ from lcs_exact.errors import LCSError, ShapeError
 from lcs_exact.lcp import (LCPSolution, all_solutions, is_p_matrix, lemke, murty, p_matrix_violation,
                            solve_lcp)
 
+from reference.lcp import lcp_solutions
+from reference.linalg import det, is_P, principal_minors
+
 PROP = settings(derandomize=True, deadline=None, max_examples=50)
 
 
 # ---------------------------------------------------------------------------------------------
-# independent Fraction references
+# checks
 # ---------------------------------------------------------------------------------------------
-
-
-
-def fsolve(a: list[list[Fraction]], b: list[Fraction]) -> list[Fraction]:
-    n = len(a)
-    aug = [list(map(Fraction, r)) + [Fraction(v)] for r, v in zip(a, b)]
-    for c in range(n):
-        p = next(i for i in range(c, n) if aug[i][c] != 0)
-        aug[c], aug[p] = aug[p], aug[c]
-        aug[c] = [x / aug[c][c] for x in aug[c]]
-        for i in range(n):
-            if i != c and aug[i][c] != 0:
-                f = aug[i][c]
-                aug[i] = [x - f * y for x, y in zip(aug[i], aug[c])]
-    return [aug[i][n] for i in range(n)]
-
-
-def principal(m, idx):
-    return [[Fraction(m[i][j]) for j in idx] for i in idx]
-
-
-def minors(m) -> dict[tuple, Fraction]:
-    k = len(m)
-    return {idx: fdet(principal(m, idx)) for r in range(1, k + 1) for idx in combinations(range(k), r)}
-
-
-def brute_is_p(m) -> bool:
-    return all(v > 0 for v in minors(m).values())
-
-
-def brute_solutions(q, m) -> set[tuple]:
-    """All u solving LCP(q, M) whose support has a nonsingular principal submatrix."""
-    k = len(m)
-    out = set()
-    for r in range(k + 1):
-        for a in combinations(range(k), r):
-            u = [Fraction(0)] * k
-            if a:
-                maa = principal(m, a)
-                if fdet(maa) == 0:
-                    continue
-                ua = fsolve(maa, [-Fraction(q[i]) for i in a])
-                if any(v < 0 for v in ua):
-                    continue
-                for i, v in zip(a, ua):
-                    u[i] = v
-            y = [Fraction(q[i]) + sum(Fraction(m[i][j]) * u[j] for j in range(k)) for i in range(k)]
-            if any(v < 0 for v in y):
-                continue
-            out.add(tuple(u))
-    return out
-
 
 def check_solution(sol: LCPSolution, q, m) -> tuple:
     """(u, y) of sol is a true solution of LCP(q, M): y = q + M u, u, y >= 0, u . y = 0 (exact)."""
@@ -150,7 +100,7 @@ def test_p_matrix_by_hand():
 @given(any_matrix)
 @PROP
 def test_p_matrix_test_against_principal_minors_random(m):
-    mins = minors(m)
+    mins = principal_minors(m)
     viol = p_matrix_violation(m)
     assert is_p_matrix(m) == all(v > 0 for v in mins.values())
     if viol is None:
@@ -163,7 +113,7 @@ def test_p_matrix_test_against_principal_minors_random(m):
 @given(p_matrix())
 @PROP
 def test_p_matrix_test_on_p_matrices(m):
-    assert brute_is_p(m)
+    assert is_P(m)
     assert is_p_matrix(m) and p_matrix_violation(m) is None
 
 
@@ -174,7 +124,7 @@ def test_p_matrix_violation_on_perturbed_p_matrices(m, data):
     i = data.draw(st.integers(0, len(m) - 1))
     m = [list(r) for r in m]
     m[i][i] -= data.draw(st.integers(1, 40))
-    mins = minors(m)
+    mins = principal_minors(m)
     viol = p_matrix_violation(m)
     assert (viol is None) == all(v > 0 for v in mins.values())
     if viol is not None:
@@ -186,7 +136,7 @@ def test_p_matrix_violation_only_in_the_full_minor():
     # submatrix is triangular after reordering (a path, not a cycle) with unit diagonal, so all
     # 1x1 and 2x2 minors are 1; det M = 1 - (-c)^3 = 1 - 8 = -7.  Only (0, 1, 2) is a witness.
     m = [[1, -2, 0], [0, 1, -2], [-2, 0, 1]]
-    assert fdet(m) == -7 and all(v == 1 for idx, v in minors(m).items() if len(idx) < 3)
+    assert det(m) == -7 and all(v == 1 for idx, v in principal_minors(m).items() if len(idx) < 3)
     assert p_matrix_violation(m) == (0, 1, 2)
     assert not is_p_matrix(m)
     # c = 1/2: det = 1 - (-1/2)^3 = 9/8 > 0, a P-matrix
@@ -204,7 +154,7 @@ def test_p_matrix_violation_hidden_cycles(k, c, perm, d1, d2):
     base = [[Fraction(int(i == j) + (c if j == (i + 1) % k else 0)) for j in range(k)] for i in range(k)]
     scaled = [[d1[i] * base[i][j] * d2[j] for j in range(k)] for i in range(k)]
     m = [[scaled[perm[i]][perm[j]] for j in range(k)] for i in range(k)]
-    mins = minors(m)
+    mins = principal_minors(m)
     assert all(v > 0 for idx, v in mins.items() if len(idx) < k)
     full_ok = 1 - (-c) ** k > 0
     assert (mins[tuple(range(k))] > 0) == full_ok
@@ -237,7 +187,7 @@ def test_all_solutions_three_solutions():
     us = {tuple(vec(s.u)) for s in sols}
     assert len(sols) == 3
     assert us == {(1, 0), (0, 1), (Fraction(1, 3), Fraction(1, 3))}
-    assert us == brute_solutions(q, m)
+    assert us == lcp_solutions(q, m)
     for s in sols:
         check_solution(s, q, m)
     # M is not P, so solve_lcp uses Lemke; its answer is one of the three
@@ -249,7 +199,7 @@ def test_all_solutions_three_solutions():
 def test_p_matrix_lcp_unique_solution(m, data):
     k = len(m)
     q = data.draw(vector(k))
-    ref = brute_solutions(q, m)
+    ref = lcp_solutions(q, m)
     assert len(ref) == 1                                  # Theorem 3.4 (unique for a P-matrix)
     sol = solve_lcp(q, m)
     assert check_solution(sol, q, m) in ref
@@ -265,7 +215,7 @@ def test_all_solutions_equals_enumeration(m, data):
     sols = all_solutions(q, m)
     us = [check_solution(s, q, m) for s in sols]
     assert len(us) == len(set(us))                         # no duplicates
-    assert set(us) == brute_solutions(q, m)
+    assert set(us) == lcp_solutions(q, m)
 
 
 @given(any_matrix, st.data())
@@ -277,7 +227,7 @@ def test_solve_lcp_result_is_a_solution_or_an_honest_failure(m, data):
         sol = solve_lcp(q, m)
     except LCSError as e:
         # only Lemke may fail (ray termination), never for a P-matrix
-        assert not brute_is_p(m)
+        assert not is_P(m)
         assert "ray" in str(e)
         return
     check_solution(sol, q, m)
@@ -341,7 +291,7 @@ def test_lemke_degenerate_ties_and_zeros():
     sol = lemke([-2, -2, 0], m)
     assert sol is not None
     assert check_solution(sol, [-2, -2, 0], m) == (2, 2, 0) and vec(sol.y) == [0, 0, 4]
-    assert brute_solutions([-2, -2, 0], m) == {(2, 2, 0)}
+    assert lcp_solutions([-2, -2, 0], m) == {(2, 2, 0)}
 
 
 @given(p_matrix(kmax=4), st.data())
@@ -353,7 +303,7 @@ def test_lemke_on_p_matrices_with_degenerate_q(m, data):
     q = data.draw(vector(k, -1, 1))
     sol = lemke(q, m)
     assert sol is not None
-    assert {check_solution(sol, q, m)} == brute_solutions(q, m)
+    assert {check_solution(sol, q, m)} == lcp_solutions(q, m)
 
 
 @given(st.integers(1, 4).flatmap(lambda k: st.tuples(int_matrix(k, -2, 2), int_matrix(k, -2, 2),
@@ -416,6 +366,6 @@ def test_murty_with_linear_forms(m, data):
     assert Y == Qm + M * U
     q = [sum(Fraction(Q[i][j]) * x[j] for j in range(n)) for i in range(k)]
     u = check_solution(LCPSolution(U * xm, Y * xm, basis), q, m)
-    assert {u} == brute_solutions(q, m)
+    assert {u} == lcp_solutions(q, m)
     # u_i = 0 off the basis, as forms
     assert all(U[i, j] == 0 for i in range(k) if i not in basis for j in range(n))

@@ -3,26 +3,28 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from helpers import carts, hook, mat, matvec, same_span
+from helpers import carts, columns, hook, mat
+
+from reference.linalg import mv, same_span
 
 from lcs_exact import LCS
 
 
 def test_two_carts_mode_1_section_7():
     m = carts().mode({0})
-    assert same_span(m.consistent_subspace(), [[0, 1, 0, 0], [0, 0, 0, 1]])  # V_{1} = Im[e2 e4]
-    assert same_span(m.jump_space(), [[1, 0, 0, 0], [0, 0, 1, 0]])  # T_{1} = Im[e1 e3]
+    assert same_span(columns(m.consistent_subspace()), [[0, 1, 0, 0], [0, 0, 0, 1]])  # V_{1} = Im[e2 e4]
+    assert same_span(columns(m.jump_space()), [[1, 0, 0, 0], [0, 0, 1, 0]])  # T_{1} = Im[e1 e3]
     assert m.is_autonomous is True
-    P = m.projection()
-    assert matvec(P, [0, -1, -1, 0]) == [0, -1, 0, 0]
-    assert matvec(P, [0, 1, -1, 0]) == [0, 1, 0, 0]
+    P = mat(m.projection())
+    assert mv(P, [0, -1, -1, 0]) == [0, -1, 0, 0]
+    assert mv(P, [0, 1, -1, 0]) == [0, 1, 0, 0]
     # on V_{1}: u = -2 x1 - x2 (section 7) = -x2 since x1 = 0; F T = 0
     F = mat(m.feedback())
-    assert matvec(F, [0, 1, 0, 0]) == [-1] and matvec(F, [0, 0, 0, 1]) == [0]
-    assert matvec(F, [1, 0, 0, 0]) == [0] and matvec(F, [0, 0, 1, 0]) == [0]
+    assert mv(F, [0, 1, 0, 0]) == [-1] and mv(F, [0, 0, 0, 1]) == [0]
+    assert mv(F, [1, 0, 0, 0]) == [0] and mv(F, [0, 0, 1, 0]) == [0]
     # closed loop on V: x2'' = -x2, x1 = x3 = 0
     AI = mat(m.closed_loop())
-    assert matvec(AI, [0, 1, 0, 0]) == [0, 0, 0, -1] and matvec(AI, [0, 0, 0, 1]) == [0, 1, 0, 0]
+    assert mv(AI, [0, 1, 0, 0]) == [0, 0, 0, -1] and mv(AI, [0, 0, 0, 1]) == [0, 1, 0, 0]
 
 
 def test_empty_mode_is_identity():
@@ -35,7 +37,7 @@ def test_hook_modes_reinitialize_as_in_section_8():
     h = hook()
     # hook mode {2} (0-based {1}): (eps, eps, -2, 1) jumps to (eps, eps, -1/2, -1/2)
     eps = Fraction(1, 1000)
-    assert matvec(h.mode({1}).projection(), [eps, eps, -2, 1]) == [eps, eps, Fraction(-1, 2), Fraction(-1, 2)]
+    assert mv(mat(h.mode({1}).projection()), [eps, eps, -2, 1]) == [eps, eps, Fraction(-1, 2), Fraction(-1, 2)]
     # both constraints: V = {0}
     assert h.mode({0, 1}).consistent_subspace().ncols() == 0
     assert mat(h.mode({0, 1}).projection()) == [[0] * 4 for _ in range(4)]
@@ -65,4 +67,4 @@ def test_projection_is_idempotent_and_splits():
         V = h.mode(I).consistent_subspace()
         for j in range(V.ncols()):
             v = [V[i, j] for i in range(4)]
-            assert matvec(P, v) == [Fraction(int(x.p), int(x.q)) for x in v]
+            assert mv(P, v) == [Fraction(int(x.p), int(x.q)) for x in v]

@@ -1,4 +1,5 @@
-"""Exact LP feasibility (polyhedra.find_point) against an independent Fourier-Motzkin elimination."""
+"""Exact LP feasibility (polyhedra.find_point) against an independent Fourier-Motzkin elimination
+(reference.polyhedra)."""
 from __future__ import annotations
 
 from fractions import Fraction as Fr
@@ -10,26 +11,7 @@ from hypothesis import strategies as st
 from lcs_exact.errors import InvalidArgument
 from lcs_exact.polyhedra import find_point, is_feasible
 
-
-def fm_feasible(nvars, constraints) -> bool:
-    """Fourier-Motzkin with strictness: a . z + b > 0 (strict) or >= 0; '=' is two '>='."""
-    rows = []
-    for a, b, rel in constraints:
-        a, b = [Fr(v) for v in a], Fr(b)
-        if rel == "=":
-            rows += [(a, b, False), ([-v for v in a], -b, False)]
-        else:
-            rows.append((a, b, rel == ">"))
-    for j in range(nvars):
-        pos = [r for r in rows if r[0][j] > 0]
-        neg = [r for r in rows if r[0][j] < 0]
-        new = [r for r in rows if r[0][j] == 0]
-        for ap, bp, sp in pos:
-            for an, bn, sn in neg:
-                cp, cn = -an[j], ap[j]  # both positive
-                new.append(([cp * x + cn * y for x, y in zip(ap, an)], cp * bp + cn * bn, sp or sn))
-        rows = new
-    return all((b > 0) if strict else (b >= 0) for _, b, strict in rows)
+from reference.polyhedra import fm_feasible
 
 
 def check(nvars, cons):

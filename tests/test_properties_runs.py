@@ -9,8 +9,9 @@ initial states (E q0 >= 0).  Hypothesis, bounded and derandomized.
 
 (a) complementarity at certified sample points strictly inside each phase: u >= 0, y >= 0 and
     u_i y_i = 0, each sign certified by the library's exact sign decisions; y and u are also
-    recomputed here independently from the state (y = E q; on a contact phase in mode I,
-    u_I = (E_I M^-1 E_I^T)^-1 E_I M^-1 K q, from y_I'' = 0) and must overlap the library's balls;
+    recomputed independently from the state (y = E q; on a contact phase in mode I,
+    u_I = (E_I M^-1 E_I^T)^-1 E_I M^-1 K q, from y_I'' = 0, reference.mechanics) and must overlap
+    the library's balls;
 (b) the semigroup property: 0 -> T equals 0 -> t1 -> T, restarting from the exact state
     traj.state(t1) at a rational t1 strictly inside a phase: same events (times as overlapping
     25-digit balls, same modes) and the same final state (25 digits);
@@ -35,6 +36,8 @@ from hypothesis import strategies as st
 from lcs_exact import simulate
 from lcs_exact.balls import workprec
 from lcs_exact.models import mechanical
+
+from reference.mechanics import contact_force_matrix
 
 SETTINGS = dict(derandomize=True, deadline=None, database=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much,
@@ -85,39 +88,8 @@ def Q(x: Fr) -> fmpq:
 
 
 # ---------------------------------------------------------------------------------------------
-# exact helpers (Fractions) and ball helpers
+# ball helpers (the exact contact forces: reference.mechanics.contact_force_matrix)
 # ---------------------------------------------------------------------------------------------
-
-def inv(a):
-    """Inverse of a small Fraction matrix (Gauss-Jordan)."""
-    n = len(a)
-    w = [list(r) + [Fr(int(i == j)) for j in range(n)] for i, r in enumerate(a)]
-    for c in range(n):
-        p = next(i for i in range(c, n) if w[i][c] != 0)
-        w[c], w[p] = w[p], w[c]
-        w[c] = [x / w[c][c] for x in w[c]]
-        for i in range(n):
-            if i != c and w[i][c] != 0:
-                w[i] = [x - w[i][c] * y for x, y in zip(w[i], w[c])]
-    return [r[n:] for r in w]
-
-
-def mul(a, b):
-    return [[sum((a[i][l] * b[l][j] for l in range(len(b))), Fr(0)) for j in range(len(b[0]))] for i in range(len(a))]
-
-
-def tr(a):
-    return [list(r) for r in zip(*a)]
-
-
-def contact_force_matrix(M, K, E, C, I):
-    """G with u_I = G x on a contact phase in mode I, x = (q, v): y_I'' = E_I q'' = 0 with
-    M q'' = -K q - C v + E^T u gives u_I = (E_I M^-1 E_I^T)^-1 E_I M^-1 [K C] x."""
-    EI = [E[i] for i in sorted(I)]
-    Mi = inv(M)
-    KC = [rk + rc for rk, rc in zip(K, C)]
-    return mul(inv(mul(mul(EI, Mi), tr(EI))), mul(mul(EI, Mi), KC))
-
 
 def lin(row, xs):
     """sum row_j x_j for rational row and arb xs."""

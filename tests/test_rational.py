@@ -21,6 +21,8 @@ from lcs_exact.errors import NotRational, ShapeError, UnresolvedSign
 from lcs_exact.ratfunc import RationalFunction, RationalMatrix, laurent_coefficients
 from lcs_exact.rational import lex_sign, sign_of_form, to_fmpq, to_matrix, to_vector
 
+from reference.polynomials import peval
+
 s = RationalFunction.s()
 S = sympy.Symbol("s")
 X = sympy.Symbol("x")
@@ -30,14 +32,6 @@ PROP = settings(derandomize=True, deadline=None, max_examples=50)
 # ---------------------------------------------------------------------------------------------
 # independent helpers
 # ---------------------------------------------------------------------------------------------
-
-def peval(coeffs, t: Fraction) -> Fraction:
-    """Horner on a low-degree-first coefficient list, in Fractions."""
-    acc = Fraction(0)
-    for c in reversed(coeffs):
-        acc = acc * t + Fraction(c)
-    return acc
-
 
 def sympy_laurent(expr, start: int, count: int) -> list[Fraction]:
     """Coefficients of s^-start, ..., s^-(start+count-1) of expr(s) at s = oo, by SymPy's series

@@ -1,8 +1,9 @@
-"""Algorithm 7.1 against answers derived independently in this file.
+"""Algorithm 7.1 against answers derived independently of the library.
 
 Every expected value here comes from a hand analysis (closed forms, written out in the comments)
 or from mpmath at 60 digits applied to formulas written in this file (mpmath.expm of the
-closed-loop matrices derived by hand, mpmath.findroot on analytic modal solutions); nothing is
+closed-loop matrices derived by hand, mpmath.findroot on analytic modal solutions) or in
+``reference.flows`` (root location on a grid, a relative-degree-0 simulator); nothing is
 taken from the library.  Event times and states are compared at a relative tolerance of 1e-25
 (absolute 1e-25 for values that are exactly zero) after a run at digits=30, and the true value
 must lie inside the library's certified 30-digit ball.  Where the library claims a closed form,
@@ -10,7 +11,6 @@ it must be right.
 """
 from __future__ import annotations
 
-import itertools
 from fractions import Fraction
 
 import mpmath as mp
@@ -21,6 +21,7 @@ import lcs_exact as L
 from lcs_exact.models import mechanical, two_carts, two_carts_with_hook
 
 from helpers import mpmath_digits
+from reference.flows import first_root, mpvec, rd0_closed_loop, rd0_reference
 
 mp.mp.dps = 60
 TOL = mp.mpf(10) ** -25
@@ -73,28 +74,6 @@ def check_vec(v, want, cfs=None, what: str = "") -> None:
 def is_exact_zero(r) -> bool:
     q = r.rational()
     return q is not None and q == 0
-
-
-def first_root(f, a, b, h):
-    """The first sign change of f on (a, b], located on a grid of step h and refined by findroot
-    on the bracketing grid cell.  A constraint that starts at zero (|f(a)| < 1e-40, e.g. the one
-    that has just become active) is tracked from a + h on, where it must be positive."""
-    x, f0 = mp.mpf(a), f(mp.mpf(a))
-    if abs(f0) < mp.mpf(10) ** -40:
-        x = x + h
-        f0 = f(x)
-        assert f0 > 0, "a constraint starting at zero must become positive"
-    while x < b:
-        x1 = min(x + h, mp.mpf(b))
-        f1 = f(x1)
-        if f1 == 0 or (f0 > 0) != (f1 > 0):
-            return mp.findroot(f, (x, x1), solver="anderson")
-        x, f0 = x1, f1
-    return None
-
-
-def mpvec(m) -> list:
-    return [m[i] for i in range(m.rows)]
 
 
 # -------------------------------------------------------------------------------------------------
@@ -324,87 +303,13 @@ def test_relative_degree_zero_scalar(rd0):
 
 
 # 3b. D = [[2, 1], [1, 2]] (positive definite), A = [[0, 1], [-1, 0]], B = C = I, x0 = (1, 1).
-# Independent derivation: a small relative-degree-0 simulator written here with mpmath only.  In a
+# Independent derivation: a small relative-degree-0 simulator in mpmath only (reference.flows.
+# rd0_reference).  In a
 # mode I, u_I = -D_II^-1 C_I x and x' = (A - B_I D_II^-1 C_I) x (solved with mpmath.expm); the
 # phase ends at the first zero crossing of u_i (i in I) or y_j = C_j x + D_jI u_I (j not in I),
 # found on a grid and refined with findroot; the next mode is the (smallest) solution of the
 # 2x2 LCP (enumerated) at q = C x(t) + delta q'(t), delta = 1e-25 (q' = C(Ax + Bu), u continuous).
 RD2 = dict(A=[[0, 1], [-1, 0]], B=[[1, 0], [0, 1]], C=[[1, 0], [0, 1]], D=[[2, 1], [1, 2]])
-
-
-def _sub(Mx, rows, cols):
-    return mp.matrix([[Mx[i, j] for j in cols] for i in rows]) if rows and cols else None
-
-
-def _lcp_mode(D, q):
-    """Smallest I with u_I = -D_II^-1 q_I >= 0 and w = q + D u >= 0 (2^k enumeration)."""
-    k = len(q)
-    eps = mp.mpf(10) ** -45
-    for r in range(k + 1):
-        for I in itertools.combinations(range(k), r):
-            u = [mp.mpf(0)] * k
-            if I:
-                uI = -mp.lu_solve(_sub(D, I, I), mp.matrix([q[i] for i in I]))
-                for n, i in enumerate(I):
-                    u[i] = uI[n]
-            w = [q[j] + sum(D[j, i] * u[i] for i in range(k)) for j in range(k)]
-            if all(u[i] > eps for i in I) and all(w[j] > eps for j in range(k) if j not in I):
-                return frozenset(I)
-    raise AssertionError(f"no strictly complementary LCP solution at q = {q}")
-
-
-def rd0_reference(A, B, C, D, x0, T, h=mp.mpf(1) / 100):
-    A, B, C, D = (mp.matrix(m) for m in (A, B, C, D))
-    k = C.rows
-    x = mp.matrix(x0)
-    t = mp.mpf(0)
-
-    def closed_loop(I):
-        idx = sorted(I)
-        if not idx:
-            return A, (lambda xx: [mp.mpf(0)] * k)
-        DinvC = mp.inverse(_sub(D, idx, idx)) * _sub(C, idx, range(C.cols))
-
-        def u_of(xx):
-            uI = -(DinvC * xx)
-            u = [mp.mpf(0)] * k
-            for n, i in enumerate(idx):
-                u[i] = uI[n]
-            return u
-        BI = mp.matrix([[B[r, i] for i in idx] for r in range(B.rows)])
-        return A - BI * DinvC, u_of
-
-    def next_mode(xx, u_prev):
-        xd = A * xx + B * mp.matrix(u_prev)
-        q = [(C * xx)[j] + mp.mpf(10) ** -25 * (C * xd)[j] for j in range(k)]
-        return _lcp_mode(D, q)
-
-    # initial mode: x0 = (1, 1) gives q = C x0 > 0, so u(0) = 0 and the perturbed LCP decides
-    assert all((C * x)[j] > 0 for j in range(k))
-    mode = next_mode(x, [mp.mpf(0)] * k)
-    events = []
-    while True:
-        AI, u_of = closed_loop(mode)
-
-        def cons(s, AI=AI, u_of=u_of, mode=mode, x=x):
-            xs = mp.expm(AI * s) * x
-            u = u_of(xs)
-            y = [(C * xs)[j] + sum(D[j, i] * u[i] for i in range(k)) for j in range(k)]
-            return [u[i] if i in mode else y[i] for i in range(k)]
-        roots = []
-        for i in range(k):
-            r = first_root(lambda s, i=i: cons(s)[i], 0, T - t, h)
-            if r is not None:
-                roots.append(r)
-        if not roots:
-            return events, mode
-        s = min(roots)
-        x_new = mp.expm(AI * s) * x
-        u_new = u_of(x_new)
-        t = t + s
-        new_mode = next_mode(x_new, u_new)
-        events.append(dict(time=t, before=mode, after=new_mode, state=x_new))
-        x, mode = x_new, new_mode
 
 
 def test_relative_degree_zero_two_by_two():
@@ -429,12 +334,7 @@ def test_relative_degree_zero_two_by_two():
         check_vec(ev.state_after, mpvec(want["state"]), what=f"event {n} x+")
         prev = want["after"]
     # final state by the reference's closed loop in the last mode
-    A, B, C, D = (mp.matrix(RD2[m]) for m in "ABCD")
-    idx = sorted(final_mode)
-    AI = A
-    if idx:
-        AI = A - mp.matrix([[B[r, i] for i in idx] for r in range(2)]) * (
-            mp.inverse(_sub(D, idx, idx)) * _sub(C, idx, range(2)))
+    AI, _ = rd0_closed_loop(*(mp.matrix(RD2[m]) for m in "ABCD"), final_mode)
     xT = mp.expm(AI * (T - ref[-1]["time"])) * ref[-1]["state"]
     check_vec(tr.state(T), mpvec(xT), what="x(T)")
 

@@ -1,7 +1,7 @@
 """subspaces.py: exact subspace arithmetic over Q (used for V_I, T_I, P_I in sections 3-4).
 
-Expected values are checked with independent Fraction arithmetic (``helpers.rank`` and the
-matrix products below), and the two-carts values of section 7 are derived by hand.
+Expected values are checked with independent Fraction arithmetic (``reference.linalg``: rank,
+spans, matrix products), and the two-carts values of section 7 are derived by hand.
 """
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from fractions import Fraction
 
 import pytest
 from flint import fmpq, fmpq_mat
-from helpers import A_CARTS, carts, mat, rank, vec
+from helpers import A_CARTS, carts, columns, mat, vec
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -18,45 +18,28 @@ from lcs_exact.subspaces import (complement, contains, image, intersection, kern
                                  projection, rref, same_subspace, solve_any, subspace_sum)
 from lcs_exact.subspaces import rank as lib_rank
 
+from reference.linalg import eye, mm, rank
+from reference.linalg import span_le as ref_span_le
+
 PROP = settings(derandomize=True, deadline=None, max_examples=50)
 
 
 # ---------------------------------------------------------------------------------------------
-# independent Fraction helpers
+# the Fraction references (reference.linalg) on flint matrices
 # ---------------------------------------------------------------------------------------------
-
-def mul(a: list[list[Fraction]], b: list[list[Fraction]]) -> list[list[Fraction]]:
-    return [[sum((a[i][l] * b[l][j] for l in range(len(b))), Fraction(0)) for j in range(len(b[0]) if b else 0)]
-            for i in range(len(a))]
-
-
-def cols(m: fmpq_mat) -> list[list[Fraction]]:
-    """Columns of m as lists (the spanning vectors)."""
-    return [[Fraction(int(m[i, j].p), int(m[i, j].q)) for i in range(m.nrows())] for j in range(m.ncols())]
-
 
 def frank(m: fmpq_mat) -> int:
     """Rank in Fractions (rank of the column list = rank of m)."""
-    c = cols(m)
-    return rank(c) if c and c[0] else 0
+    return rank(columns(m))
 
 
 def span_le(a: fmpq_mat, b: fmpq_mat) -> bool:
     """Im a ⊆ Im b (Fractions)."""
-    ca, cb = cols(a), cols(b)
-    if not ca:
-        return True
-    if not cb:
-        return all(all(v == 0 for v in c) for c in ca)
-    return rank(cb) == rank(cb + ca)
+    return ref_span_le(columns(a), columns(b))
 
 
 def is_zero_rows(rows) -> bool:
     return all(v == 0 for r in rows for v in r)
-
-
-def ident(n: int) -> list[list[Fraction]]:
-    return [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
 
 
 def fm(rows: list[list]) -> fmpq_mat:
@@ -80,7 +63,7 @@ def rat_matrix(draw, rows=None, cols_=None):
         k = draw(st.integers(1, 3))
         L = [[draw(entries) for _ in range(k)] for _ in range(r)]
         R = [[draw(entries) for _ in range(c)] for _ in range(k)]
-        return fm(mul(L, R))
+        return fm(mm(L, R))
     return fm([[draw(entries) for _ in range(c)] for _ in range(r)])
 
 
@@ -128,7 +111,7 @@ def test_kernel_properties(M):
     assert K.nrows() == n
     assert K.ncols() == n - r                             # rank-nullity
     assert frank(K) == K.ncols()                          # a basis (independent columns)
-    assert is_zero_rows(mul(mat(M), mat(K)))              # M * kernel(M) == 0
+    assert is_zero_rows(mm(mat(M), mat(K)))              # M * kernel(M) == 0
     assert lib_rank(M) == r
 
 
@@ -151,7 +134,7 @@ def test_left_kernel_properties(M):
     r = frank(M)
     assert W.ncols() == M.nrows()
     assert W.nrows() == M.nrows() - r
-    assert is_zero_rows(mul(mat(W), mat(M)))              # W M = 0
+    assert is_zero_rows(mm(mat(W), mat(M)))              # W M = 0
     assert (rank(mat(W)) if W.nrows() else 0) == W.nrows()
 
 
@@ -188,7 +171,7 @@ def test_intersection_dimension_formula(A, B):
     V, W = image(A), image(B)
     X = intersection(V, W)
     S = subspace_sum(V, W)
-    assert S.ncols() == rank(cols(A) + cols(B))            # dim(V + W), in Fractions
+    assert S.ncols() == rank(columns(A) + columns(B))            # dim(V + W), in Fractions
     assert X.ncols() == V.ncols() + W.ncols() - S.ncols()  # dim V∩W = dim V + dim W - dim(V+W)
     assert span_le(X, V) and span_le(X, W)
     assert frank(X) == X.ncols()
@@ -276,15 +259,15 @@ def test_projection_properties(split):
     P = projection(V, T)
     Pm = mat(P)
     assert (P.nrows(), P.ncols()) == (n, n)
-    assert mul(Pm, Pm) == Pm                                  # idempotent
+    assert mm(Pm, Pm) == Pm                                  # idempotent
     if d:
-        assert mul(Pm, mat(V)) == mat(V)                      # P V = V
+        assert mm(Pm, mat(V)) == mat(V)                      # P V = V
     if d < n:
-        assert is_zero_rows(mul(Pm, mat(T)))                  # P T = 0
+        assert is_zero_rows(mm(Pm, mat(T)))                  # P T = 0
     # P S = [V 0] (independent characterization), and I - P projects onto T along V
     expected = [[S[i][j] if j < d else Fraction(0) for j in range(n)] for i in range(n)]
-    assert mul(Pm, S) == expected
-    Q = [[ident(n)[i][j] - Pm[i][j] for j in range(n)] for i in range(n)]
+    assert mm(Pm, S) == expected
+    Q = [[eye(n)[i][j] - Pm[i][j] for j in range(n)] for i in range(n)]
     assert mat(projection(T, V)) == Q
     assert frank(P) == d                                      # rank P = dim V
 
