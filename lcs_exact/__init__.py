@@ -1,11 +1,11 @@
 """lcs_exact: an exact engine for linear complementarity systems (Heemels, Schumacher, Weiland 2000)."""
 from __future__ import annotations
 
-from .compare import ComparisonReport, FixtureTrajectory, compare, convergence_order, read_fixture
+from .compare import ComparisonReport, compare, convergence_order  # also hands the engine to the fixture reader
 from .errors import (Deadlock, FixtureMismatch, FormatError, HorizonExceeded, IllPosed, InvalidArgument, LCSError,
                      LimitExceeded, NotAutonomous, NotRational, ShapeError, Undetermined, UnresolvedSign,
                      Unsupported, WorkerDied, ZenoDetected)
-from .fixture import validate_fixture
+from .fixture import FixtureTrajectory, read_fixture, validate_fixture
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
 from .ratfunc import RationalFunction, RationalMatrix

@@ -1,15 +1,11 @@
-"""Fixtures read back, and other solvers' solutions compared against them.
+"""Other solvers' solutions compared against certified trajectories.
 
-* :func:`read_fixture` turns a fixture (``lcs-exact/trajectory/1``, :mod:`lcs_exact.fixture`)
-  back into a trajectory-like :class:`FixtureTrajectory`: events, states and samples as certified
-  ``flint.arb`` balls.  When the fixture's x0 and t_end are exact rationals, the trajectory is
-  recomputed exactly on first use (Algorithm 7.1 through :func:`lcs_exact.simulate`) and checked
-  against the fixture's events (:class:`~lcs_exact.errors.FixtureMismatch` if they disagree);
-  evaluation between samples is then exact again.
-* :func:`compare` measures a numerical solution (times t, rows of states X) against the certified
-  trajectory: the largest state error away from the events, and for each event the time at which
-  the solver's data switches against the certified event time.  :func:`convergence_order` is the
-  least-squares slope of log error against log step over several solutions.
+* :func:`compare` measures a numerical solution (times t, rows of states X) against a certified
+  trajectory (a fixture read back by :func:`lcs_exact.fixture.read_fixture`, or a live
+  :class:`~lcs_exact.Trajectory`): the largest state error away from the events, and for each
+  event the time at which the solver's data switches against the certified event time.
+  :func:`convergence_order` is the least-squares slope of log error against log step over several
+  solutions; :func:`read_solution_csv` reads a solver's solution (t, x1..xn).
 
 Events in a solver's data.  At an event τ the exact solution has a first discontinuous derivative
 of some order j: j = 0 at a jump (an impact), j = 1 when x' jumps (u jumps), higher at a smooth
@@ -21,12 +17,13 @@ stencil.  The window around each event is |t - τ| <= w with w = ``event_tol``, 
 twice the largest step of the solution (a time-stepper resolves an event within one step; the
 state error there is O(1) and says nothing about the method's order).
 
-This module is high in the import order: it may import the engine (simulate, system) and the
-fixture format below it; nothing imports it but the package front and the CLI.
+This module is high in the import order: it imports the fixture format and the engine below it,
+and hands the engine down to the format's reader (:func:`lcs_exact.fixture.set_engine`: a fixture
+with rational x0 is recomputed exactly between its samples); nothing imports it but the package
+front and the CLI.  ``read_fixture`` and ``FixtureTrajectory`` are importable from here as before.
 """
 from __future__ import annotations
 
-import json
 import math
 import re
 from dataclasses import dataclass, field
@@ -36,295 +33,19 @@ from typing import Any, Sequence
 
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
-from .errors import FixtureMismatch, FormatError, LCSError, ShapeError
-from .fixture import SCHEMA, ball_number, check_digest, number_ball, number_exact, number_rational, validate_fixture
+from .errors import FormatError, LCSError, ShapeError
+from .fixnumbers import ball_number, short_text, to_fraction
+from .fixture import FixtureEvent, FixtureTrajectory, Sample, read_fixture, set_engine
 from .rational import to_fmpq
+from .simulate import simulate
 from .system import LCS
 
-__all__ = ["FixtureTrajectory", "FixtureEvent", "Sample", "read_fixture", "read_solution_csv",
-           "compare", "ComparisonReport", "EventComparison", "convergence_order"]
+set_engine(simulate)  # a fixture read back repeats its run with the engine (see the docstring)
+
+__all__ = ["read_solution_csv", "compare", "ComparisonReport", "EventComparison", "convergence_order",
+           "read_fixture", "FixtureTrajectory", "FixtureEvent", "Sample"]  # the last four: lcs_exact.fixture
 
 _PREC = 128  # bits for the arithmetic on solver data (doubles) against references
-
-
-def _frozen_mode(m: Any, where: str) -> frozenset | None:
-    if m is None:
-        return None
-    if not isinstance(m, list) or not all(isinstance(i, int) and not isinstance(i, bool) for i in m):
-        raise FormatError(f"fixture: {where} must be a list of indices")
-    return frozenset(m)
-
-
-def _key(d: dict, key: str, where: str = "fixture") -> Any:
-    if not isinstance(d, dict) or key not in d:
-        raise FormatError(f"{where} lacks '{key}'")
-    return d[key]
-
-
-def _balls(v: Any, where: str) -> tuple:
-    if not isinstance(v, list):
-        raise FormatError(f"fixture: {where} must be a list of numbers")
-    return tuple(number_ball(c, where=f"{where}[{i}]") for i, c in enumerate(v))
-
-
-# ---------------------------------------------------------------------------------------------
-# fixtures read back
-# ---------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class FixtureEvent:
-    """An event read from a fixture: the certified time ball (and closed form when given), the
-    modes (Def. 4.3, (4.9)) and the states before and after as certified balls."""
-
-    time: arb
-    time_exact: str | None
-    mode_before: frozenset | None
-    modes: tuple
-    mode_after: frozenset
-    state_before: tuple
-    state_after: tuple
-    multiplicity: int
-    triggers: tuple = ()
-
-    def __repr__(self):
-        mb = "start" if self.mode_before is None else _fmt_modes(self.mode_before)
-        chain = " -> ".join(_fmt_modes(m) for m in self.modes) or "no jump"
-        t = _show(self.time) + (f" = {self.time_exact}" if self.time_exact and not self.time.is_exact() else "")
-        return (f"FixtureEvent(t={t}, {mb} => {_fmt_modes(self.mode_after)}, jumps: {chain}, "
-                f"x- = {_show_vec(self.state_before)}, x+ = {_show_vec(self.state_after)})")
-
-
-@dataclass(frozen=True)
-class Sample:
-    """One grid point of a fixture: the exact time ``t`` (rational) and the certified state."""
-
-    t: Fraction
-    x: tuple
-
-    def __repr__(self):
-        return f"Sample(t={self.t}, x={_show_vec(self.x)})"
-
-
-def _show(b: arb, cap: int = 20) -> str:
-    """A ball with the digits its radius supports (at most ``cap``), not flint's default 15: a
-    30-digit fixture number should not print as [... +/- 1e-15].
-
-    >>> with ctx.workprec(200):
-    ...     b = arb(fmpq(1, 3), fmpq(1, 10**25))
-    >>> _show(b), _show(arb(fmpq(3, 4)))
-    ('0.33333333333333333333 +/- 3.34e-21', '3/4')
-    """
-    if b.is_exact():
-        return str(b.fmpq())
-    digits = max(1, min(cap, int(b.rel_accuracy_bits() * 0.30103)))
-    text = b.str(digits, radius=True)
-    return text[1:-1] if text.startswith("[") else text
-
-
-def _show_vec(v: tuple) -> str:
-    return "(" + ", ".join(_show(c) for c in v) + ")"
-
-
-class FixtureTrajectory:
-    """A trajectory read back from a fixture (see :func:`read_fixture`).
-
-    Attributes: ``lcs`` (the exact system), ``x0``, ``t_end``, ``digits``, ``events``
-    (:class:`FixtureEvent`), ``samples`` (:class:`Sample`), ``sample_step``, ``final_time``,
-    ``final_state``, ``certified``, ``assumptions``, ``partial``, ``stop_reason``,
-    ``accumulations``, ``provenance`` (the dict written with the fixture, or None), ``data``
-    (the dict).  Numbers are certified ``flint.arb`` balls.
-    ``x0_rational`` holds x0 as Fractions when the fixture says it is rational; then ``exact``
-    is the trajectory recomputed exactly (on first use, checked against the fixture).
-    """
-
-    def __init__(self, data: dict, source: str = "fixture"):
-        if not isinstance(data, dict):
-            raise FormatError(f"{source}: a fixture is a JSON object, got {type(data).__name__}")
-        if data.get("schema") != SCHEMA:
-            raise FormatError(f"{source}: schema is {data.get('schema')!r}, expected {SCHEMA!r}")
-        try:
-            validate_fixture(data)
-        except ModuleNotFoundError:  # without jsonschema the reader's own checks below still run
-            pass
-        check_digest(data, source)  # an edited fixture is not ground truth
-        self.data, self.source = data, source
-        sysd = _key(data, "system")
-        self.lcs = LCS(_key(sysd, "A", "system"), _key(sysd, "B", "system"), _key(sysd, "C", "system"),
-                       _key(sysd, "D", "system"), name=sysd.get("name"), restitution=sysd.get("restitution"),
-                       state_names=sysd.get("state_names") or None,
-                       constraint_names=sysd.get("constraint_names") or None)
-        self.name = self.lcs.name
-        self.digits = _key(data, "digits")
-        self.x0 = _balls(_key(data, "x0"), "x0")
-        rat = [number_rational(c) for c in data["x0"]]
-        self.x0_rational = tuple(rat) if all(q is not None for q in rat) else None
-        self.t_end = number_ball(_key(data, "t_end"), where="t_end")
-        self.t_end_rational = number_rational(data["t_end"])
-        self.events = tuple(self._event(e, j) for j, e in enumerate(_key(data, "events")))
-        self.final_time = number_ball(_key(data, "final_time"), where="final_time")
-        self.final_state = _balls(_key(data, "final_state"), "final_state")
-        self.certified = bool(_key(data, "certified"))
-        self.assumptions = tuple(_key(data, "assumptions"))
-        self.partial = bool(data.get("partial", False))
-        self.stop_reason = data.get("stop_reason")
-        self.provenance = data.get("provenance")
-        self.accumulations = tuple(
-            (number_ball(a["time"], where=f"accumulations[{i}].time"), _balls(a["state"], f"accumulations[{i}].state"))
-            for i, a in enumerate(data.get("accumulations", ())))
-        step = data.get("sample_step")
-        self.sample_step = None if step is None else Fraction(str(to_fmpq(step, "sample_step")))
-        samples = []
-        for j, s in enumerate(data.get("samples", ())):
-            t = number_rational(_key(s, "t", f"samples[{j}]"))
-            if t is None:
-                raise FormatError(f"{source}: samples[{j}].t is not an exact rational")
-            samples.append(Sample(t, _balls(_key(s, "x", f"samples[{j}]"), f"samples[{j}].x")))
-        self.samples = tuple(samples)
-        self._by_time = {s.t: s for s in self.samples}
-        self._exact = None
-        if any(len(v) != self.lcs.n for v in [self.x0, self.final_state] + [s.x for s in self.samples]):
-            raise FormatError(f"{source}: a state does not have n = {self.lcs.n} components")
-
-    def _event(self, e: dict, j: int) -> FixtureEvent:
-        w = f"events[{j}]"
-        return FixtureEvent(
-            time=number_ball(_key(e, "time", w), where=f"{w}.time"), time_exact=number_exact(e["time"]),
-            mode_before=_frozen_mode(_key(e, "mode_before", w), f"{w}.mode_before"),
-            modes=tuple(_frozen_mode(m, f"{w}.modes") for m in _key(e, "modes", w)),
-            mode_after=_frozen_mode(_key(e, "mode_after", w), f"{w}.mode_after"),
-            state_before=_balls(_key(e, "state_before", w), f"{w}.state_before"),
-            state_after=_balls(_key(e, "state_after", w), f"{w}.state_after"),
-            multiplicity=int(_key(e, "multiplicity", w)), triggers=tuple(e.get("triggers", ())))
-
-    # --- exact evaluation -----------------------------------------------------------------------
-    @property
-    def can_recompute(self) -> bool:
-        """True when x0 and t_end are exact rationals: the run can be repeated exactly."""
-        return self.x0_rational is not None and self.t_end_rational is not None
-
-    @property
-    def exact(self):
-        """The trajectory recomputed exactly from the fixture's system and x0 (None when x0 or
-        t_end is not rational).  Computed on first access and checked against the fixture."""
-        if self._exact is None and self.can_recompute:
-            self._exact = self._recompute()
-        return self._exact
-
-    def _recompute(self):
-        from .simulate import simulate
-        x0 = [fmpq(q.numerator, q.denominator) for q in self.x0_rational]
-        T = fmpq(self.t_end_rational.numerator, self.t_end_rational.denominator)
-        opts = {"allow_unresolved": not self.certified, "max_events": max(1000, len(self.events))}
-        if self.partial:
-            opts["max_events"] = len(self.events)
-        try:
-            traj = simulate(self.lcs, x0, T, digits=self.digits, **opts)
-        except LCSError as e:
-            if not self.partial or getattr(e, "trajectory", None) is None:
-                raise FixtureMismatch(f"{self.source}: recomputing the run failed where the fixture "
-                                      f"has none: {type(e).__name__}: {e}") from e
-            traj = e.trajectory
-        self._verify(traj)
-        return traj
-
-    def _verify(self, traj) -> None:
-        """Every event of the recomputed run agrees with the fixture (modes exactly, times and
-        states as overlapping certified balls: disjoint balls prove a disagreement)."""
-        src, d = self.source, self.digits
-        if len(traj.events) != len(self.events):
-            raise FixtureMismatch(f"{src}: the recomputed run has {len(traj.events)} events, the fixture "
-                                  f"{len(self.events)}")
-        for j, (e, f) in enumerate(zip(traj.events, self.events)):
-            for key in ("mode_before", "mode_after", "modes"):
-                if getattr(e, key) != getattr(f, key):
-                    raise FixtureMismatch(f"{src}: event {j}: recomputed {key} {_fmt_modes(getattr(e, key))} "
-                                          f"differs from the fixture's {_fmt_modes(getattr(f, key))}")
-            if not e.time.ball(d).overlaps(f.time):
-                raise FixtureMismatch(f"{src}: event {j}: recomputed time {e.time.decimal(20)} is outside the "
-                                      f"fixture's {f.time}")
-            for key in ("state_before", "state_after"):
-                for i, (c, b) in enumerate(zip(getattr(e, key), getattr(f, key))):
-                    if not c.ball(d).overlaps(b):
-                        raise FixtureMismatch(f"{src}: event {j}: {key}[{i}] recomputed as "
-                                              f"{c.decimal(20)} is outside the fixture's {b}")
-
-    def state(self, t: Any):
-        """x(t) as an exact vector (from the recomputed run); see :meth:`sample` for balls."""
-        if self.exact is None:
-            raise FormatError(f"{self.source}: x0 is not rational, so the run cannot be recomputed "
-                              f"exactly; the fixture's samples are certified at their grid times "
-                              f"(use .sample(ts) at grid times)")
-        return self.exact.state(t)
-
-    def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list]:
-        """Certified balls of x(t) for t in ts: from the fixture's samples at grid times, else from
-        the exact recomputation (FormatError when neither is available)."""
-        times = [_fraction(t, "t") for t in ts]
-        if all(t in self._by_time for t in times):
-            return [list(self._by_time[t].x) for t in times]
-        if self.exact is None:
-            missing = next(t for t in times if t not in self._by_time)
-            raise FormatError(f"{self.source}: t = {missing} is not a sample time and x0 is not rational "
-                              f"(no exact recomputation)")
-        return self.exact.sample(times, digits)
-
-    def __repr__(self):
-        status = "certified" if self.certified else f"NOT certified ({len(self.assumptions)} assumptions)"
-        exact = "exact evaluation available (x0 rational)" if self.can_recompute else "balls only (x0 not rational)"
-        part = ", PARTIAL" if self.partial else ""
-        name = f" {self.name!r}" if self.name else ""
-        return (f"<FixtureTrajectory{name} on [0, {_short(self.t_end)}]: {len(self.events)} events, "
-                f"{len(self.samples)} samples, {status}{part}; {exact}>")
-
-
-def _fmt_modes(m) -> str:
-    if m is None:
-        return "none"
-    if isinstance(m, tuple):
-        return "(" + ", ".join(_fmt_modes(x) for x in m) + ")"
-    return "{" + ", ".join(str(i) for i in sorted(m)) + "}" if m else "∅"
-
-
-def _short(b: arb) -> str:
-    return b.str(15, radius=False) if not b.is_exact() or not b.mid().is_integer() else str(int(b.unique_fmpz()))
-
-
-def _fraction(v: Any, what: str) -> Fraction:
-    q = to_fmpq(v, what)
-    return Fraction(int(q.p), int(q.q))
-
-
-def read_fixture(path_or_dict: Any) -> FixtureTrajectory:
-    """Read a fixture (a path to its JSON file, or the dict) back as a :class:`FixtureTrajectory`.
-
-    Validates it (the shipped JSON Schema when ``jsonschema`` is installed, and the reader's own
-    shape checks); raises :class:`~lcs_exact.errors.FormatError` naming what is wrong.
-
-    Examples
-    --------
-    >>> import lcs_exact as L
-    >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
-    >>> fx = read_fixture(L.simulate(osc, [1, 0], 2).to_fixture(20, sample="1/2"))
-    >>> fx.events[0].time_exact, fx.can_recompute, fx.samples[1].t
-    ('pi/2', True, Fraction(1, 2))
-    >>> x = fx.state("3/4")                 # between samples: recomputed exactly (x2 = -sin t)
-    >>> x[1].ball(25).overlaps(-arb(fmpq(3, 4)).sin()), x[1].decimal(12).split()[0]
-    (True, '-0.681638760023')
-    """
-    if isinstance(path_or_dict, FixtureTrajectory):
-        return path_or_dict
-    if isinstance(path_or_dict, dict):
-        return FixtureTrajectory(path_or_dict)
-    if isinstance(path_or_dict, (str, Path)):
-        p = Path(path_or_dict)
-        try:
-            data = json.loads(p.read_text(encoding="utf-8"))
-        except json.JSONDecodeError as e:
-            raise FormatError(f"{p}: not JSON ({e})") from None
-        except RecursionError:
-            raise FormatError(f"{p}: JSON nested too deeply") from None
-        return FixtureTrajectory(data, str(p))
-    raise FormatError(f"read_fixture takes a path or a dict, got {type(path_or_dict).__name__}")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -451,7 +172,7 @@ class ComparisonReport:
                  f"  {self.n_points} points, largest step {self.step:.6g}; {self.n_compared} compared, "
                  f"{self.n_in_windows} in event windows |t - τ| <= {self.window:.3g} ({self.window_rule})"
                  + (f", {self.n_unmatched} not on the sample grid" if self.n_unmatched else "")
-                 + (f", {self.n_beyond} after the reference's last time {_short(self.last_time)} (left out)"
+                 + (f", {self.n_beyond} after the reference's last time {short_text(self.last_time)} (left out)"
                     if self.n_beyond else "")]
         if self.max_error_time is not None:
             lines.append(f"  max state error {_sci(self.max_error)} at t = {self.max_error_time:.6g} "
@@ -466,7 +187,7 @@ class ComparisonReport:
             for e in self.events:
                 st = "-" if e.solver_time is None else f"{e.solver_time:.10g}"
                 te = "-" if e.time_error is None else f"{e.time_error:+.3e}"
-                lines.append(f"  {e.index:>5}  {_short(e.time):<18}  {e.kind:<16}  {st:>14}  {te:>11}  "
+                lines.append(f"  {e.index:>5}  {short_text(e.time):<18}  {e.kind:<16}  {st:>14}  {te:>11}  "
                              f"{e.time_exact or '-'}")
         return "\n".join(lines)
 
@@ -531,7 +252,7 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
         raise ShapeError(f"{label}: {len(ts)} times but {len(rows)} rows of states")
     if len(ts) < 2:
         raise FormatError(f"{label}: a solution needs at least 2 points")
-    tq = [_fraction(v, f"{label} t[{i}]") for i, v in enumerate(ts)]
+    tq = [to_fraction(v, f"{label} t[{i}]") for i, v in enumerate(ts)]
     if any(b < a for a, b in zip(tq, tq[1:])):
         i = next(i for i, (a, b) in enumerate(zip(tq, tq[1:])) if b < a)
         raise FormatError(f"{label}: times decrease at row {i + 1} ({float(tq[i])} then {float(tq[i + 1])})")
@@ -543,7 +264,7 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     if event_tol is None:
         window, rule = 2 * step, "2 x the largest step"
     else:
-        window, rule = float(_fraction(event_tol, "event_tol")), "event_tol"
+        window, rule = float(to_fraction(event_tol, "event_tol")), "event_tol"
         if window < 0:
             raise FormatError(f"event_tol must be >= 0, got {event_tol}")
 
@@ -607,9 +328,10 @@ def _references(ref: Any, live: bool, times: list) -> tuple:
     mismatch = 0.0
     if step is not None and ref.samples:
         tol = step * Fraction(1, 10 ** 9)
+        by_time = {s.t: s for s in ref.samples}
         for t in times:
             k = round(t / step)
-            s = ref._by_time.get(k * step)
+            s = by_time.get(k * step)
             if s is not None and abs(t - k * step) <= tol:
                 matched.append(s.x)
                 mismatch = max(mismatch, float(abs(t - k * step)))
@@ -720,7 +442,7 @@ def convergence_order(reports: Sequence[ComparisonReport], steps: Sequence[Any] 
     2.0
     """
     reports = list(reports)
-    hs = [r.step for r in reports] if steps is None else [float(_fraction(h, "step")) for h in steps]
+    hs = [r.step for r in reports] if steps is None else [float(to_fraction(h, "step")) for h in steps]
     if len(hs) != len(reports):
         raise ShapeError(f"{len(reports)} reports but {len(hs)} steps")
     if len(reports) < 2:

@@ -6,13 +6,19 @@ after, multiplicity), the accumulation points crossed, the final state and, when
 of ``samples``.  ``docs/fixtures.md`` describes every field; the JSON Schema ships in the package
 (``lcs_exact/schemas/trajectory-1.schema.json``, :func:`schema`, :func:`validate_fixture`).
 
-Every real number is an object ``{"value": decimal, "error": bound, "exact": closed form | null}``
-with the invariant |value - true| <= error; ``"error": "0"`` means the decimal is the exact value.
-Decimals are exact rationals (read with ``fractions.Fraction``), so a reader loses nothing:
-:func:`number_ball` turns a number back into a certified ``flint.arb`` ball.
+This module is the whole format: writing (:func:`fixture_dict`, the sample grid, the digests),
+validating (the schema and what a schema cannot say) and reading back (:func:`read_fixture`,
+:class:`FixtureTrajectory`: events, states and samples as certified ``flint.arb`` balls).  Its
+numbers ``{"value": decimal, "error": bound, "exact": closed form | null}`` (|value - true| <=
+error) are written and read by :mod:`lcs_exact.fixnumbers`; the names are importable from here
+too (:func:`number_ball` turns a number back into a certified ball).
 
-This module sits just above :mod:`lcs_exact.errors` and :mod:`lcs_exact.rational`: it reads a
-trajectory only through its public interface (duck typing), so it never imports the engine.
+Layering.  The writer reads a trajectory through its public interface only (duck typing), and
+:meth:`lcs_exact.Trajectory.to_fixture` writes through this module, so the format sits below
+the engine and never imports it.  A fixture read back repeats its run exactly when x0 and t_end
+are rational (:attr:`FixtureTrajectory.exact`, Algorithm 7.1): the engine that does it is handed
+down by the module above both (:mod:`lcs_exact.compare` calls :func:`set_engine` with
+:func:`lcs_exact.simulate` when the package is imported).
 """
 from __future__ import annotations
 
@@ -20,16 +26,24 @@ import contextvars
 import hashlib
 import json
 import re
+from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any
+from importlib.resources import files
+from pathlib import Path
+from typing import Any, Callable, Sequence
 
-from flint import arb, ctx, fmpq, fmpz
+from flint import arb, ctx, fmpq
 
 from .balls import MAX_DIGITS
 from .errors import FixtureMismatch, FormatError, InvalidArgument, LCSError
+from .fixnumbers import (ball_number, ball_text, number_ball, number_exact, number_rational, rational_number,
+                         short_text, to_fraction)
+from .modes import format_mode
 from .rational import to_fmpq
+from .system import LCS
 
-__all__ = ["content_digest", "check_digest", "SCHEMA", "MAX_SAMPLES", "fixture_dict", "sample_grid", "schema", "validate_fixture",
+__all__ = ["content_digest", "check_digest", "SCHEMA", "MAX_SAMPLES", "fixture_dict", "build_fixture", "sample_grid",
+           "schema", "validate_fixture", "read_fixture", "FixtureTrajectory", "FixtureEvent", "Sample", "set_engine",
            "number_ball", "number_exact", "number_rational", "ball_number", "rational_number"]
 
 SCHEMA = "lcs-exact/trajectory/1"
@@ -38,118 +52,8 @@ _SCHEMA_FILE = "trajectory-1.schema.json"
 
 
 # ---------------------------------------------------------------------------------------------
-# numbers: writing
+# writing: the values of a trajectory as fixture numbers (lcs_exact.fixnumbers)
 # ---------------------------------------------------------------------------------------------
-
-def _text(m: int) -> str:
-    """str(m) without Python's 4300-digit limit on int <-> str conversion (fixtures may hold more)."""
-    return str(m) if m.bit_length() < 14000 else str(fmpz(m))  # 14000 bits < 4300 digits
-
-
-def _ndigits(m: int) -> int:
-    return len(_text(abs(m)))
-
-
-def _format_decimal(m: int, e: int) -> str:
-    """The decimal m * 10^e: positional for moderate exponents, else ``d.ddde±k``."""
-    if m == 0:
-        return "0"
-    sign, digits = ("-" if m < 0 else ""), _text(abs(m))
-    stripped = digits.rstrip("0")  # 1.50 -> 1.5, 10e20 -> 1e21 (same value; zeros come back below)
-    digits, e = stripped, e + len(digits) - len(stripped)
-    point = len(digits) + e  # position of the decimal point from the left of ``digits``
-    if -5 < point <= 0:
-        return f"{sign}0.{'0' * -point}{digits}"
-    if 0 < point <= max(len(digits), 21):
-        if e >= 0:
-            return sign + digits + "0" * e
-        return f"{sign}{digits[:point]}.{digits[point:]}"
-    mant = digits[0] + ("." + digits[1:] if len(digits) > 1 else "")
-    return f"{sign}{mant}e{point - 1}"
-
-
-def _ceil_3(c: int, k: int) -> tuple[int, int]:
-    """The smallest c' * 10^k' >= c * 10^k whose mantissa c' has at most 3 digits (c > 0): a
-    bound rounded up, never down."""
-    drop = _ndigits(c) - 3
-    if drop > 0:
-        c, k = -(-c // 10 ** drop), k + drop
-        if c == 1000:
-            c, k = 100, k + 1
-    return c, k
-
-
-def _bound_text(err: Fraction) -> str:
-    """A decimal with 3 significant digits that is >= err (rounded up: it is a bound)."""
-    if err <= 0:
-        return "0"
-    num, den = err.numerator, err.denominator
-    k = _ndigits(num) - _ndigits(den) - 3  # err / 10^k is within a factor 10 of [100, 1000)
-    c = -(-num * 10 ** -k // den) if k <= 0 else -(-num // (den * 10 ** k))  # ceil(err / 10^k)
-    return _format_decimal(*_ceil_3(c, k))
-
-
-def _bound_text_int(r: int, e: int) -> str:
-    """_bound_text of the error r * 10^e (r >= 0 an integer): integer arithmetic only."""
-    return "0" if r <= 0 else _format_decimal(*_ceil_3(r, e))
-
-
-def rational_number(q: Any, digits: int) -> dict:
-    """A fixture number for an exact rational: the decimal when it terminates within ``digits``
-    significant digits (error 0), else rounded (half to even) to ``digits`` digits with a bound
-    on the rounding; ``exact`` is ``"p/q"``.
-
-    >>> rational_number("1/4", 5)
-    {'value': '0.25', 'error': '0', 'exact': '1/4'}
-    >>> rational_number("1/3", 5)
-    {'value': '0.33333', 'error': '3.34e-6', 'exact': '1/3'}
-    """
-    f = to_fmpq(q, "number")
-    p, d = int(f.p), int(f.q)
-    exact = str(f)
-    if p == 0:
-        return {"value": "0", "error": "0", "exact": "0"}
-    a = abs(p)
-    # the exponent e with 10^(digits-1) <= |q| / 10^e < 10^digits, in integers: N / M = |q| / 10^e
-    e = _ndigits(a) - _ndigits(d) - digits
-    while True:
-        N, M = (a * 10 ** -e, d) if e <= 0 else (a, d * 10 ** e)
-        m, rem = divmod(N, M)
-        if m >= 10 ** digits:
-            e += 1
-        elif m < 10 ** (digits - 1):
-            e -= 1
-        else:
-            break
-    if 2 * rem > M or (2 * rem == M and m % 2 == 1):  # half to even
-        m, rem = m + 1, rem - M
-    err = Fraction(abs(rem), M) * (Fraction(10) ** e)  # |q| - m 10^e, exactly
-    return {"value": _format_decimal(m if p > 0 else -m, e), "error": _bound_text(err), "exact": exact}
-
-
-def ball_number(b: arb, digits: int) -> dict:
-    """A fixture number for a certified ball: the midpoint to ``digits`` significant digits and a
-    bound on |value - true| that covers both the ball's radius and the rounding of the midpoint.
-    An exact ball (radius 0) is an exact dyadic rational and says so in ``exact``.
-
-    >>> ball_number(arb(fmpq(3, 8)), 10)
-    {'value': '0.375', 'error': '0', 'exact': '3/8'}
-    >>> ball_number(arb(2).sqrt(), 5)["value"]
-    '1.4142'
-    """
-    if not b.is_finite():
-        raise LCSError(f"cannot write the ball {b} as a fixture number: it is not finite")
-    if b.is_exact():
-        return rational_number(b.fmpq(), digits)
-    m, r, e = (int(v) for v in b.mid_rad_10exp(digits + 5))  # b is inside [m +/- r] 10^e
-    drop = max(0, _ndigits(m) - digits)
-    value = m
-    if drop:  # round the midpoint to ``digits`` significant digits; the rounding joins the bound
-        scale = 10 ** drop
-        value = (abs(m) + scale // 2) // scale * (1 if m >= 0 else -1)
-        r += abs(m - value * scale)
-    return {"value": _format_decimal(value, e + drop), "error": _bound_text_int(r, e), "exact": None}
-
 
 #: whether the writer derives closed forms (``fixture_dict(..., closed_forms=False)``: only
 #: those already known, for a quick write, e.g. of the partial run of an interrupted command)
@@ -204,15 +108,13 @@ def sample_grid(t_end: Any, h: Any) -> list[Fraction]:
     >>> [str(t) for t in sample_grid(1, "1/4")]
     ['0', '1/4', '1/2', '3/4', '1']
     """
-    hq = to_fmpq(h, "the sample step")
-    step = Fraction(int(hq.p), int(hq.q))
+    step = to_fraction(h, "the sample step")
     if step <= 0:
         raise FormatError(f"the sample step must be > 0, got {step}")
     if hasattr(t_end, "ball"):
         T = _as_fraction(t_end)
     else:
-        tq = to_fmpq(t_end, "t_end")
-        T = Fraction(int(tq.p), int(tq.q))
+        T = to_fraction(t_end, "t_end")
     if T is not None:
         count = int(T // step)
     else:  # irrational t_end: floor(t_end / h) from a ball that excludes every integer
@@ -396,7 +298,6 @@ def schema() -> dict:
     >>> schema()["properties"]["schema"]["const"]
     'lcs-exact/trajectory/1'
     """
-    from importlib.resources import files
     return json.loads(files("lcs_exact").joinpath("schemas", _SCHEMA_FILE).read_text(encoding="utf-8"))
 
 
@@ -495,83 +396,272 @@ def _check_consistency(d: dict) -> None:
 
 
 # ---------------------------------------------------------------------------------------------
-# numbers: reading
+# reading
 # ---------------------------------------------------------------------------------------------
 
-_MAX_EXPONENT = 100_000  # |exponent| of a decimal read exactly (10^(10^9) would not fit in memory)
+#: the exact engine that repeats a fixture's run (Algorithm 7.1): ``lcs_exact.simulate``, handed
+#: down by the module above the format and the engine (see the module docstring)
+_ENGINE: Callable | None = None
 
 
-_DECIMAL = re.compile(r"([+-]?)([0-9]*)(?:\.([0-9]*))?(?:[eE]([+-]?[0-9]{1,7}))?")
+def set_engine(simulate: Callable) -> None:
+    """Give the reader the exact engine (:func:`lcs_exact.simulate`, or anything with its
+    signature) with which :attr:`FixtureTrajectory.exact` repeats a run.  :mod:`lcs_exact.compare`
+    does it when the package is imported; the format cannot import the engine, which writes
+    fixtures through it."""
+    global _ENGINE
+    _ENGINE = simulate
 
 
-def _decimal(text: Any, where: str) -> Fraction:
-    """A decimal string read exactly (any number of digits; exponents up to 10^5)."""
-    if not isinstance(text, str):
-        raise FormatError(f"fixture: {where} must be a decimal string, got {type(text).__name__}")
-    m = _DECIMAL.fullmatch(text.strip())
-    if m is None or not (m.group(2) or m.group(3)) or abs(int(m.group(4) or 0)) > _MAX_EXPONENT:
-        raise FormatError(f"fixture: {where} = {text[:40]!r} is not a decimal number "
-                          f"(with |exponent| <= {_MAX_EXPONENT})")
-    sign, whole, frac, exp = m.group(1), m.group(2), m.group(3) or "", int(m.group(4) or 0)
-    mant = int(fmpz(whole + frac or "0"))
-    e = exp - len(frac)
-    q = Fraction(mant * 10 ** e) if e >= 0 else Fraction(mant, 10 ** -e)
-    return -q if sign == "-" else q
+def _frozen_mode(m: Any, where: str) -> frozenset | None:
+    if m is None:
+        return None
+    if not isinstance(m, list) or not all(isinstance(i, int) and not isinstance(i, bool) for i in m):
+        raise FormatError(f"fixture: {where} must be a list of indices")
+    return frozenset(m)
 
 
-def number_ball(num: dict, prec: int | None = None, *, where: str = "number") -> arb:
-    """The certified ball [value - error, value + error] of a fixture number.
+def _key(d: dict, key: str, where: str = "fixture") -> Any:
+    if not isinstance(d, dict) or key not in d:
+        raise FormatError(f"{where} lacks '{key}'")
+    return d[key]
 
-    The decimal ``value`` is read exactly (as a rational), so the ball's only widening is
-    flint's outward rounding of that rational to ``prec`` bits (default: enough for every digit
-    of ``value`` and for a rounding far below ``error``; at least 128 bits).
 
-    >>> b = number_ball({"value": "0.333", "error": "0.001", "exact": "1/3"})
-    >>> b.contains(fmpq(1, 3)), b.contains(fmpq(3331, 10000)), b.contains(fmpq(3341, 10000))
-    (True, True, False)
+def _balls(v: Any, where: str) -> tuple:
+    if not isinstance(v, list):
+        raise FormatError(f"fixture: {where} must be a list of numbers")
+    return tuple(number_ball(c, where=f"{where}[{i}]") for i, c in enumerate(v))
+
+
+@dataclass(frozen=True)
+class FixtureEvent:
+    """An event read from a fixture: the certified time ball (and closed form when given), the
+    modes (Def. 4.3, (4.9)) and the states before and after as certified balls."""
+
+    time: arb
+    time_exact: str | None
+    mode_before: frozenset | None
+    modes: tuple
+    mode_after: frozenset
+    state_before: tuple
+    state_after: tuple
+    multiplicity: int
+    triggers: tuple = ()
+
+    def __repr__(self):
+        mb = "start" if self.mode_before is None else _fmt_modes(self.mode_before)
+        chain = " -> ".join(_fmt_modes(m) for m in self.modes) or "no jump"
+        t = ball_text(self.time) + (f" = {self.time_exact}" if self.time_exact and not self.time.is_exact() else "")
+        return (f"FixtureEvent(t={t}, {mb} => {_fmt_modes(self.mode_after)}, jumps: {chain}, "
+                f"x- = {_show_vec(self.state_before)}, x+ = {_show_vec(self.state_after)})")
+
+
+@dataclass(frozen=True)
+class Sample:
+    """One grid point of a fixture: the exact time ``t`` (rational) and the certified state."""
+
+    t: Fraction
+    x: tuple
+
+    def __repr__(self):
+        return f"Sample(t={self.t}, x={_show_vec(self.x)})"
+
+
+def _show_vec(v: tuple) -> str:
+    return "(" + ", ".join(ball_text(c) for c in v) + ")"
+
+
+class FixtureTrajectory:
+    """A trajectory read back from a fixture (see :func:`read_fixture`).
+
+    Attributes: ``lcs`` (the exact system), ``x0``, ``t_end``, ``digits``, ``events``
+    (:class:`FixtureEvent`), ``samples`` (:class:`Sample`), ``sample_step``, ``final_time``,
+    ``final_state``, ``certified``, ``assumptions``, ``partial``, ``stop_reason``,
+    ``accumulations``, ``provenance`` (the dict written with the fixture, or None), ``data``
+    (the dict).  Numbers are certified ``flint.arb`` balls.
+    ``x0_rational`` holds x0 as Fractions when the fixture says it is rational; then ``exact``
+    is the trajectory recomputed exactly (on first use, checked against the fixture).
     """
-    if not isinstance(num, dict) or "value" not in num or "error" not in num:
-        raise FormatError(f"fixture: {where} must be an object with 'value' and 'error'")
-    v, e = _decimal(num["value"], f"{where}.value"), _decimal(num["error"], f"{where}.error")
-    if e < 0:
-        raise FormatError(f"fixture: {where}.error is negative")
-    if prec is None:  # every digit of value, and rounding well below the error (a 30-digit
-        # sample "0.32" +/- 3e-30 must not come back as 0.32 +/- 1e-17)
-        prec = max(128, 48 + int(3.33 * max(_ndigits(v.numerator), _ndigits(v.denominator))))
-        if e > 0 and v != 0:
-            rel = _ndigits(abs(v.numerator) * e.denominator) - _ndigits(v.denominator * e.numerator)
-            prec = max(prec, 48 + int(3.33 * rel))
-    with ctx.workprec(prec):
-        b = arb(fmpq(v.numerator, v.denominator))  # rounded outward: the ball contains v
-        return b if e == 0 else arb(b, arb(fmpq(e.numerator, e.denominator)))
+
+    def __init__(self, data: dict, source: str = "fixture"):
+        if not isinstance(data, dict):
+            raise FormatError(f"{source}: a fixture is a JSON object, got {type(data).__name__}")
+        if data.get("schema") != SCHEMA:
+            raise FormatError(f"{source}: schema is {data.get('schema')!r}, expected {SCHEMA!r}")
+        try:
+            validate_fixture(data)
+        except ModuleNotFoundError:  # without jsonschema the reader's own checks below still run
+            pass
+        check_digest(data, source)  # an edited fixture is not ground truth
+        self.data, self.source = data, source
+        sysd = _key(data, "system")
+        self.lcs = LCS(_key(sysd, "A", "system"), _key(sysd, "B", "system"), _key(sysd, "C", "system"),
+                       _key(sysd, "D", "system"), name=sysd.get("name"), restitution=sysd.get("restitution"),
+                       state_names=sysd.get("state_names") or None,
+                       constraint_names=sysd.get("constraint_names") or None)
+        self.name = self.lcs.name
+        self.digits = _key(data, "digits")
+        self.x0 = _balls(_key(data, "x0"), "x0")
+        rat = [number_rational(c) for c in data["x0"]]
+        self.x0_rational = tuple(rat) if all(q is not None for q in rat) else None
+        self.t_end = number_ball(_key(data, "t_end"), where="t_end")
+        self.t_end_rational = number_rational(data["t_end"])
+        self.events = tuple(self._event(e, j) for j, e in enumerate(_key(data, "events")))
+        self.final_time = number_ball(_key(data, "final_time"), where="final_time")
+        self.final_state = _balls(_key(data, "final_state"), "final_state")
+        self.certified = bool(_key(data, "certified"))
+        self.assumptions = tuple(_key(data, "assumptions"))
+        self.partial = bool(data.get("partial", False))
+        self.stop_reason = data.get("stop_reason")
+        self.provenance = data.get("provenance")
+        self.accumulations = tuple(
+            (number_ball(a["time"], where=f"accumulations[{i}].time"), _balls(a["state"], f"accumulations[{i}].state"))
+            for i, a in enumerate(data.get("accumulations", ())))
+        step = data.get("sample_step")
+        self.sample_step = None if step is None else to_fraction(step, "sample_step")
+        samples = []
+        for j, s in enumerate(data.get("samples", ())):
+            t = number_rational(_key(s, "t", f"samples[{j}]"))
+            if t is None:
+                raise FormatError(f"{source}: samples[{j}].t is not an exact rational")
+            samples.append(Sample(t, _balls(_key(s, "x", f"samples[{j}]"), f"samples[{j}].x")))
+        self.samples = tuple(samples)
+        self._by_time = {s.t: s for s in self.samples}
+        self._exact = None
+        if any(len(v) != self.lcs.n for v in [self.x0, self.final_state] + [s.x for s in self.samples]):
+            raise FormatError(f"{source}: a state does not have n = {self.lcs.n} components")
+
+    def _event(self, e: dict, j: int) -> FixtureEvent:
+        w = f"events[{j}]"
+        return FixtureEvent(
+            time=number_ball(_key(e, "time", w), where=f"{w}.time"), time_exact=number_exact(e["time"]),
+            mode_before=_frozen_mode(_key(e, "mode_before", w), f"{w}.mode_before"),
+            modes=tuple(_frozen_mode(m, f"{w}.modes") for m in _key(e, "modes", w)),
+            mode_after=_frozen_mode(_key(e, "mode_after", w), f"{w}.mode_after"),
+            state_before=_balls(_key(e, "state_before", w), f"{w}.state_before"),
+            state_after=_balls(_key(e, "state_after", w), f"{w}.state_after"),
+            multiplicity=int(_key(e, "multiplicity", w)), triggers=tuple(e.get("triggers", ())))
+
+    # --- exact evaluation -----------------------------------------------------------------------
+    @property
+    def can_recompute(self) -> bool:
+        """True when x0 and t_end are exact rationals: the run can be repeated exactly."""
+        return self.x0_rational is not None and self.t_end_rational is not None
+
+    @property
+    def exact(self):
+        """The trajectory recomputed exactly from the fixture's system and x0 (None when x0 or
+        t_end is not rational).  Computed on first access and checked against the fixture."""
+        if self._exact is None and self.can_recompute:
+            self._exact = self._recompute()
+        return self._exact
+
+    def _recompute(self):
+        simulate = _ENGINE
+        if simulate is None:  # pragma: no cover - lcs_exact/__init__ imports compare, which sets it
+            raise LCSError(f"{self.source}: no engine to recompute the run: import lcs_exact (its compare "
+                           "module hands lcs_exact.simulate to the fixture reader)")
+        x0 = [fmpq(q.numerator, q.denominator) for q in self.x0_rational]
+        T = fmpq(self.t_end_rational.numerator, self.t_end_rational.denominator)
+        opts = {"allow_unresolved": not self.certified, "max_events": max(1000, len(self.events))}
+        if self.partial:
+            opts["max_events"] = len(self.events)
+        try:
+            traj = simulate(self.lcs, x0, T, digits=self.digits, **opts)
+        except LCSError as e:
+            if not self.partial or getattr(e, "trajectory", None) is None:
+                raise FixtureMismatch(f"{self.source}: recomputing the run failed where the fixture "
+                                      f"has none: {type(e).__name__}: {e}") from e
+            traj = e.trajectory
+        self._verify(traj)
+        return traj
+
+    def _verify(self, traj) -> None:
+        """Every event of the recomputed run agrees with the fixture (modes exactly, times and
+        states as overlapping certified balls: disjoint balls prove a disagreement)."""
+        src, d = self.source, self.digits
+        if len(traj.events) != len(self.events):
+            raise FixtureMismatch(f"{src}: the recomputed run has {len(traj.events)} events, the fixture "
+                                  f"{len(self.events)}")
+        for j, (e, f) in enumerate(zip(traj.events, self.events)):
+            for key in ("mode_before", "mode_after", "modes"):
+                if getattr(e, key) != getattr(f, key):
+                    raise FixtureMismatch(f"{src}: event {j}: recomputed {key} {_fmt_modes(getattr(e, key))} "
+                                          f"differs from the fixture's {_fmt_modes(getattr(f, key))}")
+            if not e.time.ball(d).overlaps(f.time):
+                raise FixtureMismatch(f"{src}: event {j}: recomputed time {e.time.decimal(20)} is outside the "
+                                      f"fixture's {f.time}")
+            for key in ("state_before", "state_after"):
+                for i, (c, b) in enumerate(zip(getattr(e, key), getattr(f, key))):
+                    if not c.ball(d).overlaps(b):
+                        raise FixtureMismatch(f"{src}: event {j}: {key}[{i}] recomputed as "
+                                              f"{c.decimal(20)} is outside the fixture's {b}")
+
+    def state(self, t: Any):
+        """x(t) as an exact vector (from the recomputed run); see :meth:`sample` for balls."""
+        if self.exact is None:
+            raise FormatError(f"{self.source}: x0 is not rational, so the run cannot be recomputed "
+                              f"exactly; the fixture's samples are certified at their grid times "
+                              f"(use .sample(ts) at grid times)")
+        return self.exact.state(t)
+
+    def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list]:
+        """Certified balls of x(t) for t in ts: from the fixture's samples at grid times, else from
+        the exact recomputation (FormatError when neither is available)."""
+        times = [to_fraction(t, "t") for t in ts]
+        if all(t in self._by_time for t in times):
+            return [list(self._by_time[t].x) for t in times]
+        if self.exact is None:
+            missing = next(t for t in times if t not in self._by_time)
+            raise FormatError(f"{self.source}: t = {missing} is not a sample time and x0 is not rational "
+                              f"(no exact recomputation)")
+        return self.exact.sample(times, digits)
+
+    def __repr__(self):
+        status = "certified" if self.certified else f"NOT certified ({len(self.assumptions)} assumptions)"
+        exact = "exact evaluation available (x0 rational)" if self.can_recompute else "balls only (x0 not rational)"
+        part = ", PARTIAL" if self.partial else ""
+        name = f" {self.name!r}" if self.name else ""
+        return (f"<FixtureTrajectory{name} on [0, {short_text(self.t_end)}]: {len(self.events)} events, "
+                f"{len(self.samples)} samples, {status}{part}; {exact}>")
 
 
-def number_exact(num: dict) -> str | None:
-    """The closed form string of a fixture number, or None.
+def _fmt_modes(m) -> str:
+    if m is None:
+        return "none"
+    if isinstance(m, tuple):
+        return "(" + ", ".join(_fmt_modes(x) for x in m) + ")"
+    return format_mode(m)
 
-    >>> number_exact({"value": "1.5707963", "error": "2.7e-8", "exact": "pi/2"})
-    'pi/2'
+
+def read_fixture(path_or_dict: Any) -> FixtureTrajectory:
+    """Read a fixture (a path to its JSON file, or the dict) back as a :class:`FixtureTrajectory`.
+
+    Validates it (the shipped JSON Schema when ``jsonschema`` is installed, and the reader's own
+    shape checks); raises :class:`~lcs_exact.errors.FormatError` naming what is wrong.
+
+    Examples
+    --------
+    >>> import lcs_exact as L
+    >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
+    >>> fx = read_fixture(L.simulate(osc, [1, 0], 2).to_fixture(20, sample="1/2"))
+    >>> fx.events[0].time_exact, fx.can_recompute, fx.samples[1].t
+    ('pi/2', True, Fraction(1, 2))
+    >>> x = fx.state("3/4")                 # between samples: recomputed exactly (x2 = -sin t)
+    >>> x[1].ball(25).overlaps(-arb(fmpq(3, 4)).sin()), x[1].decimal(12).split()[0]
+    (True, '-0.681638760023')
     """
-    ex = num.get("exact") if isinstance(num, dict) else None
-    return ex if isinstance(ex, str) else None
-
-
-def number_rational(num: dict) -> Fraction | None:
-    """The exact rational value of a fixture number, or None when it is not known to be rational.
-
-    Rational when ``exact`` is an integer or ``p/q``, or when ``error`` is 0 (the decimal is then
-    the exact value).
-
-    >>> number_rational({"value": "0.333", "error": "0.0004", "exact": "1/3"})
-    Fraction(1, 3)
-    >>> number_rational({"value": "1.5707963", "error": "2.7e-8", "exact": "pi/2"}) is None
-    True
-    """
-    ex = number_exact(num)
-    if ex is not None:
-        m = re.fullmatch(r"(-?[0-9]+)(?:/([0-9]+))?", ex.strip())
-        if m is not None and (m.group(2) is None or int(fmpz(m.group(2))) != 0):
-            return Fraction(int(fmpz(m.group(1))), int(fmpz(m.group(2) or "1")))
-    if isinstance(num, dict) and num.get("error") == "0":
-        return _decimal(num.get("value"), "value")
-    return None
+    if isinstance(path_or_dict, FixtureTrajectory):
+        return path_or_dict
+    if isinstance(path_or_dict, dict):
+        return FixtureTrajectory(path_or_dict)
+    if isinstance(path_or_dict, (str, Path)):
+        p = Path(path_or_dict)
+        try:
+            data = json.loads(p.read_text(encoding="utf-8"))
+        except json.JSONDecodeError as e:
+            raise FormatError(f"{p}: not JSON ({e})") from None
+        except RecursionError:
+            raise FormatError(f"{p}: JSON nested too deeply") from None
+        return FixtureTrajectory(data, str(p))
+    raise FormatError(f"read_fixture takes a path or a dict, got {type(path_or_dict).__name__}")

@@ -18,8 +18,8 @@ from typing import Any, Sequence
 from flint import arb
 
 from .balls import workprec
-from .compare import read_fixture
 from .errors import InvalidArgument
+from .fixture import read_fixture
 from .rational import to_fmpq
 
 __all__ = ["assert_matches_fixture"]
