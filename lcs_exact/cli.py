@@ -12,12 +12,15 @@
 
 A model file (TOML or JSON) has ``A``, ``B``, ``C``, ``D`` as lists of rows of numbers or
 rational strings ("1/3"), and optionally ``x0``, ``t_end``, ``name``, ``states`` and ``inputs``
-(names); any other key is an error (the model-file format below).  Numbers are read exactly: a JSON or
-TOML decimal such as 1e-400 is the rational 10^-400 (never a float).
+(names); any other key is an error.  Numbers are read exactly: a JSON or TOML decimal such as
+1e-400 is the rational 10^-400 (never a float).  The format is :mod:`lcs_exact.modelfile`
+(``load_model``, ``read_model`` and ``MODEL_KEYS`` are importable from here as before); this
+module parses arguments, runs and prints.
 
-``--digits`` is 1..10000 (MAX_DIGITS), ``--max-events`` >= 0, ``--time-limit`` > 0 seconds;
-``--x0 -1,2`` needs no ``=``.  For ``zoo``, ``--sample N`` is the number of grid intervals of
-each problem (the step is t_end / N: one setting fits problems on any time scale).
+``--digits`` is 1..10000 (MAX_DIGITS, that of :mod:`lcs_exact.balls`), ``--max-events`` >= 0,
+``--time-limit`` > 0 seconds; ``--x0 -1,2`` needs no ``=``.  For ``zoo``, ``--sample N`` is the
+number of grid intervals of each problem (the step is t_end / N: one setting fits problems on any
+time scale).
 
 Exit status: 0 on success; 2 with a one-line reason on bad input; 3 when a run stops early (a
 limit, an accumulation of events, a deadlock, an unresolved sign) - the partial fixture is still
@@ -28,25 +31,27 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
 import sys
-from fractions import Fraction
+import time
 from pathlib import Path
-from typing import Any
 
-from flint import fmpz
-
+from . import __version__
+from .balls import MAX_DIGITS
+from .compare import compare, convergence_order, read_solution_csv
 from .errors import FormatError, InvalidArgument, LCSError
+from .fixture import MAX_SAMPLES, ball_number, read_fixture, sample_grid
+from .modelfile import MODEL_KEYS, check_exponents, load_model, read_model
+from .models import two_carts
 from .modes import format_mode
 from .rational import to_vector
+from .reals import expm_action
+from .simulate import simulate
 from .system import LCS
+from .zoo import write_zoo
 
-__all__ = ["main", "load_model", "read_model", "MAX_DIGITS", "MODEL_KEYS"]
-
-MAX_DIGITS = 10_000
-MODEL_KEYS = ("A", "B", "C", "D", "x0", "t_end", "name", "states", "inputs")
-_MAX_EXPONENT = 10_000  # 1e999999999 would be a gigabyte-sized rational: refused, not computed
-_EXPONENT = re.compile(r"[eE]\s*([+-]?\d+)")
+__all__ = ["main", "load_model", "read_model", "MAX_DIGITS", "MODEL_KEYS"]  # load_model, read_model, MODEL_KEYS: modelfile
 
 
 class _UsageError(Exception):
@@ -59,154 +64,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 # ---------------------------------------------------------------------------------------------
-# model files
+# arguments and model files
 # ---------------------------------------------------------------------------------------------
-
-def _exact_number(text: str) -> Fraction:
-    """A JSON/TOML float literal read exactly (exponent bounded)."""
-    m = _EXPONENT.search(text)
-    if m and abs(int(m.group(1))) > _MAX_EXPONENT:
-        raise FormatError(f"the number {text[:30]} has an exponent beyond +/-{_MAX_EXPONENT}")
-    try:
-        return Fraction(text.replace("_", ""))
-    except (ValueError, ZeroDivisionError):
-        raise FormatError(f"{text[:30]!r} is not a finite number") from None
-
-
-def _exact_int(text: str) -> int:
-    """A JSON integer literal of any length (Python's int(str) stops at 4300 digits)."""
-    return int(text) if len(text) < 4000 else int(fmpz(text))
-
-
-def _reject_constant(name: str):
-    raise FormatError(f"{name} is not a finite number")
-
-
-def _check_strings(v: Any, where: str) -> None:
-    """Refuse numeric strings with huge exponents before anything turns them into rationals."""
-    if isinstance(v, str):
-        m = _EXPONENT.search(v)
-        if m and abs(int(m.group(1))) > _MAX_EXPONENT:
-            raise FormatError(f"{where} = {v[:30]!r} has an exponent beyond +/-{_MAX_EXPONENT}")
-    elif isinstance(v, list):
-        for i, e in enumerate(v):
-            _check_strings(e, f"{where}[{i}]")
-
-
-def _is_scalar(v: Any) -> bool:
-    """A number or a string (a rational "p/q"); booleans, null, lists and objects are not."""
-    return isinstance(v, (int, float, Fraction, str)) and not isinstance(v, bool)
-
-
-def _kind(v: Any) -> str:
-    return {type(None): "null", bool: "a boolean", dict: "an object", list: "a list", str: "a string"}.get(
-        type(v), "a number")
-
-
-def read_model(path: str) -> dict:
-    """The model file's data, checked: an object with A, B, C, D and only the known keys."""
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except UnicodeDecodeError as e:
-        raise FormatError(f"model file {path} is not UTF-8 text (JSON or TOML): byte {e.start}") from None
-    try:
-        if p.suffix.lower() == ".toml":
-            try:
-                import tomllib
-            except ModuleNotFoundError:  # pragma: no cover - Python 3.10 has no TOML reader
-                raise FormatError("TOML model files need Python 3.11 or later (tomllib); write it as JSON") from None
-            data = tomllib.loads(text, parse_float=_exact_number)
-        else:
-            data = json.loads(text, parse_float=_exact_number, parse_int=_exact_int,
-                              parse_constant=_reject_constant)
-    except RecursionError:
-        raise FormatError(f"model file {path}: nested too deeply") from None
-    except FormatError as e:
-        raise FormatError(f"model file {path}: {e}") from None
-    except ValueError as e:  # JSONDecodeError, TOMLDecodeError, integers beyond Python's digit limit
-        if "integer string conversion" in str(e):  # TOML's integers go through int(str)
-            raise FormatError(f"model file {path}: an integer has more than 4300 digits; write it as a "
-                              f"string (\"123...\") or use a JSON model file") from None
-        raise FormatError(f"model file {path}: {e}") from None
-    if not isinstance(data, dict):
-        raise FormatError(f"model file {path} must hold an object with keys A, B, C, D, got {_kind(data)}")
-    if isinstance(data.get("schema"), str) and data["schema"].startswith("lcs-exact/"):
-        raise FormatError(f"{path} is a fixture ({data['schema']}), not a model file: "
-                          f"use `lcs-exact compare {path} SOLUTION.csv`")
-    unknown = [k for k in data if k not in MODEL_KEYS]
-    if unknown:
-        raise FormatError(f"model file {path}: unknown key {unknown[0][:40]!r} (allowed: {', '.join(MODEL_KEYS)})")
-    missing = [key for key in "ABCD" if key not in data]
-    if missing:
-        raise FormatError(f"model file {path} lacks {', '.join(missing)}")
-    for key in "ABCD":
-        v = data[key]
-        if not isinstance(v, list) or not all(isinstance(r, list) for r in v):
-            raise FormatError(f"model file {path}: {key} must be a list of rows (lists of numbers), got {_kind(v)}")
-    if "x0" in data and not isinstance(data["x0"], list):
-        raise FormatError(f"model file {path}: x0 must be a list of numbers, got {_kind(data['x0'])}")
-    for key in "ABCD":  # entries are scalars: [[1], 0] is not read as 1
-        for i, row in enumerate(data[key]):
-            j = next((j for j, v in enumerate(row) if not _is_scalar(v)), None)
-            if j is not None:
-                raise FormatError(f"model file {path}: {key}[{i}, {j}] is {_kind(row[j])}, not a number "
-                                  f"or a rational string")
-    j = next((j for j, v in enumerate(data.get("x0", ())) if not _is_scalar(v)), None)
-    if j is not None:
-        raise FormatError(f"model file {path}: x0[{j}] is {_kind(data['x0'][j])}, not a number or a "
-                          f"rational string")
-    if "t_end" in data and (isinstance(data["t_end"], (bool, list, dict)) or data["t_end"] is None):
-        raise FormatError(f"model file {path}: t_end must be a number, got {_kind(data['t_end'])}")
-    if "name" in data and not isinstance(data["name"], str):
-        raise FormatError(f"model file {path}: name must be a string, got {_kind(data['name'])}")
-    for key in ("states", "inputs"):
-        if key in data and (not isinstance(data[key], list) or not all(isinstance(s, str) for s in data[key])):
-            raise FormatError(f"model file {path}: {key} must be a list of names (strings)")
-    for key in ("A", "B", "C", "D", "x0", "t_end"):
-        if key in data:
-            _check_strings(data[key], f"model file {path}: {key}")
-    return data
-
-
-def load_model(path: str) -> tuple[LCS, dict]:
-    """Read a model file (TOML or JSON) into an LCS and its checked data (see :func:`read_model`).
-
-    ``states`` and ``inputs`` become the LCS's ``state_names`` and ``constraint_names`` (shown by
-    ``check``, ``select`` and ``simulate``); an error in the data names the file.
-
-    >>> import json, os, tempfile
-    >>> with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
-    ...     json.dump({"A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[0]],
-    ...                "states": ["x", "v"], "inputs": ["wall"]}, f)
-    >>> lcs, data = load_model(f.name); os.unlink(f.name)
-    >>> lcs.state_names, lcs.constraint_names
-    (('x', 'v'), ('wall',))
-    """
-    data = read_model(path)
-    try:
-        lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"))
-    except LCSError as e:  # shapes and entries, naming the file
-        raise type(e)(f"model file {path}: {e}") from None
-    for key, size, what in (("states", lcs.n, "n"), ("inputs", lcs.k, "k")):
-        if key in data and len(data[key]) != size:
-            raise FormatError(f"model file {path}: {key} has {len(data[key])} names, expected {what} = {size}")
-    if "states" in data or "inputs" in data:
-        try:
-            lcs = LCS(lcs.A, lcs.B, lcs.C, lcs.D, name=lcs.name, state_names=data.get("states"),
-                      constraint_names=data.get("inputs"))
-        except LCSError as e:  # empty or repeated names, in the file's words
-            msg = str(e).replace("state_names", "states").replace("constraint_names", "inputs")
-            raise type(e)(f"model file {path}: {msg}") from None
-    if "x0" in data and len(data["x0"]) != lcs.n:
-        raise FormatError(f"model file {path}: x0 has length {len(data['x0'])}, expected {lcs.n} (n)")
-    return lcs, data
-
 
 def _x0_of(args, data: dict, n: int) -> list:
     if args.x0 is not None:
         x0 = [v.strip() for v in args.x0.split(",")]
-        _check_strings(x0, "--x0")
+        check_exponents(x0, "--x0")
         if len(x0) != n:
             raise FormatError(f"--x0 has length {len(x0)}, expected {n} (n)")
         return x0
@@ -279,9 +143,6 @@ def _fmt_exact(v, digits: int) -> str:
 
 
 def two_carts_demo(out=print, digits: int = 30) -> None:
-    from .models import two_carts
-    from .reals import expm_action
-    from .simulate import simulate
     carts = two_carts()
     out("Section 7: two carts from x0 = e^{-A} (0, -1, -1, 0), T_e = 3, " f"{digits} digits")
     x0 = expm_action(carts.A, -1, [0, -1, -1, 0])
@@ -364,7 +225,6 @@ def _int(text: str) -> int:
 
 
 def _intervals(text: str) -> int:
-    from .fixture import MAX_SAMPLES
     v = _int(text)
     if not 1 <= v < MAX_SAMPLES:
         raise argparse.ArgumentTypeError(f"must be a number of grid intervals in 1..{MAX_SAMPLES - 1}, got {v}")
@@ -400,7 +260,6 @@ def _join_values(argv: list[str]) -> list[str]:
 
 
 def _parser() -> argparse.ArgumentParser:
-    from . import __version__
     parser = _Parser(prog="lcs-exact", description="Exact linear complementarity systems "
                      "(Heemels, Schumacher, Weiland 2000)")
     parser.add_argument("--version", action="version", version=f"lcs-exact {__version__}")
@@ -444,16 +303,14 @@ def _parser() -> argparse.ArgumentParser:
 # ---------------------------------------------------------------------------------------------
 
 def _simulate(args) -> int:
-    from .simulate import simulate
     lcs, data = load_model(args.model)
     x0 = _x0_of(args, data, lcs.n)
     t_end = args.t_end if args.t_end is not None else data.get("t_end")
     if t_end is None:
         raise FormatError("no final time: give --t-end or put t_end in the model file")
-    _check_strings(str(t_end), "t_end")
+    check_exponents(str(t_end), "t_end")
     if args.sample is not None:
-        _check_strings(args.sample, "--sample")
-        from .fixture import sample_grid
+        check_exponents(args.sample, "--sample")
         sample_grid(0, args.sample)  # a bad step is an input error before the run, not after it
     if args.output:
         _check_writable(args.output)  # before the run: nothing computed is lost to a bad path
@@ -493,7 +350,6 @@ def _simulate(args) -> int:
 
 def _print_samples(traj, args, names) -> None:
     """The certified grid as a table (each value correct to --digits digits)."""
-    from .fixture import ball_number, sample_grid
     grid = sample_grid(traj.t_end, args.sample)
     print("samples: t  " + "  ".join(names))
     for t, row in zip(grid, traj.sample(grid, args.digits)):
@@ -507,7 +363,6 @@ def _fmt_t(t) -> str:
 
 def _check_writable(path: str) -> None:
     """-o must name a file that can be written: its folder exists and is writable."""
-    import os
     p = Path(path)
     folder = p.parent if str(p.parent) else Path(".")
     if p.is_dir():
@@ -524,9 +379,8 @@ def _write_fixture(traj, args, closed_forms: bool = True) -> None:
 
 
 def _compare(args) -> int:
-    from .compare import compare, convergence_order, read_fixture, read_solution_csv
     if args.event_tol is not None:
-        _check_strings(args.event_tol, "--event-tol")
+        check_exponents(args.event_tol, "--event-tol")
     fx = read_fixture(args.fixture)
     reports = []
     for path in args.solutions:
@@ -548,8 +402,6 @@ def _compare(args) -> int:
 
 
 def _zoo(args) -> int:
-    import time
-    from .zoo import write_zoo
     t0 = time.perf_counter()
     index = write_zoo(args.dir, digits=args.digits, samples=args.sample, only=args.only, out=print)
     partial = [e["name"] for e in index["problems"] if e["partial"]]
@@ -607,7 +459,6 @@ def _main(argv: list[str] | None) -> int:
         elif args.cmd == "zoo":
             return _zoo(args)
     except BrokenPipeError:  # the reader went away (`lcs-exact ... | head`): stop quietly
-        import os
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except (LCSError, OSError, ValueError) as e:  # LCSError: named input errors; OSError: files;
