@@ -1,11 +1,13 @@
-"""Figures: a trajectory (states, u, y against t) and a 2-D mode map (Figure 8.2 style).
+"""Figures: a trajectory (states, u, y against t); the 2-D mode map (Figure 8.2 style) is drawn by
+:mod:`lcs_exact.mapplot` (:func:`plot_mode_map`, importable from here too).
 
-matplotlib and numpy are imported inside the functions, so ``import lcs_exact`` stays light.
-This module sits below :mod:`lcs_exact.trajectory` and never imports it: a trajectory is used
-through its public interface only (``lcs``, ``x0``, ``t_end``, ``events``, ``partial``,
-``state(t)``, ``u(t)``, ``y(t)``; an event's ``time``, ``mode_before``, ``mode_after``,
-``state_before``, ``state_after``, ``impulse``), and a mode map through ``faces``,
-``hyperplanes``, ``regions``, ``locate`` and ``slice_jump``.
+matplotlib is imported inside the functions, so ``import lcs_exact`` stays light.  This module
+sits below :mod:`lcs_exact.trajectory` and never imports it: a trajectory is used through its
+public interface only (``lcs``, ``x0``, ``t_end``, ``events``, ``partial``, ``state(t)``,
+``u(t)``, ``y(t)``; an event's ``time``, ``mode_before``, ``mode_after``, ``state_before``,
+``state_after``, ``impulse``).  :func:`plot_trajectory` draws in steps named after what they draw
+(each phase with its states panel and u/y panels, accumulation windows, events with the jumps and
+impulses at them, u/y jumps, legends, the title), sharing one ``_Canvas``.
 
 What a reader needs to see, and how it is drawn:
 
@@ -29,23 +31,18 @@ Numbers are evaluated exactly (certified balls) and only then rounded to floats 
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any, Sequence
 
-from flint import fmpq
+from flint import arb, ctx, fmpq_mat
 
 from .errors import InvalidArgument, LCSError
+from .mapplot import MODE_COLORS, default_names, plot_mode_map
 from .modes import format_mode
+from .reals import ProjectedVector
 
 __all__ = ["plot_trajectory", "plot_mode_map", "phase_intervals", "PhaseInterval"]
-
-_MODE_COLORS = ["#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860", "#da8bc3",
-                "#8c8c8c", "#ccb974", "#64b5cd"]
-
-
-def _is_default(names: Sequence[str], prefix: str) -> bool:
-    return tuple(names) == tuple(f"{prefix}{i}" for i in range(len(names)))
 
 
 def _pair_label(lcs, which: str, i: int) -> str:
@@ -53,7 +50,7 @@ def _pair_label(lcs, which: str, i: int) -> str:
     if roles is not None:  # the builder's words: "force (floor)", "i(D1)"
         return roles[i][0 if which == "u" else 1]
     names = getattr(lcs, "constraint_names", None) or tuple(str(j) for j in range(lcs.k))
-    if _is_default(names, ""):
+    if default_names(names, ""):
         return f"${which}_{{{i}}}$"
     return f"{which} ({names[i]})"
 
@@ -72,7 +69,7 @@ def _mode_label(lcs, m, free=frozenset()) -> str:
 def _state_label(lcs, i: int) -> str:
     names = getattr(lcs, "state_names", None) or tuple(f"x_{j}" for j in range(lcs.n))
     nm = names[i]
-    if _is_default(names, "x_"):
+    if default_names(names, "x_"):
         return f"$x_{{{i}}}$"
     return nm
 
@@ -203,7 +200,6 @@ def _component(v, i: int) -> tuple[float, bool]:
 def _pair_maps(lcs, mode):
     """(F_u, F_y) with u = F_u x, y = F_y x on a phase of ``mode``: u_I = F_I x, zero off I
     (section 4.1), y = C x + D u.  None for an unknown mode (a deadlock at the start)."""
-    from flint import fmpq_mat
     if mode is None:
         return None
     Fu = fmpq_mat(lcs.k, lcs.n)
@@ -213,34 +209,6 @@ def _pair_maps(lcs, mode):
             for j in range(lcs.n):
                 Fu[i, j] = F[r, j]
     return Fu, lcs.C + lcs.D * Fu
-
-
-def _draw_window(traj, ph, ax_of, sidx, cidx, cyc, sty, npts: int) -> None:
-    """An accumulation window [t_k, T*): the scaled cycles of the proven law, each flight its own
-    line (no segment across an event), until the flights are shorter than the plot resolves;
-    states, u and y are the exact values of the law (``traj.state``, ``traj.u``, ``traj.y``)."""
-    fa, fb = float(ph.start), float(ph.end)
-    width = fb - fa
-    cuts = [fa]
-    for t in ph.window.event_times(400):
-        ft = float(t)
-        if ft >= fb or ft - cuts[-1] < width * 5e-3:
-            break
-        cuts.append(ft)
-    cuts.append(fb)
-    for a, b in zip(cuts, cuts[1:]):
-        m = max(3, int(npts * (b - a) / width))
-        ts = [_frac(a + (b - a) * (j + 0.5) / m) for j in range(m)]
-        tt = [float(t) for t in ts]
-        if "x" in ax_of:
-            rows = [[float(v.mid()) for v in row] for row in traj.sample(ts, 10)]
-            for pos, i in enumerate(sidx):
-                ax_of["x"].plot(tt, [r[i] for r in rows], color=cyc[pos], ls=sty[pos], lw=1.6)
-        for which in ("u", "y"):
-            if which in ax_of:
-                vals = [[float(c) for c in getattr(traj, which)(t)] for t in ts]
-                for pos, i in enumerate(cidx):
-                    ax_of[which].plot(tt, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
 
 
 def _undetermined(traj, ph) -> frozenset:
@@ -256,7 +224,6 @@ def _undetermined(traj, ph) -> frozenset:
 def _apply(F, rows: list, zero: Sequence[int] = ()) -> list[list[float]]:
     """F x for every sampled state x (a row of balls), in ball arithmetic, as floats to draw;
     the entries in ``zero`` are exactly 0 (y_i for i in the phase's mode: y_I = 0 there, (4.2))."""
-    from flint import arb, ctx
     m, n = F.nrows(), F.ncols()
     coef = [[(j, arb(F[i, j])) for j in range(n) if F[i, j] != 0] if i not in zero else [] for i in range(m)]
     out = []
@@ -340,10 +307,6 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     ['state', 'u', 'y']
     """
     import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
-    from .reals import ProjectedVector
 
     lcs = traj.lcs
     if components is not None and states is None:
@@ -359,170 +322,283 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
                              figsize=figsize or (9, 2.4 * len(panels) + 0.8), layout="constrained")
     axes = list(axes[:, 0])
-    ax_of = dict(zip(panels, axes))
-    total = sum(float(p.end) - float(p.start) for p in phases) or 1.0
     palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    cyc = [palette[i % len(palette)] for i in range(max(lcs.n, lcs.k))]
-    sty = [_STYLES[(i // len(palette)) % len(_STYLES)] for i in range(max(lcs.n, lcs.k))]
-
-    # one colour per mode, the same whatever the order of the phases: the free mode grey
-    ordered = sorted({ph.mode for ph in phases if ph.mode}, key=lambda m: (len(m), sorted(m)))
-    colors = {m: _MODE_COLORS[i % len(_MODE_COLORS)] for i, m in enumerate(ordered)}
-    colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
-    pair_ends = []  # per phase: (u, y) at its start and at its end, exact, for the jump markers
-    any_free = False
-    free_of: dict = {}  # mode -> inputs undetermined on its phases (legend)
-    for ph in phases:
-        fa, fb = float(ph.start), float(ph.end)
-        for ax in axes:
-            ax.axvspan(fa, fb, color=colors[ph.mode], alpha=0.10, lw=0)
-        npts = max(6, int(points * (fb - fa) / total))
-        if ph.window is not None:  # infinitely many events: a line per scaled flight, exact values
-            _draw_window(traj, ph, ax_of, sidx, cidx, cyc, sty, npts)
-            pair_ends.append((None, None))
-            continue
-        ts = [_frac(fa + (fb - fa) * (j + 0.5) / npts) for j in range(npts)]  # inside the phase
-        tt = [fa] + [float(t) for t in ts] + [fb]
-        first = ph.start_event.state_after if ph.start_event is not None else \
-            (traj.state(ph.start) if float(ph.start) > 0 else traj.x0)  # after an accumulation: x(T*)
-        last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
-        balls = traj.sample(ts, 10)  # certified, one exponential sum per point
-        if "x" in ax_of:
-            rows = [[float(b.mid()) for b in row] for row in balls]
-            for pos, i in enumerate(sidx):
-                vals = [float(first[i])] + [r[i] for r in rows] + [float(last[i])]
-                ax_of["x"].plot(tt, vals, color=cyc[pos], ls=sty[pos], lw=1.6)
-        maps = _pair_maps(lcs, ph.mode)
-        if maps is None:  # no mode: u and y are not defined there
-            pair_ends.append((None, None))
-            continue
-        # u and y are linear in x on the phase: from the same balls, and exactly at the two ends
-        # (u(τ+) at the start, u(τ-) at the end: the values the jump markers compare)
-        ends = tuple((ProjectedVector(maps[0], z), ProjectedVector(maps[1], z)) for z in (first, last))
-        pair_ends.append(ends)
-        free = _undetermined(traj, ph)  # inputs the state leaves free here: not drawn (no value)
-        free_of[ph.mode] = free_of.get(ph.mode, frozenset()) | free
-        free_y = {i for i in range(lcs.k) if any(lcs.D[i, j] != 0 for j in free)}
-        for w, which in enumerate(("u", "y")):
-            if which in ax_of:
-                vals = ([[float(c) for c in ends[0][w]]] + _apply(maps[w], balls, ph.mode if w else ())
-                        + [[float(c) for c in ends[1][w]]])
-                for pos, i in enumerate(cidx):
-                    if i in (free if w == 0 else free_y):
-                        any_free = True
-                        continue
-                    ax_of[which].plot(tt, [v[i] for v in vals], color=cyc[pos], ls=sty[pos], lw=1.6)
-
-    evs = sorted(traj.events, key=lambda e: float(e.time))
-    any_jump = False
-    any_impulse = False
+    cv = _Canvas(traj, lcs, fig, axes, dict(zip(panels, axes)), sidx, cidx,
+                 pens=[(palette[i % len(palette)], _STYLES[(i // len(palette)) % len(_STYLES)])
+                       for i in range(max(lcs.n, lcs.k))],
+                 colors=_mode_colors(phases))
+    total = sum(float(p.end) - float(p.start) for p in phases) or 1.0
+    # per phase: (u, y) at its start and at its end, exact, for the jump markers
+    pair_ends = [_draw_phase(cv, ph, max(6, int(points * (float(ph.end) - float(ph.start)) / total)))
+                 for ph in phases]
     t_hi = float(phases[-1].end) if phases else float(traj.t_end)
     t_hi = t_hi if t_hi > 0 else 1.0
+    _draw_events(cv, sorted(traj.events, key=lambda e: float(e.time)), t_hi, label_events)
+    _draw_pair_jumps(cv, phases, pair_ends)
+    for ax in axes:
+        ax.set_xlim(-0.015 * t_hi, 1.015 * t_hi)
+        ax.grid(True, lw=0.3, alpha=0.5)
+    axes[-1].set_xlabel("t")
+    _draw_legends(cv)
+    _draw_title(cv, phases, title)
+    return fig
+
+
+@dataclass
+class _Canvas:
+    """What the parts of a trajectory figure share: the trajectory, the panels (``ax_of``: "x",
+    "u", "y" to their axes), the states and pairs drawn and their pens (colour, line style of
+    the pos-th line), the shade of each mode, and what was drawn (for the legends)."""
+
+    traj: Any
+    lcs: Any
+    fig: Any
+    axes: list
+    ax_of: dict
+    sidx: list
+    cidx: list
+    pens: list
+    colors: dict
+    any_jump: bool = False
+    any_impulse: bool = False
+    any_free: bool = False
+    free_of: dict = field(default_factory=dict)  # mode -> inputs undetermined on its phases
+
+    def line(self, which: str, pos: int, tt, vals) -> None:
+        """The pos-th line of a panel (a state, or a pair's u or y) over the times tt."""
+        color, ls = self.pens[pos]
+        self.ax_of[which].plot(tt, vals, color=color, ls=ls, lw=1.6)
+
+    def jump(self, which: str, pos: int, t: float, left, right, sizes: tuple) -> None:
+        """A jump of the pos-th line of a panel at t: an open circle at the left limit, a filled
+        one at the right limit (the trajectory is right-continuous)."""
+        color = self.pens[pos][0]
+        self.ax_of[which].plot([t], [float(left)], "o", mfc="white", mec=color, ms=sizes[0], zorder=5)
+        self.ax_of[which].plot([t], [float(right)], "o", color=color, ms=sizes[1], zorder=6)
+
+
+def _mode_colors(phases: list) -> dict:
+    """One colour per mode, the same whatever the order of the phases: the free mode grey."""
+    ordered = sorted({ph.mode for ph in phases if ph.mode}, key=lambda m: (len(m), sorted(m)))
+    colors = {m: MODE_COLORS[i % len(MODE_COLORS)] for i, m in enumerate(ordered)}
+    colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
+    return colors
+
+
+def _draw_phase(cv: _Canvas, ph: PhaseInterval, npts: int) -> tuple:
+    """A continuous phase: shaded with its mode's colour in every panel, its ``npts`` certified
+    samples drawn in the states panel and the u/y panels (an accumulation window: its flights).
+    Returns the exact (u, y) at its start and its end ((None, None) when it has none)."""
+    fa, fb = float(ph.start), float(ph.end)
+    for ax in cv.axes:
+        ax.axvspan(fa, fb, color=cv.colors[ph.mode], alpha=0.10, lw=0)
+    if ph.window is not None:  # infinitely many events: a line per scaled flight, exact values
+        _draw_window(cv, ph, npts)
+        return (None, None)
+    traj = cv.traj
+    ts = [_frac(fa + (fb - fa) * (j + 0.5) / npts) for j in range(npts)]  # inside the phase
+    tt = [fa] + [float(t) for t in ts] + [fb]
+    first = ph.start_event.state_after if ph.start_event is not None else \
+        (traj.state(ph.start) if float(ph.start) > 0 else traj.x0)  # after an accumulation: x(T*)
+    last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
+    balls = traj.sample(ts, 10)  # certified, one exponential sum per point
+    _draw_states_panel(cv, tt, first, last, balls)
+    return _draw_pair_panels(cv, ph, tt, first, last, balls)
+
+
+def _draw_states_panel(cv: _Canvas, tt: list, first, last, balls: list) -> None:
+    """The states on one phase: the exact x(start+), the sampled balls, the exact x(end-)."""
+    if "x" not in cv.ax_of:
+        return
+    rows = [[float(b.mid()) for b in row] for row in balls]
+    for pos, i in enumerate(cv.sidx):
+        cv.line("x", pos, tt, [float(first[i])] + [r[i] for r in rows] + [float(last[i])])
+
+
+def _draw_pair_panels(cv: _Canvas, ph: PhaseInterval, tt: list, first, last, balls: list) -> tuple:
+    """u and y on one phase: linear in x there (u = F_u x, y = F_y x), from the same balls and
+    exactly at the two ends (u(τ+) at the start, u(τ-) at the end: the values the jump markers
+    compare); inputs the state leaves free are not drawn (no value).  Returns those ends."""
+    maps = _pair_maps(cv.lcs, ph.mode)
+    if maps is None:  # no mode: u and y are not defined there
+        return (None, None)
+    ends = tuple((ProjectedVector(maps[0], z), ProjectedVector(maps[1], z)) for z in (first, last))
+    free = _undetermined(cv.traj, ph)  # inputs the state leaves free here
+    cv.free_of[ph.mode] = cv.free_of.get(ph.mode, frozenset()) | free
+    free_y = {i for i in range(cv.lcs.k) if any(cv.lcs.D[i, j] != 0 for j in free)}
+    for w, which in enumerate(("u", "y")):
+        if which in cv.ax_of:
+            vals = ([[float(c) for c in ends[0][w]]] + _apply(maps[w], balls, ph.mode if w else ())
+                    + [[float(c) for c in ends[1][w]]])
+            for pos, i in enumerate(cv.cidx):
+                if i in (free if w == 0 else free_y):
+                    cv.any_free = True
+                    continue
+                cv.line(which, pos, tt, [v[i] for v in vals])
+    return ends
+
+
+def _draw_window(cv: _Canvas, ph: PhaseInterval, npts: int) -> None:
+    """An accumulation window [t_k, T*): the scaled cycles of the proven law, each flight its own
+    line (no segment across an event), until the flights are shorter than the plot resolves;
+    states, u and y are the exact values of the law (``traj.state``, ``traj.u``, ``traj.y``)."""
+    fa, fb = float(ph.start), float(ph.end)
+    width = fb - fa
+    cuts = [fa]
+    for t in ph.window.event_times(400):
+        ft = float(t)
+        if ft >= fb or ft - cuts[-1] < width * 5e-3:
+            break
+        cuts.append(ft)
+    cuts.append(fb)
+    for a, b in zip(cuts, cuts[1:]):
+        m = max(3, int(npts * (b - a) / width))
+        ts = [_frac(a + (b - a) * (j + 0.5) / m) for j in range(m)]
+        tt = [float(t) for t in ts]
+        if "x" in cv.ax_of:
+            rows = [[float(v.mid()) for v in row] for row in cv.traj.sample(ts, 10)]
+            for pos, i in enumerate(cv.sidx):
+                cv.line("x", pos, tt, [r[i] for r in rows])
+        for which in ("u", "y"):
+            if which in cv.ax_of:
+                vals = [[float(c) for c in getattr(cv.traj, which)(t)] for t in ts]
+                for pos, i in enumerate(cv.cidx):
+                    cv.line(which, pos, tt, [v[i] for v in vals])
+
+
+def _draw_events(cv: _Canvas, evs: list, t_hi: float, label_events: int) -> None:
+    """Every event: its dashed line, its label, the jumps of the states and the impulses."""
     # event labels: horizontal, on up to four lines above the first panel, never on top of
     # each other (widths estimated from the text: ~4.7 pt per character at 8 pt)
     texts = [_event_text(e) for e in evs[:label_events]]
-    axes_pt = fig.get_figwidth() * 72 * 0.78
+    axes_pt = cv.fig.get_figwidth() * 72 * 0.78
     x_lo, x_span = -0.015 * t_hi, 1.03 * t_hi
     levels = _label_levels([(float(e.time) - x_lo) / x_span for e in evs[:label_events]],
                            [(4.7 * len(tx) + 6) / axes_pt for tx in texts])
+    levels += [None] * (len(evs) - len(levels))  # the events beyond label_events have no label line
     many = len(evs) > 2 * label_events  # a dense run: thin light event lines, not a hatching
-    impulses: dict = {}  # event number -> [(position, pair, weight of u^0)]
-    for num, e in enumerate(evs):
-        u0 = (getattr(e, "impulse", None) or {}).get(0)
-        if u0 is not None:
-            for pos, i in enumerate(cidx):
-                v, nonzero = _component(u0, i)
-                if nonzero:
-                    impulses.setdefault(num, []).append((pos, i, v))
+    impulses = _impulses(cv, evs)
     w_max = max((abs(v) for lst in impulses.values() for _, _, v in lst), default=1.0) or 1.0
     # weights are written next to their arrows when there are few (else the arrows' heights and
     # the event table tell them)
     label_weights = sum(len(lst) for lst in impulses.values()) <= 12
     for num, e in enumerate(evs):
         te = float(e.time)
-        for ax in axes:
+        for ax in cv.axes:
             ax.axvline(te, color="0.35", lw=0.4 if many else 0.8, ls="--", alpha=0.35 if many else 1.0, zorder=1)
         if num < label_events and levels[num] is not None:
-            axes[0].annotate(texts[num], xy=(te, 1.0), xycoords=("data", "axes fraction"),
-                             xytext=(1, 2 + 10 * levels[num]), textcoords="offset points", fontsize=8,
-                             ha="left", va="bottom", color="0.2")
-        if "x" in ax_of:
-            for pos, i in enumerate(sidx):
-                xb, xa = e.state_before[i], e.state_after[i]
-                if _certainly_different(xb, xa):
-                    any_jump = True
-                    ax_of["x"].plot([te], [float(xb)], "o", mfc="white", mec=cyc[pos], ms=6, zorder=5)
-                    ax_of["x"].plot([te], [float(xa)], "o", color=cyc[pos], ms=5, zorder=6)
-        if "u" in ax_of:
-            shown = 0
-            for pos, i, v in impulses.get(num, ()):
-                # an impulse u^0 δ at the event (3.6): a dotted arrow whose height grows with the
-                # weight (the largest reaches the top), not a value of u
-                any_impulse = True
-                dx = 0.004 * t_hi * shown  # side by side when several constraints act at once
-                top = 0.03 + 0.94 * (0.15 + 0.85 * abs(v) / w_max)
-                ax_of["u"].annotate("", xy=(te + dx, top), xycoords=("data", "axes fraction"),
-                                    xytext=(te + dx, 0.03), textcoords=("data", "axes fraction"),
-                                    arrowprops=dict(arrowstyle="-|>", color=cyc[pos], lw=1.2, ls=":", alpha=0.8),
-                                    zorder=4)
-                if label_weights:
-                    ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, min(0.6, top - 0.05) - 0.1 * (shown + (levels[num] or 0))),
-                                        xycoords=("data", "axes fraction"), xytext=(4, 0),
-                                        textcoords="offset points", fontsize=8, color=cyc[pos])
-                shown += 1
-    # u and y jump wherever the mode changes: open/closed markers as for the state
+            cv.axes[0].annotate(texts[num], xy=(te, 1.0), xycoords=("data", "axes fraction"),
+                                xytext=(1, 2 + 10 * levels[num]), textcoords="offset points", fontsize=8,
+                                ha="left", va="bottom", color="0.2")
+        _draw_state_jumps(cv, e, te)
+        _draw_impulses(cv, impulses.get(num, ()), te, t_hi, w_max, (levels[num] or 0) if label_weights else None)
+
+
+def _draw_state_jumps(cv: _Canvas, e, te: float) -> None:
+    """The states that certainly jump at the event: x(τ-) open, x(τ+) filled."""
+    if "x" not in cv.ax_of:
+        return
+    for pos, i in enumerate(cv.sidx):
+        xb, xa = e.state_before[i], e.state_after[i]
+        if _certainly_different(xb, xa):
+            cv.any_jump = True
+            cv.jump("x", pos, te, xb, xa, (6, 5))
+
+
+def _impulses(cv: _Canvas, evs: list) -> dict:
+    """Event number -> [(position, pair, weight of u^0)] for the drawn pairs with an impulse."""
+    out: dict = {}
+    for num, e in enumerate(evs):
+        u0 = (getattr(e, "impulse", None) or {}).get(0)
+        if u0 is not None:
+            for pos, i in enumerate(cv.cidx):
+                v, nonzero = _component(u0, i)
+                if nonzero:
+                    out.setdefault(num, []).append((pos, i, v))
+    return out
+
+
+def _draw_impulses(cv: _Canvas, arrows, te: float, t_hi: float, w_max: float, level: int | None) -> None:
+    """The impulses u^0 δ at an event (3.6): dotted arrows whose height grows with the weight
+    (the largest reaches the top), not values of u; their weights written beside them unless
+    ``level`` is None (the event label's line, which the text steps below)."""
+    if "u" not in cv.ax_of:
+        return
+    for shown, (pos, i, v) in enumerate(arrows):
+        cv.any_impulse = True
+        color = cv.pens[pos][0]
+        dx = 0.004 * t_hi * shown  # side by side when several constraints act at once
+        top = 0.03 + 0.94 * (0.15 + 0.85 * abs(v) / w_max)
+        cv.ax_of["u"].annotate("", xy=(te + dx, top), xycoords=("data", "axes fraction"),
+                               xytext=(te + dx, 0.03), textcoords=("data", "axes fraction"),
+                               arrowprops=dict(arrowstyle="-|>", color=color, lw=1.2, ls=":", alpha=0.8), zorder=4)
+        if level is not None:
+            cv.ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, min(0.6, top - 0.05) - 0.1 * (shown + level)),
+                                   xycoords=("data", "axes fraction"), xytext=(4, 0),
+                                   textcoords="offset points", fontsize=8, color=color)
+
+
+def _draw_pair_jumps(cv: _Canvas, phases: list, pair_ends: list) -> None:
+    """u and y jump wherever the mode changes: open/closed markers as for the state."""
     for (prev, ends), ph in zip(zip(pair_ends, pair_ends[1:]), phases[1:]):
         if prev[1] is None or ends[0] is None:
             continue
         te = float(ph.start)
         for w, which in enumerate(("u", "y")):
-            if which not in ax_of:
+            if which not in cv.ax_of:
                 continue
-            for pos, i in enumerate(cidx):
+            for pos, i in enumerate(cv.cidx):
                 left, right = prev[1][w][i], ends[0][w][i]
                 if _certainly_different(left, right):
-                    any_jump = True
-                    ax_of[which].plot([te], [float(left)], "o", mfc="white", mec=cyc[pos], ms=5, zorder=5)
-                    ax_of[which].plot([te], [float(right)], "o", color=cyc[pos], ms=4, zorder=6)
+                    cv.any_jump = True
+                    cv.jump(which, pos, te, left, right, (5, 4))
 
-    for ax in axes:
-        ax.set_xlim(-0.015 * t_hi, 1.015 * t_hi)
-        ax.grid(True, lw=0.3, alpha=0.5)
-    axes[-1].set_xlabel("t")
-    for p, ax in ax_of.items():
+
+def _draw_legends(cv: _Canvas) -> None:
+    """Each panel's label and legend outside the data: its lines (names), the impulses and the
+    gaps where they occur; in the first panel the jump markers and the modes' shades."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    lcs = cv.lcs
+    for p, ax in cv.ax_of.items():
         ax.set_ylabel({"x": "state"}.get(p, p))
         if p == "x":
-            handles = [Line2D([], [], color=cyc[pos], ls=sty[pos], lw=1.6, label=_state_label(lcs, i))
-                       for pos, i in enumerate(sidx)]
+            handles = [Line2D([], [], color=cv.pens[pos][0], ls=cv.pens[pos][1], lw=1.6, label=_state_label(lcs, i))
+                       for pos, i in enumerate(cv.sidx)]
         else:
-            handles = [Line2D([], [], color=cyc[pos], ls=sty[pos], lw=1.6, label=_pair_label(lcs, p, i))
-                       for pos, i in enumerate(cidx)]
-            if p == "u" and any_impulse:
+            handles = [Line2D([], [], color=cv.pens[pos][0], ls=cv.pens[pos][1], lw=1.6,
+                              label=_pair_label(lcs, p, i)) for pos, i in enumerate(cv.cidx)]
+            if p == "u" and cv.any_impulse:
                 handles.append(Line2D([], [], color="0.3", ls=":", marker="^", ms=5, label="impulse (weight·δ)"))
-            if any_free:
+            if cv.any_free:
                 handles.append(Line2D([], [], color="none", label="(gaps: not determined by the state)"))
-        if ax is axes[0]:
-            if any_jump:
+        if ax is cv.axes[0]:
+            if cv.any_jump:
                 handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="left limit (τ−)"),
                             Line2D([], [], ls="", marker="o", color="0.3", label="right limit (τ+)")]
-            handles += [Patch(color=colors[m], alpha=0.3, label=_mode_label(lcs, m, free_of.get(m, frozenset())))
-                        for m in sorted(colors, key=lambda m: (m is None, len(m or ()), sorted(m or ())))]
+            handles += [Patch(color=cv.colors[m], alpha=0.3, label=_mode_label(lcs, m, cv.free_of.get(m, frozenset())))
+                        for m in sorted(cv.colors, key=lambda m: (m is None, len(m or ()), sorted(m or ())))]
         # a long legend in columns: it must not be taller than its panel
         ncol = 1 + (len(handles) - 1) // 12
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False,
                   ncol=ncol)
-    name = title if title is not None else (getattr(lcs, "name", None) or "LCS trajectory")
+
+
+def _draw_title(cv: _Canvas, phases: list, title: str | None) -> None:
+    """The title (the system's name); a partial run says so and is marked where it stopped."""
+    traj = cv.traj
+    name = title if title is not None else (getattr(cv.lcs, "name", None) or "LCS trajectory")
     if getattr(traj, "partial", False):
         status = getattr(getattr(traj, "status", None), "value", None)
         name += f" (partial: {status})" if status else " (partial)"
         if phases:  # where the run stopped
-            for ax in axes:
+            for ax in cv.axes:
                 ax.axvline(float(phases[-1].end), color="#c44e52", lw=1.2, ls=":", zorder=2)
-            axes[0].annotate("run stopped", xy=(float(phases[-1].end), 1.0), xycoords=("data", "axes fraction"),
-                             xytext=(-2, 2), textcoords="offset points", ha="right", va="bottom", fontsize=8,
-                             color="#c44e52")
-    fig.suptitle(name, fontsize=11)
-    return fig
+            cv.axes[0].annotate("run stopped", xy=(float(phases[-1].end), 1.0), xycoords=("data", "axes fraction"),
+                                xytext=(-2, 2), textcoords="offset points", ha="right", va="bottom", fontsize=8,
+                                color="#c44e52")
+    cv.fig.suptitle(name, fontsize=11)
 
 
 def _indices(sel, names, count: int, what: str) -> list[int]:
@@ -540,217 +616,3 @@ def _indices(sel, names, count: int, what: str) -> list[int]:
                 raise InvalidArgument(f"{what} index {i} outside 0..{count - 1} (indices are 0-based)")
             out.append(i)
     return out
-
-
-# ---------------------------------------------------------------------------------------------
-# mode maps
-# ---------------------------------------------------------------------------------------------
-
-
-def _clip(poly: list[tuple[fmpq, fmpq]], a, b, sign: int) -> list[tuple[fmpq, fmpq]]:
-    """Sutherland-Hodgman: keep the part of the polygon with sign * (a . p + b) >= 0 (exact)."""
-    def val(p):
-        return sign * (a[0] * p[0] + a[1] * p[1] + b)
-    out = []
-    for i in range(len(poly)):
-        p, q = poly[i], poly[(i + 1) % len(poly)]
-        vp, vq = val(p), val(q)
-        if vp >= 0:
-            out.append(p)
-        if (vp > 0 and vq < 0) or (vp < 0 and vq > 0):
-            t = vp / (vp - vq)
-            out.append((p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
-    return out
-
-
-def _segment(face, hyperplanes, window) -> tuple | None:
-    """The closure of a 1-D face inside the window: two endpoints (exact) or None."""
-    j0 = face.signs.index(0)
-    a, b = hyperplanes[j0]
-    p = face.point
-    d = (-a[1], a[0])
-    lo, hi = None, None
-    cons = [(hyperplanes[j], face.signs[j]) for j in range(len(face.signs)) if j != j0]
-    x0, x1, y0, y1 = window
-    cons += [(((fmpq(1), fmpq(0)), -x0), 1), (((fmpq(1), fmpq(0)), -x1), -1),
-             (((fmpq(0), fmpq(1)), -y0), 1), (((fmpq(0), fmpq(1)), -y1), -1)]
-    for (c, e), s in cons:
-        g0 = s * (c[0] * p[0] + c[1] * p[1] + e)  # >= 0 on the closure
-        g1 = s * (c[0] * d[0] + c[1] * d[1])
-        if g1 == 0:
-            if g0 < 0:
-                return None
-            continue
-        t = -g0 / g1
-        if g1 > 0:
-            lo = t if lo is None or t > lo else lo
-        else:
-            hi = t if hi is None or t < hi else hi
-    if lo is None or hi is None or lo > hi:
-        return None
-    return ((p[0] + lo * d[0], p[1] + lo * d[1]), (p[0] + hi * d[0], p[1] + hi * d[1]))
-
-
-def _default_window(mm) -> tuple:
-    verts = [f.point for f in mm.faces if f.dimension == 0]
-    if not verts:
-        verts = [f.point for f in mm.faces if f.dimension <= 1][:1] or [(fmpq(0), fmpq(0))]
-    cx = sum((v[0] for v in verts), fmpq(0)) / len(verts)
-    cy = sum((v[1] for v in verts), fmpq(0)) / len(verts)
-    spread = max([abs(v[0] - cx) for v in verts] + [abs(v[1] - cy) for v in verts] + [fmpq(0)])
-    h = max(fmpq(1), fmpq(3, 2) * spread)
-    return (cx - h, cx + h, cy - h, cy + h)
-
-
-def _region_legend(lcs, r) -> str:
-    """``S = {0}: stop`` (constraint names of the single admissible mode), ``(ray)``/``(point)``."""
-    text = f"S = {r.label}"
-    names = getattr(lcs, "constraint_names", None)
-    if len(r.modes) == 1 and names and not _is_default(names, ""):
-        (m,) = r.modes
-        text += ": " + ("+".join(names[i] for i in sorted(m)) if m else "free")
-    if r.dimension < 2:
-        text += " (ray)" if r.dimension == 1 else " (point)"
-    return text
-
-
-def plot_mode_map(mm, ax=None, *, window: Sequence[Any] | None = None, arrows: bool = True,
-                  grid: int = 9, title: str | None = None):
-    """Draw a 2-D mode map: regions filled and labelled with S(x0), jumps as arrows.
-
-    Faces are clipped to the window exactly (rational polygon clipping) before they are drawn;
-    1-D regions are thick lines and 0-D regions dots, in the colour of their S(x0).  An arrow
-    goes from a grid point s to the point where the re-initialization takes it (P_I x0 - x0 in
-    slice coordinates, exact, then rounded for drawing; its projection onto the slice when the
-    jump leaves the slice, as the title then says).  Grid points are rational and located
-    exactly, so points on boundaries get their own region.  Returns the Figure.
-
-    Parameters
-    ----------
-    mm : ModeMap
-        A map with two coordinates (``slice=(base, [d_0, d_1])``, or an LCS with n = 2).
-    window : (xmin, xmax, ymin, ymax), optional
-        Rationals; by default a square around the vertices of the arrangement.
-    arrows : bool
-    grid : int
-        Arrows on a grid x grid lattice (offset by half a step).
-
-    Examples
-    --------
-    >>> import matplotlib
-    >>> matplotlib.use("Agg")
-    >>> from lcs_exact.examples import two_carts_with_hook
-    >>> fig = two_carts_with_hook().mode_map(slice=([0, 0, 0, 0], [[0, 0, 1, 0], [0, 0, 0, 1]])).plot()
-    >>> fig.axes[0].get_xlabel(), fig.axes[0].get_ylabel()
-    ("q_0'", "q_1'")
-    """
-    import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch, Polygon
-
-    from .rational import to_fmpq
-
-    if mm.dimension != 2:
-        raise InvalidArgument(f"plot draws a 2-D map; this map has {mm.dimension} coordinates "
-                         "(give slice=(base, [d_0, d_1]))")
-    if window is None:
-        window = _default_window(mm)
-    window = tuple(to_fmpq(w, "window") for w in window)
-    x0, x1, y0, y1 = window
-    if not (x0 < x1 and y0 < y1):
-        raise InvalidArgument("window must be (xmin, xmax, ymin, ymax) with xmin < xmax and ymin < ymax")
-    own_figure = ax is None
-    if own_figure:
-        fig, ax = plt.subplots(figsize=(8.2, 5.0), layout="constrained")
-    else:
-        fig = ax.figure
-    from matplotlib.colors import to_rgb
-    color = {r.modes: _MODE_COLORS[i % len(_MODE_COLORS)] for i, r in enumerate(mm.regions)}
-    pastel = {m: tuple(0.62 + 0.38 * v for v in to_rgb(c)) for m, c in color.items()}
-    rect = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
-    region_of = {f.signs: r.modes for r in mm.regions for f in r.faces}
-    best_poly: dict = {}
-    for r in mm.regions:
-        for f in r.faces:
-            if f.dimension == 2:
-                poly = rect
-                for (a, b), s in zip(mm.hyperplanes, f.signs):
-                    poly = _clip(poly, a, b, s)
-                    if not poly:
-                        break
-                if len(poly) >= 3:
-                    pts = [(float(p[0]), float(p[1])) for p in poly]
-                    # opaque pastel with an edge of the same colour: no seams between faces
-                    ax.add_patch(Polygon(pts, closed=True, facecolor=pastel[r.modes], edgecolor=pastel[r.modes],
-                                         lw=0.8, zorder=1))
-                    area = abs(sum(pts[i][0] * pts[(i + 1) % len(pts)][1] - pts[(i + 1) % len(pts)][0] * pts[i][1]
-                                   for i in range(len(pts)))) / 2
-                    if area > best_poly.get(r.modes, (0, None))[0]:
-                        cx = sum(p[0] for p in pts) / len(pts)
-                        cy = sum(p[1] for p in pts) / len(pts)
-                        best_poly[r.modes] = (area, (cx, cy))
-            elif f.dimension == 1:
-                # a ray of its own S is drawn thick; a boundary ray of a 2-D region thin, in the
-                # colour of the region that owns it; a ray inside one region not at all
-                j0 = f.signs.index(0)
-                sides = {region_of.get(f.signs[:j0] + (s,) + f.signs[j0 + 1:]) for s in (-1, 1)}
-                if r.dimension == 1:
-                    lw = 4.0
-                elif len(sides) > 1:
-                    lw = 1.8
-                else:
-                    continue
-                seg = _segment(f, mm.hyperplanes, window)
-                if seg is not None:
-                    ax.plot([float(seg[0][0]), float(seg[1][0])], [float(seg[0][1]), float(seg[1][1])],
-                            color=color[r.modes], lw=lw, solid_capstyle="butt", zorder=3)
-            elif f.dimension == 0 and r.dimension == 0:  # a vertex inside a larger region is not special
-                p = f.point
-                if x0 <= p[0] <= x1 and y0 <= p[1] <= y1:
-                    ax.plot([float(p[0])], [float(p[1])], "o", color=color[r.modes], mec="black", ms=8, zorder=4)
-    for r in mm.regions:
-        if r.modes in best_poly:
-            cx, cy = best_poly[r.modes][1]
-            ax.text(cx, cy, r.label, ha="center", va="center", fontsize=11, weight="bold",
-                    bbox=dict(boxstyle="round,pad=0.25", fc="white", ec=color[r.modes], alpha=0.85), zorder=6)
-    leaves = False
-    if arrows and grid > 0:
-        us, vs, xs, ys = [], [], [], []
-        for i in range(grid):
-            for j in range(grid):
-                s = (x0 + (x1 - x0) * fmpq(2 * i + 1, 2 * grid), y0 + (y1 - y0) * fmpq(2 * j + 1, 2 * grid))
-                reg = mm.locate(s)
-                jm = mm.slice_jump(reg)
-                if jm is None:
-                    continue
-                c0, C1, exact = jm
-                dx = c0[0, 0] + C1[0, 0] * s[0] + C1[0, 1] * s[1]
-                dy = c0[1, 0] + C1[1, 0] * s[0] + C1[1, 1] * s[1]
-                if dx == 0 and dy == 0:
-                    continue
-                leaves = leaves or not exact
-                xs.append(float(s[0]))
-                ys.append(float(s[1]))
-                us.append(float(dx))
-                vs.append(float(dy))
-        if xs:
-            ax.quiver(xs, ys, us, vs, angles="xy", scale_units="xy", scale=1, width=0.004, color="0.15",
-                      zorder=5, alpha=0.8)
-    ax.set_xlim(float(x0), float(x1))
-    ax.set_ylim(float(y0), float(y1))
-    ax.set_xlabel(mm.variables[0])
-    ax.set_ylabel(mm.variables[1])
-    ax.set_aspect("equal", adjustable="box")
-    handles = [Patch(facecolor=pastel[r.modes] if r.dimension == 2 else color[r.modes], label=_region_legend(mm.lcs, r))
-               for r in mm.regions]
-    if arrows:
-        handles.append(Line2D([], [], color="0.15", marker=r"$\rightarrow$", ls="", ms=12, label="jump x0 → x(0+)"))
-    if own_figure:
-        fig.legend(handles=handles, loc="outside right upper", fontsize=9, frameon=False)
-    else:
-        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=9, frameon=False)
-    name = title if title is not None else f"{getattr(mm.lcs, 'name', None) or 'LCS'}: mode map (exact)"
-    if leaves:
-        name += "\n(jumps leave the slice: arrows show their projection)"
-    ax.set_title(name, fontsize=11)
-    return fig
