@@ -86,6 +86,7 @@ def sim(lcs, x0, t_end, **kw):
 # * Mode {0}: y1 = q12 - q3 vanishes before u0 does: impact with mode {0, 1}: all stick, then
 #   q'' = -q/2 and u0 = u1 = q/2 > 0.  Both forces vanish together at q = 0: one event, no jump,
 #   triggers u_0 and u_1, mode_after = {} (the masses move apart again, as after t1).
+@pytest.mark.slow
 def test_three_masses_relative_contacts():
     Mm, Dm, Km, E = [[1, 0, 0], [0, 2, 0], [0, 0, 3]], [[0] * 3] * 3, [[1, 0, 0], [0, 1, 0], [0, 0, 1]], \
         [[1, -1, 0], [0, 1, -1]]
@@ -212,6 +213,7 @@ def test_forced_contact_starts_closed_no_event_at_zero():
 # Mass 1 hits first (its spring pushes it to the wall): impact on {0}, v1 -> 0; then q1 = v1 = 0
 # and q1'' = q2 > 0: lift-off, mode {}.  Then mass 2 hits; v2 -> 0, q2'' = (q1 - q2)/2 > 0
 # (q1 > 0): lift-off.  Found by scanning y on the free flights (hand-written A below).
+@pytest.mark.slow
 def test_unequal_masses_two_wall_stops():
     Mm, Dm, Km, E = [[1, 0], [0, 2]], [[0, 0], [0, 0]], [[2, -1], [-1, 1]], [[1, 0], [0, 1]]
     x0 = [1, Fraction(1000001, 1000000), -1, -1]
@@ -346,6 +348,7 @@ def damped():
     return L.LCS(DAMPED_A, [[0], [1], [0]], [[1, 0, 1]], [[0]])
 
 
+@pytest.mark.slow
 def test_x0_from_expm_action_impact_at_exactly_one():
     """x0 = e^{-A}(-1/2, -1, 1/2): the free flight reaches y = 0 with y' = -1 exactly at t = 1
     (y > 0 before: checked by a scan).  Impact v -> 0, then q'' = -q = 1/2 > 0: lift-off, and the
@@ -446,6 +449,7 @@ def test_polynomial_double_root_is_a_graze():
 # -------------------------------------------------------------------------------------------------
 # 8. index-one systems (D a P-matrix, or D = 0 with C B > 0): u continuous, events = mode changes
 # -------------------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_p_matrix_feedthrough_twelve_events():
     """A = [[1/10, 1], [-1, 1/10]] (unstable focus), B = [[1, -1], [0, 1]], C = [[1, 0], [1, 1]],
     D = [[1, -1/2], [1/2, 1]] (a P-matrix: minors 1, 1, 5/4).  From (1, 0), y = C x > 0: mode {}.
@@ -466,6 +470,7 @@ def test_p_matrix_feedthrough_twelve_events():
     check_vec(tr.state(15), xT, "x(15)")
 
 
+@pytest.mark.slow
 def test_diode_circuit_initial_jump_release_reentry():
     """x' = A x + e0 u, y = x0 (C B = 1), A = [[-1, 1, 0], [1, 0, 1], [0, -1, 0]], x0 = (-1, -1, 0).
     y(0) < 0: jump at t = 0 onto ker C along B, x+ = (0, -1, 0).  Mode {0}: x0 == 0,
@@ -504,6 +509,7 @@ def compare_mech(tr, ref, xT, T):
     check_vec(tr.state(T), xf, "x(T)")
 
 
+@pytest.mark.slow
 def test_reference_reproduces_three_mass_case():
     """Sanity check of mech_reference on test 1's system (derived there by hand)."""
     Mm, Dm, Km, E = [[1, 0, 0], [0, 2, 0], [0, 0, 3]], [[0] * 3] * 3, [[1, 0, 0], [0, 1, 0], [0, 0, 1]], \
@@ -514,6 +520,7 @@ def test_reference_reproduces_three_mass_case():
     compare_mech(sim(mechanical(Mm, Dm, Km, E), [1, 0, 0, -1, 0, 0], 12), out, xT, 12)
 
 
+@pytest.mark.slow
 def test_damped_two_masses_stick_then_release():
     """M = diag(1, 3), D = diag(1/5, 1/10), K = [[3, -2], [-2, 2]] (complex eigenvalues with
     negative real parts, also in the constrained mode), stop q1 >= 0; q = (1, 0), v = (0, -2).
@@ -528,6 +535,7 @@ def test_damped_two_masses_stick_then_release():
     compare_mech(tr, out, xT, 10)
 
 
+@pytest.mark.slow
 def test_impact_at_time_zero_then_relative_contact():
     """M = diag(2, 1), K = I, E = [[1, 0], [1, -1]] (q1 >= 0, q1 >= q2), q = (0, -1), v = (-1, 1):
     contact 0 is closed and approaching at t = 0: a jump at t = 0 (mode_before None), v1 -> 0;
@@ -546,6 +554,7 @@ def test_impact_at_time_zero_then_relative_contact():
     compare_mech(tr, out, xT, 6)
 
 
+@pytest.mark.slow
 def test_two_closed_stops_one_approaching_one_leaving():
     """M = I, K = [[2, -1], [-1, 2]], E = I, q = (0, 0), v = (-1, 1): at t = 0 both gaps are 0,
     contact 0 approaches (impact, v1 -> 0), contact 1 leaves (no impulse); then 3 more impacts."""
@@ -559,6 +568,7 @@ def test_two_closed_stops_one_approaching_one_leaving():
     compare_mech(tr, out, xT, 6)
 
 
+@pytest.mark.slow
 def test_three_masses_wall_and_relative_contact_sticking():
     """M = diag(1, 1/2, 2), K = a fixed-free spring chain [[2, -1, 0], [-1, 2, -1], [0, -1, 1]],
     contacts q1 >= 0 (wall) and q2 >= q3 (between masses 2 and 3); q = (1/2, 1, 1/2),
@@ -574,6 +584,7 @@ def test_three_masses_wall_and_relative_contact_sticking():
     compare_mech(tr, out, xT, 8)
 
 
+@pytest.mark.slow
 def test_four_masses_three_contacts():
     """M = diag(1, 2, 3, 4), K = fixed-free chain, contacts q1 >= 0, q1 >= q2, q3 >= q4;
     q = (1, 1/2, 3, 2), v = (-1, -2, 1, -1).  In mode {0} the force u0 equals y1 = q1 - q2 (both
@@ -592,6 +603,7 @@ def test_four_masses_three_contacts():
 # -------------------------------------------------------------------------------------------------
 # 10. resonance (a Jordan block at +-i) pushing on a stop
 # -------------------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_resonant_forcing_stick_release_twice():
     """x = (q, v, w, z, g): q'' = -q + w + u, w'' = -w, g' = 0, y = q + g; x0 = (0, 0, 1, 0, 1/2).
     Free: q = t sin(t)/2 (resonance), y = 0 first where t sin t = -1, t1 in (pi, 3pi/2), impact
@@ -634,6 +646,7 @@ def test_resonant_forcing_stick_release_twice():
 # -------------------------------------------------------------------------------------------------
 # 11. second-order system with a non-symmetric input matrix (not a mechanical M^-1 E^T)
 # -------------------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_nonsymmetric_second_order_impacts():
     """p'' = Ka p + N u, y = p, Ka = [[-2, 1], [1, -1]], N = [[1, 1/2], [-1/2, 1]] (C A B = N, a
     P-matrix, not symmetric).  Jump on contact j with y_j = 0: x+ = P x- along T = Im B_j + Im AB_j;
@@ -769,6 +782,7 @@ def test_state_at_an_interior_event_time_is_the_right_limit():
 # -------------------------------------------------------------------------------------------------
 # 14. two diodes with a coupled (non-diagonal) C B: a two-constraint jump at t = 0
 # -------------------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_two_diodes_coupled_jump_and_closed_forms():
     """x = (x0, x1, x2, x3): (x0, x1)' = (x2, x3) + N u, (x2, x3)' = (x3, -x2), y = (x0, x1),
     N = C B = [[2, -1], [-1, 2]] (P-matrix).  x0 = (-2, 1/2, -1, 0).

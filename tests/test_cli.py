@@ -60,6 +60,7 @@ def test_two_carts_as_a_module():
     assert "triggered by y_0 (stop)" in p.stdout and "triggered by u_0 (stop)" in p.stdout
 
 
+@pytest.mark.slow
 def test_version():
     p = run("--version")
     assert p.returncode == 0 and p.stdout.strip() == f"lcs-exact {L.__version__}"
@@ -94,6 +95,7 @@ def test_negative_x0_without_equals(tmp_path, capsys, argv):
     assert "x(t-) = (-1, 2)" in out and "x(1) = (0, 0)" in out
 
 
+@pytest.mark.slow
 def test_negative_x0_as_a_module(tmp_path):
     p = run("select", write(tmp_path, OSC), "--x0", "-1,2")
     assert p.returncode == 0 and "jump to x(0+) = P_I x0 = (0, 0)" in p.stdout
@@ -138,6 +140,7 @@ def test_check_summarises_many_modes(tmp_path, capsys):
     assert "2^9 = 512 index sets; autonomy not enumerated" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_compare_command(tmp_path, capsys):
     model, fx = write(tmp_path, OSC), tmp_path / "fx.json"
     assert main(["simulate", model, "--digits", "20", "--sample", "1/20", "-o", str(fx)]) == 0
@@ -166,6 +169,7 @@ def test_compare_command(tmp_path, capsys):
     assert p.returncode == 0 and "max state error" in p.stdout
 
 
+@pytest.mark.slow
 def test_run_stopped_by_a_limit_writes_a_partial_fixture(tmp_path, capsys):
     model, out = write(tmp_path, OSC), tmp_path / "partial.json"
     assert main(["simulate", model, "--max-events", "0", "-o", str(out)]) == 3
@@ -305,6 +309,7 @@ def test_bad_command_lines(capsys, argv, fragment):
     assert one_line_error(err) and fragment in err
 
 
+@pytest.mark.slow
 def test_bad_inputs_as_a_module(tmp_path):
     """The same through ``python -m lcs_exact``: exit 2, one line, no traceback."""
     for args, fragment in ((["check", write(tmp_path, [1, 2], "list.json")], "got a list"),
@@ -370,6 +375,7 @@ models = st.one_of(
 )
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(models)
 def test_fuzz_model_reader(tmp_path, capsys, model):
@@ -389,6 +395,7 @@ def test_fuzz_model_reader(tmp_path, capsys, model):
 # issue 15: interrupts, limits at their boundaries, outputs checked before the run
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_sigint_writes_the_partial_fixture(tmp_path):
     """Ctrl-C during a long run: exit 130, one line on stderr, the partial fixture written."""
     import signal
@@ -413,6 +420,7 @@ def test_sigint_writes_the_partial_fixture(tmp_path):
     assert "PARTIAL (interrupted" in stdout
 
 
+@pytest.mark.slow
 def test_limits_at_their_boundaries_and_outputs_checked_first(tmp_path, capsys):
     model = write(tmp_path, {**CARTS, "x0": [0, 1, -1, 0], "t_end": 1})
     # an unwritable output is an input error before the run: nothing is printed of a run
@@ -431,6 +439,7 @@ def test_limits_at_their_boundaries_and_outputs_checked_first(tmp_path, capsys):
     assert "beyond the range of a double" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_the_documented_maximum_of_digits_is_accepted(capsys):
     assert main(["two-carts", "--digits", str(MAX_DIGITS)]) == 0
     out = capsys.readouterr().out

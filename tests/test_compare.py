@@ -75,6 +75,7 @@ def test_read_fixture_round_trip(osc_run, tmp_path):
     assert L.read_fixture(fx) is fx and L.read_fixture(json.loads(path.read_text())).events[0].time_exact == "pi/2"
 
 
+@pytest.mark.slow
 def test_read_fixture_without_rational_x0():
     """Section 7 starts from e^{-A}(0,-1,-1,0): no exact recomputation, the samples are the data."""
     x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
@@ -316,6 +317,7 @@ def re_escape(s: str) -> str:
     return re.escape(s)
 
 
+@pytest.mark.slow
 def test_compare_needs_a_reference_at_the_solver_times():
     x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
     fx = L.simulate(carts(), x0, 3, digits=20).to_fixture(20)  # no samples, x0 irrational

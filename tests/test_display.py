@@ -132,6 +132,7 @@ def test_rational_function_parse_errors(text):
 small = st.fractions(min_value=-5, max_value=5, max_denominator=7)
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None)
 @given(st.lists(small, min_size=1, max_size=4), st.lists(small, min_size=1, max_size=4))
 def test_repr_roundtrip_property(num, den):

@@ -34,6 +34,7 @@ def text_of(page: Path) -> str:
     return html.unescape(re.sub(r"<[^>]+>", "", page.read_text(encoding="utf-8")))
 
 
+@pytest.mark.slow
 def test_sphinx_build_passes_with_warnings_as_errors(built):
     for page in PAGES:
         assert (built / f"{page.stem}.html").is_file(), page.name
@@ -43,6 +44,7 @@ def test_sphinx_build_passes_with_warnings_as_errors(built):
             assert f'href="{page.stem}.html' in index, page.name
 
 
+@pytest.mark.slow
 def test_api_reference_covers_every_public_name(built):
     api = (DOCS / "api.rst").read_text(encoding="utf-8")
     documented = set(re.findall(r"^\.\. auto(?:class|function|exception|data)::\s+(\w+)\s*$", api, re.M))
@@ -92,6 +94,7 @@ def test_model_file_page_matches_the_reader(tmp_path):
 PATH = re.compile(r"(?<![\w/.:-])((?:[\w.-]+/)+[\w.-]+\.(?:md|py|ipynb|json|toml|png|rst|csv|txt|cfg|ini))\b")
 
 
+@pytest.mark.slow
 def test_docs_cite_only_files_in_the_repository(built):
     texts = {p.name: p.read_text(encoding="utf-8") for p in PAGES}
     texts["conf.py"] = (DOCS / "conf.py").read_text(encoding="utf-8")

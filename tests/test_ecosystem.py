@@ -61,6 +61,7 @@ def test_undetermined_inputs_are_nan():
     assert np.isnan(row[3 + j]) and not np.isnan(row[:3]).any()
 
 
+@pytest.mark.slow
 def test_from_statespace_reads_python_control_exactly():
     control = pytest.importorskip("control")
     sys = control.ss([[0, 1], [-2.5, -0.1]], [[0], [1]], [[1, 0]], [[0]])

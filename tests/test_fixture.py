@@ -65,6 +65,7 @@ def holds(num: dict, true, digits: int) -> bool:
 # the fixture of section 7
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_section7_fixture_validates_against_the_shipped_schema(section7_fixture):
     shipped = json.loads(files("lcs_exact").joinpath("schemas", "trajectory-1.schema.json").read_text())
     jsonschema.Draft202012Validator.check_schema(shipped)
@@ -170,6 +171,7 @@ def _significant(text: str) -> int:
     return len(mant.replace(".", "").lstrip("0"))
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(st.fractions(max_denominator=10 ** 30).filter(lambda q: q != 0), st.integers(1, 40))
 def test_rational_number_bound_holds(q, digits):
@@ -270,6 +272,7 @@ def _is_tight_bound(text: str, err: Fraction) -> bool:
     return b >= err and three_digits and b - Fraction(10) ** k < err
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None)
 @given(st.integers(-10 ** 45, 10 ** 45).filter(bool), st.integers(1, 10 ** 35), st.integers(1, 40))
 def test_rational_number_is_correctly_rounded(p, q, digits):

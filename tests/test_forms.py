@@ -75,6 +75,7 @@ def test_text_and_sympy_agree():
     assert Closed.of_sympy(e).to_sympy() == e and str(Closed.of_sympy(e)) == "atan(1/3)"
 
 
+@pytest.mark.slow
 def test_main_job_prints_closed_forms_without_sympy():
     code = ("import sys\nfrom lcs_exact.cli import two_carts_demo\nlines = []\n"
             "two_carts_demo(out=lines.append)\nprint('sympy' in sys.modules)\n"

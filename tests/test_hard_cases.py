@@ -98,6 +98,7 @@ def test_symmetric_simultaneous_impact():
     assert close(num(e1.state_before[4]), -b * r2 * mp.sin(r2 * s) + db * mp.cos(r2 * s))
 
 
+@pytest.mark.slow
 def test_tangential_touch_from_a_transcendental_start_is_no_event():
     """x0 = e^{-A}(0, 1, 0, 0, 1, 0): at t = 1 both outer masses touch their stops with zero
     velocity and positive acceleration (q1'' = q2 - q1 = 1): a graze, proven exact (the state at

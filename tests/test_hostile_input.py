@@ -151,6 +151,7 @@ def test_simulate_accepts_the_documented_inputs_exactly():
     assert tr.t_end.decimal(30).startswith("0.785398163397448309615660845")
 
 
+@pytest.mark.slow
 def test_horizon_limits_follow_the_spectrum_of_the_phases():
     """Issue 15: the horizon limit applies to the phases evaluated, not to t_end up front.  The
     carts from X0 keep having events: t_end = 10^18 with max_events = 50 runs its 50 events and
@@ -387,6 +388,7 @@ def test_enumeration_limits():
     raises(ShapeError, lambda: all_solutions([1], [[1, 2]]), "square")
 
 
+@pytest.mark.slow
 def test_p_matrix_test_limits():
     # a nonsymmetric matrix above MAX_P_TEST_K whose symmetric part is positive definite is P
     # (Theorem 3.5): diag 2, superdiagonal 1 has the symmetric part tridiag(1/2, 2, 1/2), whose
@@ -462,6 +464,7 @@ def shaped_systems(draw):
     return tuple(mats)
 
 
+@pytest.mark.slow
 @settings(max_examples=300, **SETTINGS)
 @given(st.one_of(st.tuples(matrices, matrices, matrices, matrices), shaped_systems()))
 def test_fuzz_lcs_constructor(abcd):
@@ -493,6 +496,7 @@ def test_fuzz_lcs_constructor(abcd):
 number_text = st.from_regex(r"\A[-+]?(\d{1,30}(\.\d{0,20})?|\.\d{1,20})([eE][-+]?\d{1,7})?\Z")
 
 
+@pytest.mark.slow
 @settings(max_examples=300, **SETTINGS)
 @given(st.one_of(number_text, nested))
 def test_fuzz_to_fmpq(x):
@@ -519,6 +523,7 @@ options = st.fixed_dictionaries({}, optional={
 })
 
 
+@pytest.mark.slow
 @settings(max_examples=120, **SETTINGS)
 @given(options, st.one_of(st.just(X0), nested, st.lists(scalars, min_size=4, max_size=4)),
        st.one_of(st.sampled_from([1, "1/2", 0, "3", 10**7, 10**18]), scalars))
@@ -625,6 +630,7 @@ def test_exact_reals_and_float32_are_read_exactly():
     assert to_fmpq(np.float32(1e-3)) == fmpq(1, 1000) and to_fmpq(np.float64(0.1)) == fmpq(1, 10)
 
 
+@pytest.mark.slow
 def test_queries_after_a_run_obey_its_time_limit():
     """Issue 15: the run's time_limit bounds every later query too (re-armed per query, checked
     between its steps): 10,000 digits of the four components of x(3) take far longer than

@@ -68,6 +68,7 @@ def test_the_impact_lcp():
     assert newton_impact(hook, fmpq_mat([[-1], [0], [-2], [1]])) is None  # infeasible: the paper's rule
 
 
+@pytest.mark.slow
 def test_restitution_zero_is_the_paper_run():
     carts = two_carts()
     x0 = expm_action(carts.A, -1, [0, -1, -1, 0])
@@ -198,6 +199,7 @@ def test_fixtures_carry_the_impact_law():
     assert "restitution" not in simulate(plain, plain.embed([0, 10]), 1).to_fixture(10)["system"]
 
 
+@pytest.mark.slow
 def test_two_contact_ball_accumulates_on_the_floor_below_its_ceiling():
     """Siconos' BouncingBallED-TwoContacts: g = 10, e = 4/5, floor q >= 0 and ceiling 3/2 - q >= 0,
     from q = 1 moving up at 10.  By hand (sympy, here): flights between the contacts under

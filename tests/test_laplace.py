@@ -3,6 +3,7 @@ mpmath's matrix exponential: these expressions are used in closed-form proofs, s
 right for every factor shape (non-monic linear factors, repeated roots, complex pairs,
 biquadratic quartics over Q(√d))."""
 import mpmath as mp
+import pytest
 import sympy as sp
 from flint import fmpq, fmpq_mat
 from hypothesis import given, settings, strategies as st
@@ -34,6 +35,7 @@ def _check(M: fmpq_mat, row: fmpq_mat, z: fmpq_mat):
 small = st.integers(-4, 4)
 
 
+@pytest.mark.slow
 @settings(max_examples=60, deadline=None)
 @given(st.lists(small, min_size=4, max_size=4), st.lists(small, min_size=2, max_size=2),
        st.lists(small, min_size=2, max_size=2), st.integers(1, 3))
@@ -43,6 +45,7 @@ def test_laplace_2x2(entries, row, z, den):
     assert _check(M, fmpq_mat(1, 2, row), fmpq_mat(2, 1, z))
 
 
+@pytest.mark.slow
 @settings(max_examples=25, deadline=None)
 @given(st.lists(small, min_size=9, max_size=9), st.lists(small, min_size=3, max_size=3),
        st.lists(small, min_size=3, max_size=3))
@@ -60,6 +63,7 @@ def test_non_monic_linear_factor():
     assert sp.simplify(f - (-2 * sp.exp(-_t / 2) + 3 * sp.exp(-3 * _t))) == 0
 
 
+@pytest.mark.slow
 def test_two_carts_free_mode_biquadratic():
     """χ = s^4 + 3s^2 + 1 is irreducible over Q but splits over Q(√5) as (s^2 + φ^2)(s^2 + φ^-2),
     φ = (1 + √5)/2: e^{At} is symbolic and equals mpmath's expm."""

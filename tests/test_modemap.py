@@ -169,6 +169,7 @@ def rationals(lo=-3, hi=3):
     return st.one_of(st.integers(lo, hi).map(Fr), st.fractions(min_value=lo, max_value=hi, max_denominator=6))
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None)
 @given(rationals(), rationals())
 def test_figure_8_2_locate_matches_select_modes(fig82, a, b):
@@ -185,6 +186,7 @@ def hook_full():
     return two_carts_with_hook().mode_map()
 
 
+@pytest.mark.slow
 @settings(max_examples=80, deadline=None)
 @given(st.lists(rationals(-2, 2), min_size=4, max_size=4))
 def test_full_state_space_hook(hook_full, x):
@@ -218,6 +220,7 @@ def small_lcs(draw):
     return LCS(A, B, C, D)
 
 
+@pytest.mark.slow
 @settings(max_examples=25, deadline=None)
 @given(small_lcs(), st.lists(st.lists(rationals(-2, 2), min_size=2, max_size=2), min_size=8, max_size=8))
 def test_random_systems_locate_matches_select_modes(lcs, points):

@@ -129,6 +129,7 @@ def test_impulse_arrows_scale_with_their_weights():
     assert [t.get_text() for t in ax_u.texts if t.arrow_patch is None] == [f"{w[0]:.4g}·δ", f"{w[1]:.4g}·δ"]
 
 
+@pytest.mark.slow
 def test_close_events_get_separate_label_lines():
     """Four events within 0.17 of each other (a 6-cart chain with three stops): labels stacked on
     separate lines, none drawn over another; more than ten states get dashed line styles."""
@@ -213,6 +214,7 @@ def test_jump_at_time_zero_is_visible():
     assert sorted(round(ln.get_ydata()[0], 9) for ln in opened) == [-2, 1]
 
 
+@pytest.mark.slow
 def test_mode_map_figure():
     mm = two_carts_with_hook().mode_map(slice=([0, 0, 0, 0], [[0, 0, 1, 0], [0, 0, 0, 1]]))
     fig = mm.plot(grid=5)

@@ -67,6 +67,7 @@ def systems(draw):
     return n, cons
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None)
 @given(systems())
 def test_find_point_agrees_with_fourier_motzkin(case):

@@ -20,6 +20,7 @@ from __future__ import annotations
 from fractions import Fraction
 from functools import reduce
 
+import pytest
 import sympy as sp
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
@@ -301,6 +302,7 @@ def build(A, B, C, D):
                [[str(v) for v in r] for r in C], [[str(v) for v in r] for r in D])
 
 
+@pytest.mark.slow
 @settings(max_examples=150, **SETTINGS)
 @given(st.data())
 def test_theorem_5_2_mechanical(data):
@@ -318,6 +320,7 @@ def test_theorem_5_2_mechanical(data):
     check_theorem_5_2(lcs, A, B, C, D, x0)
 
 
+@pytest.mark.slow
 @settings(max_examples=60, **SETTINGS)
 @given(st.data())
 def test_theorem_5_2_relative_degree_0(data):
@@ -332,6 +335,7 @@ def test_theorem_5_2_relative_degree_0(data):
         assert s == set(subsets(range(len(C))))  # x0 = 0: u = y = 0, every mode
 
 
+@pytest.mark.slow
 @settings(max_examples=100, **SETTINGS)
 @given(st.data())
 def test_theorem_5_2_relative_degree_1(data):
@@ -343,6 +347,7 @@ def test_theorem_5_2_relative_degree_1(data):
     check_theorem_5_2(lcs, A, B, C, D, data.draw(special_states(A, C)))
 
 
+@pytest.mark.slow
 @settings(max_examples=80, **SETTINGS)
 @given(st.data())
 def test_theorem_5_2_relative_degree_2(data):
@@ -363,6 +368,7 @@ def checked_verdict(lcs, A, B, C, D):
     return wp
 
 
+@pytest.mark.slow
 @settings(max_examples=100, **SETTINGS)
 @given(st.data())
 def test_theorem_5_2_mixed_relative_degrees(data):
@@ -376,6 +382,7 @@ def test_theorem_5_2_mixed_relative_degrees(data):
     check_theorem_5_2(lcs, A, B, C, D, data.draw(special_states(A, C)))
 
 
+@pytest.mark.slow
 @settings(max_examples=150, **SETTINGS)
 @given(st.data())
 def test_theorem_5_2_random_well_posed(data):
@@ -410,6 +417,7 @@ def test_independent_rcp_helpers():
 # =============================================================================================
 
 
+@pytest.mark.slow
 @settings(max_examples=200, **SETTINGS)
 @given(mechanical_cases(rational=True, feasible=True))
 def test_theorem_8_2_moreau(case):
@@ -508,6 +516,7 @@ def hook_rcp(x3, x4, I):
     return [([-(x3 + x4)], one), ([x4], one)], [(z, one), (z, one)]
 
 
+@pytest.mark.slow
 def test_hook_hand_derivation_by_sympy():
     """The closed forms above, re-derived symbolically from G(s) = C (sI-A)^{-1} B, R = C (sI-A)^{-1}."""
     s, x3, x4 = sp.symbols("s x3 x4")
@@ -535,6 +544,7 @@ def test_hook_hand_derivation_by_sympy():
 GRID = [Fraction(i, 2) for i in range(-6, 7)]  # -3 .. 3 step 1/2: contains 0, x3 = +-x4 lines
 
 
+@pytest.mark.slow
 def test_hook_figure_8_2_grid():
     lcs = mechanical(**HOOK)
     A, B, C, D = (mat(getattr(lcs, a)) for a in "ABCD")

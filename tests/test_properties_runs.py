@@ -29,6 +29,7 @@ from __future__ import annotations
 from collections import Counter
 from fractions import Fraction as Fr
 
+import pytest
 from flint import arb, fmpq, fmpq_mat
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
@@ -172,6 +173,7 @@ def check_complementarity(case, stats):
                 stats["samples"] += 1
 
 
+@pytest.mark.slow
 def test_complementarity_at_certified_sample_points():
     stats = Counter()
 
@@ -223,6 +225,7 @@ def check_semigroup(case, which, stats):
             stats["shift caught"] += 1
 
 
+@pytest.mark.slow
 def test_semigroup_0_t1_T():
     stats = Counter()
 
@@ -287,6 +290,7 @@ def check_energy(case, stats):
     stats["events"] += len(traj.events)
 
 
+@pytest.mark.slow
 def test_energy_never_increases():
     stats = Counter()
 

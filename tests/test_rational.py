@@ -208,6 +208,7 @@ def test_normalization_cancels_gcd_and_makes_denominator_monic():
         RationalFunction(1, 0)
 
 
+@pytest.mark.slow
 @given(st.lists(st.integers(-4, 4), min_size=1, max_size=4),
        st.lists(st.integers(-4, 4), min_size=1, max_size=4),
        st.lists(st.integers(-3, 3), min_size=1, max_size=3))

@@ -16,6 +16,7 @@ from lcs_exact.reals import (RationalReal, RationalVector, ScaledVector, SumReal
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
 
 
+@pytest.mark.slow
 def test_deep_definitions_evaluate_without_recursion():
     """A sum of 20,000 terms (an event time after 20,000 events has this shape) evaluates, gives
     its closed form and its rationality without exhausting the Python stack."""

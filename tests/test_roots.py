@@ -106,6 +106,7 @@ def test_positive_function_has_no_crossing():
     assert first_crossing(Fn([(acb(0, 3), 2, [fmpq(1, 2)]), (0, 1, [2])]), fmpq(0), fmpq(10), 128) is None
 
 
+@pytest.mark.slow
 def test_touch_without_proof_is_refused_or_recorded():
     """(1 - t)^2 touches 0 at 1: with no proof of the touch the search refuses (UnresolvedSign);
     allowed, it records the assumption and finds no crossing."""

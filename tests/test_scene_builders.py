@@ -65,6 +65,7 @@ def test_the_column_of_beads():
     assert tr.state(3).known_rational() == rest
 
 
+@pytest.mark.slow
 def test_a_long_column_run_leaves_the_growing_field_for_certified_numerics():
     """Siconos' column (g = 9.81, e = 9/10, r = 1/10), bead 0 on the floor, beads 1 and 2 falling
     from 1/2 and 1: bead 1 lands on bead 0 at t1 = sqrt(2 (1/5) / g) = sqrt(40/981).  Every exact

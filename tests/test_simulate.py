@@ -113,6 +113,7 @@ def test_limits_return_partial_trajectory(limit, events):
         assert len(tr.events) == events and tr.events[0].time.closed_form == 1
 
 
+@pytest.mark.slow
 def test_fixture_schema(section7):
     fx = section7.to_fixture(30)
     assert fx["schema"] == "lcs-exact/trajectory/1" and fx["certified"] is True
@@ -209,6 +210,7 @@ def test_accumulation_detector_on_geometric_phases():
     _check_accumulation(durations, RationalReal(30), RationalReal(100))
 
 
+@pytest.mark.slow
 def test_stiff_chain_first_impact_independent():
     # masses 1, 1; wall spring 1; stiff coupling k = 10^6; stop on mass 1; from q = (1, 1) at rest
     from lcs_exact.models import mechanical

@@ -312,6 +312,7 @@ def test_relative_degree_zero_scalar(rd0):
 RD2 = dict(A=[[0, 1], [-1, 0]], B=[[1, 0], [0, 1]], C=[[1, 0], [0, 1]], D=[[2, 1], [1, 2]])
 
 
+@pytest.mark.slow
 def test_relative_degree_zero_two_by_two():
     lcs = L.LCS(RD2["A"], RD2["B"], RD2["C"], RD2["D"])
     assert lcs.well_posedness()
@@ -375,6 +376,7 @@ def hook_runs():
     return {eps: L.simulate(two_carts_with_hook(), [eps, eps, -2, 1], 1, digits=DIGITS) for eps in EPSILONS}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("eps", EPSILONS, ids=str)
 def test_hook_two_impacts(hook_runs, eps):
     tr = hook_runs[eps]
@@ -438,6 +440,7 @@ def test_hook_eps_zero_single_jump_to_origin():
     assert [c.rational() for c in x1] == [0, 0, 0, 0]
 
 
+@pytest.mark.slow
 def test_hook_through_liftoff_and_rehook():
     """eps = 1/10 up to t = 4: the third event at t* + pi (u0 and the hook gap y1 vanish together,
     the hook engages again: x = (0, 0, -w/2, -w/2), mode {1})."""
@@ -496,6 +499,7 @@ def test_example_4_4_release_at_pi_half():
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
 
 
+@pytest.mark.slow
 def test_example_4_5_jump_at_zero_then_impact_and_release():
     tr = L.simulate(two_carts(), [0, 1, -1, 0], 5, digits=DIGITS)
     assert tr.certified and not tr.partial

@@ -115,6 +115,7 @@ def test_kernel_properties(M):
     assert lib_rank(M) == r
 
 
+@pytest.mark.slow
 @given(rat_matrix())
 @PROP
 def test_image_properties(M):

@@ -53,6 +53,7 @@ def pool():
         yield ex
 
 
+@pytest.mark.slow
 def test_sweep_equals_sequential_runs_in_input_order(pool):
     lcs = two_carts_with_hook()
     rs = sweep(lcs, [hook_x0(e) for e in EPS], 3, pool, progress=False)
@@ -154,6 +155,7 @@ def test_irrational_x0_is_refused_with_a_reason():
         sweep(two_carts(), [x0], 3, progress=False)
 
 
+@pytest.mark.slow
 def test_dask_local_cluster(monkeypatch):
     distributed = pytest.importorskip("distributed")  # in the test extra; a skip means a broken env
     monkeypatch.setenv("PYTHONPATH", ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
@@ -167,6 +169,7 @@ def test_dask_local_cluster(monkeypatch):
     assert isinstance(bad[0].error, LimitExceeded) and len(bad[0].trajectory.events) == 1
 
 
+@pytest.mark.slow
 def test_a_worker_killed_by_a_signal_loses_nothing():
     """Issue 15: SIGKILL to a worker of the user's pool in the middle of a sweep breaks the pool
     (BrokenProcessPool for every pending chunk); each of those jobs is run again alone on a fresh

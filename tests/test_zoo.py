@@ -49,6 +49,7 @@ def grid(fx) -> list[Fraction]:
 # the suite as written
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_every_problem_is_written_validated_and_read_back(full):
     d, index, fixtures, elapsed = full
     print(f"zoo: {len(fixtures)} problems in {elapsed:.1f} s")
@@ -76,6 +77,7 @@ def test_every_problem_is_written_validated_and_read_back(full):
         assert back.provenance == fx["provenance"] == entry["provenance"]
 
 
+@pytest.mark.slow
 def test_provenance_rebuilds_the_system_and_x0(full):
     _, index, fixtures, _ = full
     for entry in index["problems"]:
@@ -96,6 +98,7 @@ def test_provenance_rebuilds_the_system_and_x0(full):
             assert pv["x0"] == "expm_action(A, -1, [0, -1, -1, 0])" and entry["name"] == "two_carts"
 
 
+@pytest.mark.slow
 def test_readme_table_and_index_agree_with_the_fixtures(full):
     d, index, fixtures, _ = full
     text = (d / "README.md").read_text()
@@ -130,6 +133,7 @@ def carts_state(t):
     return mp.expm(A_CARTS * (t - 1 - mp.pi / 2)) * mp.matrix([0, 0, 0, 1])
 
 
+@pytest.mark.slow
 def test_two_carts_against_section_7(full):
     fx = full[2]["two_carts"]
     e1, e2 = fx["events"]
@@ -144,6 +148,7 @@ def test_two_carts_against_section_7(full):
         assert all(close(c, want[i]) for i, c in enumerate(s["x"])), s["t"]
 
 
+@pytest.mark.slow
 def test_two_carts_fixture_passes_the_testing_helper_with_independent_values(full):
     d, _, fixtures, _ = full
     ts = [Fraction(s["t"]["exact"]) for s in fixtures["two_carts"]["samples"]]
@@ -155,6 +160,7 @@ def test_two_carts_fixture_passes_the_testing_helper_with_independent_values(ful
         assert_matches_fixture(str(d / "two_carts.json"), ts, X, atol=1e-12)
 
 
+@pytest.mark.slow
 def test_bouncing_ball_against_free_flights(full):
     """g = 9.81, e = 0.9, dropped from h = 1 at rest: first impact at t1 = sqrt(2h/g) with speed
     sqrt(2gh); flight k (k >= 1) starts at s_k = t1 (1 + 2e + ... + 2e^(k-1)) with upward speed
@@ -186,6 +192,7 @@ def test_bouncing_ball_against_free_flights(full):
         assert close(s["x"][0], q, mp.mpf(10) ** -40) and close(s["x"][1], dq, mp.mpf(10) ** -40), t
 
 
+@pytest.mark.slow
 def test_filippov_spiral_law(full):
     """(4.12) from (1, 2): switching times 3/2 - (5/2) 3^-k, accumulation at 3/2 at the origin."""
     fx = full[2]["filippov_spiral"]
@@ -196,6 +203,7 @@ def test_filippov_spiral_law(full):
     assert [c["exact"] for c in fx["final_state"]] == ["0", "0", "1"]
 
 
+@pytest.mark.slow
 def test_newtons_cradle_impact_by_hand(full):
     """Three touching unit balls, ball 0 at speed 1, e = 1: Moreau's law on both contacts at once.
     Impulses P >= 0 with w = y'+ + e y'- >= 0, w . P = 0; v+ = (1 - P0, P0 - P1, P1), y'- = (-1, 0),
@@ -211,6 +219,7 @@ def test_newtons_cradle_impact_by_hand(full):
         assert all(close(c, mp.mpf(w.numerator) / w.denominator) for c, w in zip(s["x"], [x * t for x in v] + v))
 
 
+@pytest.mark.slow
 def test_half_wave_rectifier_times_by_hand(full):
     """The tank from v = 0, v' = 1 conducts as a damped RLC (decay 5/13, omega_d = 12/13) for
     pi / omega_d, then oscillates freely for pi: events at 13 pi/12, 25 pi/12, 19 pi/6."""
@@ -224,6 +233,7 @@ def test_half_wave_rectifier_times_by_hand(full):
             assert close(s["x"][0], mp.e ** (-5 * tt / 13) * mp.sin(12 * tt / 13) * 13 / 12)
 
 
+@pytest.mark.slow
 def test_stiff_rc_diode_by_mpmath(full):
     """A = [[-2, 1], [1000, -1001000]] from (-1, 1): v2 (the diode's reverse voltage) reaches 0 at
     the root tau of (e^{A t} x0)_2, found here by mpmath; then the diode clamps v2 = 0 and
