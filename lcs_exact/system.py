@@ -426,6 +426,17 @@ class LCS:
             m = self._modes[key] = Mode(self, key)
         return m
 
+    def built_modes(self) -> frozenset:
+        """The modes whose data have been built so far (modes are built lazily, on first use: a
+        run of a large system builds only those it visits).
+
+        >>> from lcs_exact.models import two_carts_with_hook
+        >>> h = two_carts_with_hook()
+        >>> h.built_modes(), h.mode({1}).index_set in h.built_modes()
+        (frozenset(), True)
+        """
+        return frozenset(self._modes)
+
     def select_modes(self, x0: Any, method: str = "auto", *, nonautonomous: str = "raise") -> set:
         """S(x0) as a set of frozensets (Theorem 5.2: S = S_RCP = S_LDCP^oo).
 

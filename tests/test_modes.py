@@ -45,9 +45,9 @@ def test_hook_modes_reinitialize_as_in_section_8():
 
 def test_modes_are_built_lazily_and_cached():
     h = hook()
-    assert h._modes == {}
+    assert h.built_modes() == frozenset()
     m = h.mode([1])
-    assert h.mode({1}) is m and set(h._modes) == {frozenset({1})}
+    assert h.mode({1}) is m and h.built_modes() == {frozenset({1})}
 
 
 def test_non_autonomous_mode_reason():
