@@ -129,6 +129,16 @@ def test_impulse_arrows_scale_with_their_weights():
     assert [t.get_text() for t in ax_u.texts if t.arrow_patch is None] == [f"{w[0]:.4g}·δ", f"{w[1]:.4g}·δ"]
 
 
+def test_impulse_at_an_unlabelled_event_keeps_its_weight():
+    """With fewer event labels than events (label_events=1), the impulse 3/2 of the hook at t = 0
+    (Example 8.3: W = E M^-1 E^T = 2 on the hook, y'(0-) = -3, lambda = 3/2) and the stop's later
+    impulse are still written; drawing them used to fail on the missing label line."""
+    tr = L.simulate(two_carts_with_hook(), ["1/10", "1/10", -2, 1], 1)
+    ax_u = tr.plot(points=40, label_events=1).axes[1]
+    weights = [t.get_text() for t in ax_u.texts if t.arrow_patch is None and t.get_text().endswith("·δ")]
+    assert weights[0] == "1.5·δ" and len(weights) == 2
+
+
 @pytest.mark.slow
 def test_close_events_get_separate_label_lines():
     """Four events within 0.17 of each other (a 6-cart chain with three stops): labels stacked on
