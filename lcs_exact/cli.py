@@ -42,6 +42,7 @@ from .balls import MAX_DIGITS
 from .compare import compare, convergence_order, read_solution_csv
 from .errors import FormatError, InvalidArgument, LCSError
 from .fixture import MAX_SAMPLES, ball_number, read_fixture, sample_grid
+from .interfaces import SystemLike
 from .modelfile import MODEL_KEYS, check_exponents, load_model, read_model
 from .models import two_carts
 from .modes import format_mode
@@ -126,7 +127,7 @@ def print_events(traj, digits: int, out=print) -> None:
     out(f"{len(traj.events)} events, {status}, {traj.elapsed:.3f} s")
 
 
-def _trigger_label(lcs, trigger: str) -> str:
+def _trigger_label(lcs: SystemLike, trigger: str) -> str:
     """``y_0`` -> ``y_0 (stop)`` when the pairs have names."""
     m = re.fullmatch(r"([uy])_(\d+)", trigger)
     names = getattr(lcs, "constraint_names", ())

@@ -20,6 +20,7 @@ from flint import arb, fmpq
 from .balls import Deadline, Policy, ball_sign, dyadic_lower, dyadic_upper, workprec
 from .closedforms import prove_root, prove_touch
 from .errors import LCSError
+from .interfaces import SystemLike
 from .modes import format_mode
 from .phase import Constraint, Phase
 from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, Real, as_exact_vector, as_real
@@ -241,7 +242,7 @@ def _float(q: fmpq) -> float:
     return float(min(q, fmpq(10) ** 300))
 
 
-def theta(lcs, x0: Any, I, horizon: Any, *, time_limit: float | None = None) -> Real | None:
+def theta(lcs: SystemLike, x0: Any, I, horizon: Any, *, time_limit: float | None = None) -> Real | None:
     """theta(x0, I) of Def. 4.3 on (0, horizon]: the length of the phase in mode I from x0.
 
     x0 outside V_I is first re-initialized to P_I x0 (the regular part of the solution of (4.2)).

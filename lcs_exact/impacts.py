@@ -34,6 +34,7 @@ from typing import Any
 from flint import fmpq_mat
 
 from .errors import IllPosed
+from .interfaces import SystemLike
 from .lcp import murty, p_matrix_violation
 from .rational import identity, sign_of_form, submatrix, zeros
 
@@ -52,12 +53,12 @@ class Impact:
     jump: fmpq_mat
 
 
-def delassus(lcs) -> fmpq_mat:
+def delassus(lcs: SystemLike) -> fmpq_mat:
     """W = C A B (k x k): y' jumps by W lambda under an impulse lambda (E M^-1 E^T for (8.3))."""
     return lcs.C * lcs.A * lcs.B
 
 
-def newton_impact(lcs, z: Any) -> Impact | None:
+def newton_impact(lcs: SystemLike, z: Any) -> Impact | None:
     """The impact at z by Newton's law with Moreau's generalisation (module docstring), or None
     when the law does not apply: no restitution set, z infeasible (some y_i < 0), or no closed
     constraint approaching (then there is no impact).

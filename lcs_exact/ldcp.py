@@ -18,6 +18,7 @@ from typing import Any
 from flint import fmpq_mat
 
 from .errors import IllPosed
+from .interfaces import SystemLike
 from .lcp import murty
 from .modes import format_mode
 from .rational import (MAX_KAPPA, as_state, evaluate_forms, is_rational_vector, is_zero, sign_of_form, submatrix,
@@ -97,7 +98,7 @@ class LDCPSolution:
                 f"{format_mode(self.undecided)}, S = {sorted(format_mode(m) for m in self.modes)}>")
 
 
-def require_N_P(lcs):
+def require_N_P(lcs: SystemLike):
     wp = lcs.well_posedness()
     if not wp.N_is_P:
         why = "; ".join(wp.reasons) or "N is not a P-matrix"
@@ -105,7 +106,7 @@ def require_N_P(lcs):
                        f"leading column matrix N to be a P-matrix: {why}. Use select_modes(x0, method='rcp').")
 
 
-def ldcp(lcs, x0: Any, kappa: int) -> LDCPSolution:
+def ldcp(lcs: SystemLike, x0: Any, kappa: int) -> LDCPSolution:
     """Solve LDCP_kappa(x0) (5.10)-(5.12) when N is a P-matrix (Theorems 6.9, 6.10).
 
     Theorem 6.9 gives y^i = 0 for i <= 0 and u_l^j = 0 for j <= -eta_l.  The remaining unknowns
@@ -137,7 +138,7 @@ def ldcp(lcs, x0: Any, kappa: int) -> LDCPSolution:
                         undetermined, modes)
 
 
-def ldcp_modes(lcs, x: fmpq_mat) -> set:
+def ldcp_modes(lcs: SystemLike, x: fmpq_mat) -> set:
     """S_LDCP^n(x0) of Theorem 6.10 (N a P-matrix, x a state column): the LCP sequence of
     :func:`ldcp`, stopped at the first stage after which every index is in I or J - I and J
     only grow, so later stages cannot change the modes {I ∪ K' : K' ⊆ K}."""
@@ -152,7 +153,7 @@ def ldcp_modes(lcs, x: fmpq_mat) -> set:
     return {frozenset(I) | frozenset(c) for r in range(len(K) + 1) for c in combinations(K, r)}
 
 
-def impulse_forms(lcs, x) -> list[fmpq_mat]:
+def impulse_forms(lcs: SystemLike, x) -> list[fmpq_mat]:
     """[U_0, ..., U_{n-1}]: the impulse u^{-p} = U_p x0 of the unique initial solution at x
     (Theorem 6.9, N a P-matrix) as k x n forms, valid at x (the LCP stages fix their branches
     there).  u_l^j = 0 for j <= -eta_l, so the stages i <= max(eta) hold the whole impulse: no
@@ -171,7 +172,7 @@ def impulse_forms(lcs, x) -> list[fmpq_mat]:
     return U
 
 
-def lcp_sequence(lcs, x: fmpq_mat, kappa: int, I: set, J: set):
+def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
     """The stages i = 1..kappa of Theorem 6.9 (see :func:`ldcp`), growing I and J in place.
 
     Yields (i, u, y^i): u maps (l, j) to the row u_l^j (a 1 x n form) for the nonzero unknowns

@@ -16,6 +16,7 @@ from typing import Any, Sequence
 from flint import fmpq
 
 from .errors import InvalidArgument
+from .interfaces import SystemLike
 from .rational import to_fmpq
 
 __all__ = ["plot_mode_map", "MODE_COLORS", "default_names"]
@@ -89,7 +90,7 @@ def _default_window(mm) -> tuple:
     return (cx - h, cx + h, cy - h, cy + h)
 
 
-def _region_legend(lcs, r) -> str:
+def _region_legend(lcs: SystemLike, r) -> str:
     """``S = {0}: stop`` (constraint names of the single admissible mode), ``(ray)``/``(point)``."""
     text = f"S = {r.label}"
     names = getattr(lcs, "constraint_names", None)

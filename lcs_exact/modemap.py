@@ -30,6 +30,7 @@ from typing import Any, Sequence
 from flint import fmpq, fmpq_mat
 
 from .errors import NotAutonomous, ShapeError, Unsupported
+from .interfaces import SystemLike
 from .modes import format_mode, latex_mode
 from .plotting import plot_mode_map
 from .polyhedra import find_point
@@ -167,7 +168,7 @@ class ModeMap:
     by decreasing dimension, then by mode).
     """
 
-    def __init__(self, lcs, base: fmpq_mat, directions: fmpq_mat, variables: tuple,
+    def __init__(self, lcs: SystemLike, base: fmpq_mat, directions: fmpq_mat, variables: tuple,
                  hyperplanes: tuple, faces: tuple, regions: tuple, face_region: dict):
         self.lcs, self.base, self.directions, self.variables = lcs, base, directions, variables
         self.hyperplanes, self.faces, self.regions = hyperplanes, faces, regions
@@ -267,7 +268,7 @@ def _canonical(vals: list[fmpq]) -> tuple[tuple, int] | None:
     return tuple(fmpq(s * i) for i in ints), s
 
 
-def _slice(lcs, slice_) -> tuple[fmpq_mat, fmpq_mat, tuple]:
+def _slice(lcs: SystemLike, slice_) -> tuple[fmpq_mat, fmpq_mat, tuple]:
     n = lcs.n
     if slice_ is None:
         return zeros(n, 1), identity(n), tuple(lcs.state_names)
@@ -299,7 +300,7 @@ def _slice(lcs, slice_) -> tuple[fmpq_mat, fmpq_mat, tuple]:
     return base, D, tuple(names)
 
 
-def mode_map(lcs, slice: Any = None) -> ModeMap:
+def mode_map(lcs: SystemLike, slice: Any = None) -> ModeMap:
     """The exact partition of the state space, or of an affine slice, by S(x0) (section 5).
 
     Parameters

@@ -29,6 +29,7 @@ from flint import fmpq_mat
 
 from .errors import LCSError, NotAutonomous
 from .expm import Spectrum
+from .interfaces import SystemLike
 from .rational import hstack, identity, matrix_to_sympy, submatrix, vstack, zeros
 from .subspaces import image, intersection, kernel, left_kernel, projection, rank, solve_any
 
@@ -73,7 +74,7 @@ class Mode:
     [ 0]
     """
 
-    def __init__(self, lcs, I: frozenset):
+    def __init__(self, lcs: SystemLike, I: frozenset):
         self.lcs = lcs
         self.index_set = frozenset(I)
         self.I = sorted(I)

@@ -38,6 +38,7 @@ from typing import Any, Sequence
 from flint import arb, ctx, fmpq_mat
 
 from .errors import InvalidArgument, LCSError
+from .interfaces import SystemLike
 from .mapplot import MODE_COLORS, default_names, plot_mode_map
 from .modes import format_mode
 from .reals import ProjectedVector
@@ -45,7 +46,7 @@ from .reals import ProjectedVector
 __all__ = ["plot_trajectory", "plot_mode_map", "phase_intervals", "PhaseInterval"]
 
 
-def _pair_label(lcs, which: str, i: int) -> str:
+def _pair_label(lcs: SystemLike, which: str, i: int) -> str:
     roles = getattr(lcs, "roles", None)
     if roles is not None:  # the builder's words: "force (floor)", "i(D1)"
         return roles[i][0 if which == "u" else 1]
@@ -55,7 +56,7 @@ def _pair_label(lcs, which: str, i: int) -> str:
     return f"{which} ({names[i]})"
 
 
-def _mode_label(lcs, m, free=frozenset()) -> str:
+def _mode_label(lcs: SystemLike, m, free=frozenset()) -> str:
     """The legend text of a mode: the builder's words when it gave roles (a long text is cut);
     ``free``: inputs left undetermined on its phases."""
     if m is None:
@@ -66,7 +67,7 @@ def _mode_label(lcs, m, free=frozenset()) -> str:
     return text if len(text) <= 48 else f"mode {format_mode(m)}: " + text[:40] + "…"
 
 
-def _state_label(lcs, i: int) -> str:
+def _state_label(lcs: SystemLike, i: int) -> str:
     names = getattr(lcs, "state_names", None) or tuple(f"x_{j}" for j in range(lcs.n))
     nm = names[i]
     if default_names(names, "x_"):
@@ -197,7 +198,7 @@ def _component(v, i: int) -> tuple[float, bool]:
     return float(c), not c.ball(20).contains(0)
 
 
-def _pair_maps(lcs, mode):
+def _pair_maps(lcs: SystemLike, mode):
     """(F_u, F_y) with u = F_u x, y = F_y x on a phase of ``mode``: u_I = F_I x, zero off I
     (section 4.1), y = C x + D u.  None for an unknown mode (a deadlock at the start)."""
     if mode is None:

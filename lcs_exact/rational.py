@@ -33,6 +33,7 @@ import flint
 from flint import fmpq, fmpq_mat, fmpq_poly, fmpz
 
 from .errors import InvalidArgument, NotRational, ShapeError, Unsupported
+from .interfaces import SystemLike
 
 __all__ = [
     "RationalLike", "to_fmpq", "to_matrix", "to_vector", "vector_entries", "to_int", "is_rational_vector",
@@ -537,7 +538,7 @@ def poly_at_matrix(p: fmpq_poly, S: fmpq_mat) -> fmpq_mat:
 # ---------------------------------------------------------------------------------------------
 
 
-def as_state(lcs, x0: Any):
+def as_state(lcs: SystemLike, x0: Any):
     """A rational n x 1 ``fmpq_mat``, or an exact vector (anything with ``sign_of_form``)."""
     if hasattr(x0, "sign_of_form") and not isinstance(x0, fmpq_mat):
         if hasattr(x0, "rational"):  # an exact vector proven rational collapses to Q^n

@@ -39,6 +39,7 @@ from typing import Any
 from flint import fmpq_mat
 
 from .errors import Deadlock, InvalidArgument, LCSError, NotAutonomous
+from .interfaces import SystemLike
 from .modes import LATEX_MAX_N, format_mode, latex_mode
 from .rcpfamily import family, row_series
 from .ldcp import LDCPSolution, impulse_forms, ldcp, ldcp_modes
@@ -203,7 +204,7 @@ def _subsets(k: int):
             yield frozenset(c)
 
 
-def rcp(lcs, x0: Any) -> list[RCPSolution]:
+def rcp(lcs: SystemLike, x0: Any) -> list[RCPSolution]:
     """All solutions of RCP(x0), one per admissible mode (5.3)-(5.5), for a rational x0.
 
     Enumerates the 2^k modes; for small k.  In an autonomous mode the solution is unique; in an
@@ -241,7 +242,7 @@ def rcp(lcs, x0: Any) -> list[RCPSolution]:
 # ---------------------------------------------------------------------------------------------
 
 
-def select_modes(lcs, x0: Any, method: str = "auto", *, nonautonomous: str = "raise") -> set:
+def select_modes(lcs: SystemLike, x0: Any, method: str = "auto", *, nonautonomous: str = "raise") -> set:
     """S(x0) = S_RCP(x0) = S_LDCP^oo(x0) (Theorem 5.2), a set of frozensets (0-based).
 
     ``"ldcp"``: LDCP_n(x0) by the LCP sequence (Theorem 6.10; needs N to be a P-matrix): the
@@ -308,7 +309,7 @@ class InitialSolution:
                 f"{'smooth' if self.smooth else 'impulsive'} S={sorted(format_mode(m) for m in self.modes)}>")
 
 
-def _jump_forms(lcs, impulse_forms: list[fmpq_mat]) -> fmpq_mat:
+def _jump_forms(lcs: SystemLike, impulse_forms: list[fmpq_mat]) -> fmpq_mat:
     """I + sum_i A^i B U^{-i}: the map x0 -> x(0+) of (3.8) for impulse forms U^{-i}."""
     out = identity(lcs.n)
     for i, u in enumerate(impulse_forms):
@@ -317,7 +318,7 @@ def _jump_forms(lcs, impulse_forms: list[fmpq_mat]) -> fmpq_mat:
     return out
 
 
-def initial_solution(lcs, x0: Any, mode: Any = None) -> InitialSolution:
+def initial_solution(lcs: SystemLike, x0: Any, mode: Any = None) -> InitialSolution:
     """The initial solution from x0 in ``mode`` (default: the smallest mode of S(x0)).
 
     The impulse is the polynomial part of u_I(s) = W_I(s) x0; x(0+) from (3.8) is checked to be
@@ -343,7 +344,7 @@ def initial_solution(lcs, x0: Any, mode: Any = None) -> InitialSolution:
     return InitialSolution(I, frozenset(modes), impulse, _apply(P, x), smooth)
 
 
-def is_regular(lcs, x0: Any) -> bool:
+def is_regular(lcs: SystemLike, x0: Any) -> bool:
     """Def. 6.7: x0 admits a smooth initial solution.
 
     With M a P-matrix, Theorem 6.8: iff (C_i x0, C_i A x0, ..., C_i A^{rho_i - 1} x0) is
@@ -396,7 +397,7 @@ def _full_rcp_rows(mode) -> RationalMatrix:
     return mode.memo("rcp-full", build)
 
 
-def same_initial_solution(lcs, x0: Any, I, J) -> bool:
+def same_initial_solution(lcs: SystemLike, x0: Any, I, J) -> bool:
     """True when the admissible modes I and J of S(x0) carry the same initial solution: the same
     u(s) and y(s) (Remark 4.8: the modes of one solution differ on its undetermined set only).
     Decided exactly: every Laurent numerator coefficient of the difference vanishes at x0
@@ -410,7 +411,7 @@ def same_initial_solution(lcs, x0: Any, I, J) -> bool:
     return True
 
 
-def initial_solution_groups(lcs, x0: Any, modes) -> list[list[frozenset]]:
+def initial_solution_groups(lcs: SystemLike, x0: Any, modes) -> list[list[frozenset]]:
     """The modes of S(x0) grouped by initial solution (smallest modes first): one group means the
     continuation is unique whatever mode is chosen; several groups mean S(x0) leaves a choice that
     changes the trajectory (outside Theorem 6.3)."""
@@ -472,7 +473,7 @@ def _equal_at(X: RationalMatrix, Y: RationalMatrix, x) -> bool:
     return True
 
 
-def state_groups(lcs, x0: Any, modes) -> list[list[frozenset]]:
+def state_groups(lcs: SystemLike, x0: Any, modes) -> list[list[frozenset]]:
     """The admissible modes grouped by the state of their initial solutions (equal B u(s) at x0,
     smallest modes first); one group means the state after x0 is unique whatever mode and free
     inputs are chosen.  A mode whose free inputs move the state is a group of its own."""
@@ -513,7 +514,7 @@ def _input_rows(mode) -> tuple[RationalMatrix, frozenset]:
     return mode.memo("input-rows", build)
 
 
-def undetermined_inputs(lcs, x0: Any, modes) -> frozenset:
+def undetermined_inputs(lcs: SystemLike, x0: Any, modes) -> frozenset:
     """The inputs u_j not determined by the state among the admissible ``modes`` of one state
     group: free in a mode that is not autonomous, or different between two of the modes."""
     x = as_state(lcs, x0)
