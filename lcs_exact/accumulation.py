@@ -22,8 +22,8 @@ module proves such an accumulation *exactly* when it is forced by a scaling symm
   the event times accumulate at T* = t_k + rho T / (1 - rho) (T the last cycle's length), and
   x(T*-) = lim S_{rho^m} z: components with e_i > 0 go to 0, those with e_i = 0 stay.
 
-Nothing here guesses: a cycle that does not satisfy every exact check is not a law, and
-accumulations without one are left to the caller (``ZenoDetected`` with a certified lower bound).
+Nothing here guesses: a cycle that does not satisfy every exact check is not a law.  Impact
+cascades, which have no symmetry, are proven on a family of states by :mod:`lcs_exact.cascade`.
 """
 from __future__ import annotations
 
@@ -31,14 +31,16 @@ from collections import deque
 from dataclasses import dataclass
 from typing import Any, Sequence
 
-from flint import fmpq, fmpq_mat
+from flint import arb, fmpq, fmpq_mat
 
 from . import calcium
+from .balls import workprec
+from .errors import LCSError
 from .rational import submatrix
 from .subspaces import solve_any
 from .reals import ExactVector, RationalVector, Real, algebraic_vector, ca_matvec
 
-__all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle"]
+__all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle", "event_signature"]
 
 
 def symmetry_exponents(lcs, active: Sequence[int] | None = None) -> dict | None:
@@ -175,7 +177,8 @@ def _exponent(r: fmpq, rho: fmpq, limit: int = 16) -> int | None:
     return None
 
 
-def _signature(e) -> tuple:
+def event_signature(e) -> tuple:
+    """What must repeat for events to form a cycle: (mode before, chain, mode after, triggers)."""
     return (e.mode_before, e.modes, e.mode_after, e.triggers)
 
 
@@ -270,7 +273,7 @@ def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int 
     for p in range(1, max_period + 1):
         if K - 2 * p < 0:
             break
-        if any(_signature(events[K - j]) != _signature(events[K - p - j]) for j in range(p)):
+        if any(event_signature(events[K - j]) != event_signature(events[K - p - j]) for j in range(p)):
             continue
         sym = symmetry
         active = _acting(events[K - 2 * p:], lcs.k)
@@ -326,8 +329,6 @@ def _inactive_stay_positive(lcs, active, exps, T, rho: fmpq, enclose, t0: Real, 
         y_j >= inf (sum_{e_i = 0} L_i x~_i) - sum_{e_i > 0} |L_i| rho^{e_i} sup |x~_i| > 0
     is certified from enclosures of the computed reference cycle.  D_jJ must vanish (y_j reads
     the state only) and no component with e_i < 0 may enter."""
-    from flint import arb
-    from .balls import workprec
     if enclose is None:
         return False
     n = lcs.n
@@ -482,7 +483,6 @@ class ScaledCycle:
             else:
                 break
         else:
-            from .errors import LCSError
             raise LCSError("internal inconsistency: a time inside an accumulation window beyond its end")
         scale = rho ** (m + 1)
         return law.cycle_start + (d - start(m)) / scale, scale
@@ -520,6 +520,5 @@ class ScaledCycle:
 def _exact(v: ExactVector):
     q = _exact_state(v)
     if q is None:
-        from .errors import LCSError
         raise LCSError("internal inconsistency: a reference value of a proven law is not exact")
     return q

@@ -52,9 +52,12 @@ class ZenoDetected(LCSError):
     """Event times accumulate, or re-initializations do not terminate (Remark 7.2 (2), (3)).
 
     ``time`` is the accumulation time as an exact real when a geometric law proves it; ``lower``
-    and ``upper`` (rationals, or None) enclose it as tightly as the evidence allows: ``lower`` is at or after the last event computed (certified); ``upper`` is
-    None when nothing bounds the accumulation time from above but t_end.  ``estimate`` is an
-    uncertified guess from the shrinking gaps (a float, for the message only)."""
+    and ``upper`` (rationals, or None) enclose it, certified: equal to it for a geometric law (or
+    a tight dyadic enclosure of an algebraic one), an interval as narrow as the event times'
+    digits for an impact cascade proven without a law (docs/numerics.md), and otherwise ``lower``
+    the last event computed with ``upper`` None (nothing bounds the accumulation time from above
+    but t_end).  ``estimate`` is a float inside the enclosure, or an uncertified guess from the
+    shrinking gaps when ``upper`` is None (for messages only)."""
 
     def __init__(self, message: str, *, trajectory=None, lower=None, upper=None, estimate=None, time=None):
         super().__init__(message, trajectory=trajectory)

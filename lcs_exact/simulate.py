@@ -29,6 +29,7 @@ from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, dy
 from .errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, ShapeError,
                      UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
+from .cascade import cascade_bound
 from .flow import next_event
 from .impacts import newton_impact
 from .phase import Phase, PhaseFunction
@@ -141,8 +142,9 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         different trajectories (outside Theorem 6.3), raise :class:`IllPosed` with
         ``.alternatives`` (each mode with its initial solution) and the partial trajectory.
         ``"all"``: follow every branch (at most MAX_BRANCHES, within ``max_events`` and
-        ``time_limit`` each) and return :class:`~lcs_exact.trajectory.Branches`, each trajectory
-        with its ``.choices`` (never ``certified``: none is *the* solution).
+        ``time_limit`` each) and return :class:`~lcs_exact.trajectory.Branches` (``.unique`` False
+        when there were choices), each trajectory with its ``.choices`` and ``certified`` when no
+        sign was assumed on it (each is one solution, exactly; none is *the* solution).
 
     progress : if True, a progress bar (tqdm) over [0, t_end], advanced at every event (needs
         tqdm: ``pip install tqdm``, or ``lcs_exact[sweep]``).
@@ -271,6 +273,7 @@ class _Run:
         self.unique_by_theorem = bool(lcs.well_posedness())  # Theorem 6.3: one initial solution
         self.undetermined: frozenset = frozenset()  # inputs the state leaves free on the next phase
         self.bar = None  # a progress bar (simulate(..., progress=True))
+        self.cascade_tried: set = set()  # starts of cascade proofs tried (accumulation.cascade_bound)
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
         if status is Status.EVENT_LIMIT and reason and "time_limit" in reason:
@@ -287,7 +290,10 @@ class _Run:
         triggers: tuple = ()
         while True:
             state_before = z
-            mode, chain, z, impulse = self.select_and_reinitialize(z, t)
+            try:
+                mode, chain, z, impulse = self.select_and_reinitialize(z, t)
+            except UnresolvedSign as e:
+                self.cascade_or_raise(e, t)
             if chain or mode_before is not None:
                 if len(self.events) >= self.max_events:
                     raise LimitExceeded(f"max_events = {self.max_events} reached: the next event is "
@@ -299,6 +305,8 @@ class _Run:
                     t, z = self.cross(law, t, mode)
                     mode_before, triggers = None, ("accumulation",)
                     continue
+                if chain and self.cascade_suspected():  # an impact cascade: prove it before the digits run out
+                    self.stop_at_cascade(None)
             policy.check_deadline(lambda: f" at t = {t.label()}")
             prec = self.working_prec()
             phase = Phase(mode, homogenized(z), policy)
@@ -475,26 +483,68 @@ class _Run:
     def check_accumulation(self, t_now) -> None:
         check_accumulation(self.durations, t_now, self.T)
 
+    def cascade_suspected(self) -> bool:
+        """A cheap guess that the run is inside an impact cascade (the last phase more than 10^9
+        times shorter than one of the six before it): worth trying :meth:`stop_at_cascade`."""
+        if len(self.durations) < 3 or len(self.events) < 3:
+            return False
+        with workprec(64):
+            d = [x.arb(64) for x in self.durations[-7:]]
+            return bool(d[-1] * 10**9 < max(d[:-1], key=lambda b: b.mid()))
+
+    def stop_at_cascade(self, err: LCSError | None) -> None:
+        """Prove the accumulation of an impact cascade (:func:`~lcs_exact.accumulation.cascade_bound`:
+        a cycle of events repeating forever from a one-parameter family of states, its times
+        summed by a certified contraction) and stop with :class:`ZenoDetected` carrying the
+        certified enclosure lower <= T* <= upper; return (nothing proven) otherwise."""
+        policy = self.policy
+        bound = cascade_bound(self.lcs, self.events, prec=max(128, policy.target_bits + 32),
+                              max_prec=policy.max_prec, tried=self.cascade_tried,
+                              check=lambda: policy.check_deadline(lambda: " while proving an impact cascade"),
+                              background_order=7 if err is None else 12)  # cheap while more events can come
+        if bound is None:
+            return
+        if err is None and bound.lower > self.T.arb(64).upper():
+            return  # the accumulation is after t_end: the events before it are still to be computed
+        lo, hi = bound.lower, bound.upper
+        first = self.events[bound.first_event]
+        kind = "two contacts taking turns over a moving background" if bound.background else "a corner"
+        message = (f"event times accumulate at T* in [{_num(lo)}, {_num(hi)}] (width {_num(hi - lo, 2)}): an "
+                   f"impact cascade ({kind}) whose cycle of {bound.period} events repeats forever from event "
+                   f"{bound.first_event} (t = {_short(first.time)}), its small parameter shrinking by a factor "
+                   f"<= {_num(bound.contraction, 3)} a cycle (proven on a family of states, Remark 4.11, "
+                   "docs/numerics.md); no exact law is known, so the solution is not continued past T*")
+        if err is not None:
+            message += f" (the decision that stopped the run: {err})"
+        raise ZenoDetected(message, lower=lo, upper=hi, estimate=float((lo + hi) / 2)) from err
+
     def cascade_or_raise(self, err: LCSError, t) -> None:
-        """A decision that fails right after events closer and closer together (each gap less
-        than half the previous, over the last three) is the mark of a right-accumulation of
-        impacts (Remark 4.11) whose law is not known: stop with :class:`ZenoDetected`, the
-        accumulation time enclosed below by the last event time (certified), instead of
-        reporting the undecidable sign that the shrinking gaps make inevitable."""
+        """A decision that fails inside an impact cascade: stop with :class:`ZenoDetected` and a
+        certified enclosure of the accumulation time when the cascade is proven
+        (:meth:`stop_at_cascade`); otherwise, when the decision fails right after events closer
+        and closer together (each gap less than half the previous over the last three, or the
+        last cycle of events each less than half as long as the one before), stop with
+        ZenoDetected whose ``lower`` is the last event time (certified) and ``upper`` None
+        (nothing proven bounds it but t_end); any other failure is raised as it is."""
         if isinstance(err, (ZenoDetected, LimitExceeded, Deadlock)) or len(self.durations) < 3:
             raise err
+        self.stop_at_cascade(err)
         with workprec(64):
-            d = [x.arb(64) for x in self.durations[-3:]]
-            shrinking = all(b < a / 2 for a, b in zip(d, d[1:])) and d[-1] >= 0
+            d = [x.arb(64) for x in self.durations]
+            shrinking = all(b < a / 2 for a, b in zip(d[-3:], d[-2:])) and d[-1] >= 0
+            if not shrinking:
+                shrinking = any(len(d) >= 2 * p and all(d[-j] * 2 < d[-j - p] for j in range(1, p + 1))
+                                for p in range(2, 9))
             if not shrinking:
                 raise err
             lower = dyadic_lower(t.arb(64))
-            estimate = float(t.arb(64).mid()) + float((d[-1] * d[-1] / (d[-2] - d[-1])).mid())
+            estimate = float(t.arb(64).mid()) + float((d[-1] * d[-1] / (d[-2] - d[-1])).mid()) \
+                if (d[-2] - d[-1]) > 0 else float(t.arb(64).mid())
         raise ZenoDetected(f"event times accumulate at t = {float(lower):.17g}+ (gaps "
-                           f"{', '.join(f'{float(x.mid()):.2g}' for x in d)}, estimated limit ~"
-                           f"{estimate:.17g}): a right-accumulation of events (Remark 4.11) whose law is "
-                           f"not proven, so the solution cannot be continued past it; certified: the "
-                           f"accumulation time is >= {float(lower):.17g} (the decision that failed: {err})",
+                           f"{', '.join(f'{float(x.mid()):.2g}' for x in d[-3:])}): a right-accumulation of events "
+                           "(Remark 4.11) whose law is not proven, so the solution cannot be continued past it; "
+                           f"certified: the accumulation time is >= {float(lower):.17g}, nothing bounds it from "
+                           f"above but t_end (the decision that failed: {err})",
                            lower=lower, upper=None, estimate=estimate) from err
 
 
@@ -549,6 +599,12 @@ class _ReferenceStates:
             M = F if kind == "u" else self.run.lcs.C + self.run.lcs.D * F
             return ProjectedVector(M, x)
         raise LCSError("internal inconsistency: a reference time outside the computed run")
+
+
+def _num(q, digits: int = 20) -> str:
+    """A rational for a message, to ``digits`` significant digits."""
+    with workprec(128):
+        return arb(q).str(digits, radius=False)
 
 
 def _short(r) -> str:

@@ -95,8 +95,9 @@ class Trajectory:
     ``events``, ``phases``, ``accumulations``, ``assumptions`` are tuples; ``status`` a
     :class:`Status`; ``partial`` is True unless the run covered [0, t_end].  ``choices`` lists
     (time, mode) for every point where S(z) left a choice between different initial solutions
-    (``simulate(..., branches="all")``): such a trajectory is *a* solution, not *the* solution,
-    and is never ``certified``.
+    (``simulate(..., branches="all")``): such a trajectory is *a* solution, not *the* solution
+    (``unique`` is False), and it is ``certified`` like any other when no sign was assumed: every
+    digit it reports is right for the solution it follows.
     """
 
     __slots__ = ("lcs", "x0", "t_end", "digits", "events", "phases", "status", "stop_reason", "choices",
@@ -130,10 +131,17 @@ class Trajectory:
 
     @property
     def certified(self) -> bool:
-        """True iff every sign decision is proven (no unresolved zero assumed) and the trajectory
-        is the solution (no choice between different initial solutions was made, and the run was
-        not stopped by a non-unique continuation)."""
-        return not self.assumptions and not self.choices and self.status is not Status.ILL_POSED
+        """True iff every sign decision is proven (no unresolved zero assumed) and the run was not
+        stopped by a non-unique continuation (IllPosed).  A branch of a non-unique problem
+        (``simulate(..., branches="all")``) is certified when its signs are: it is one solution,
+        exactly; ``unique`` says whether it is the only one."""
+        return not self.assumptions and self.status is not Status.ILL_POSED
+
+    @property
+    def unique(self) -> bool:
+        """False when a choice between different initial solutions was made on the way (``choices``):
+        the trajectory is then one of several solutions of the problem (see :class:`Branches`)."""
+        return not self.choices
 
     @property
     def t_last(self) -> Real:
@@ -348,10 +356,12 @@ class Trajectory:
     def __repr__(self):
         if self.certified:
             status = "certified"
-        elif self.choices:
-            status = f"one of several solutions ({len(self.choices)} choices)"
-        else:
+        elif self.assumptions:
             status = f"NOT certified ({len(self.assumptions)} assumptions)"
+        else:
+            status = "NOT certified"
+        if self.choices:
+            status += f", one of several solutions ({len(self.choices)} choices)"
         head = f"<Trajectory on [0, {self.t_end.label()}]: {len(self.events)} events, {status}"
         if self.partial:
             head += f", PARTIAL ({self.status.value}): {self.stop_reason}"
@@ -469,8 +479,15 @@ def full_feedback(mode) -> fmpq_mat:
 
 class Branches:
     """The solutions of a non-unique problem (``simulate(..., branches="all")``): one
-    :class:`Trajectory` per sequence of choices between initial solutions, each recording its
-    ``choices``; none is ``certified`` (none is *the* solution)."""
+    :class:`Trajectory` per sequence of choices between different initial solutions, each
+    recording its ``choices``.
+
+    ``unique`` is False when the solution is not unique (some branch made a choice: Theorem 6.3
+    does not hold and S(z) held different initial solutions somewhere); then every trajectory is
+    *a* solution, and each is ``certified`` when no sign was assumed on it: its digits are right
+    for that solution.  ``certified`` is True when every branch is.  A branch stopped early (a
+    limit, an unresolved sign) keeps its partial trajectory and status.
+    """
 
     __slots__ = ("trajectories",)
 
@@ -489,8 +506,22 @@ class Branches:
     def __getitem__(self, i):
         return self.trajectories[i]
 
+    @property
+    def unique(self) -> bool:
+        """True iff no branch made a choice (the problem had one solution after all)."""
+        return not any(tr.choices for tr in self.trajectories)
+
+    @property
+    def certified(self) -> bool:
+        """True iff every branch is certified (each one solution, every digit proven)."""
+        return all(tr.certified for tr in self.trajectories)
+
     def __repr__(self):
-        lines = [f"<Branches: {len(self.trajectories)} solutions>"]
+        n = len(self.trajectories)
+        kind = "unique" if self.unique else "NOT unique"
+        cert = ("each certified" if self.certified else
+                f"{sum(tr.certified for tr in self.trajectories)} of {n} certified")
+        lines = [f"<Branches: {n} solution{'s' if n != 1 else ''}, {kind}, {cert}>"]
         for tr in self.trajectories:
             picks = ", ".join(f"t = {t.label()}: {format_mode(m)}" for t, m in tr.choices)
             lines.append(f"  [{picks}] {tr!r}")

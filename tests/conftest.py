@@ -24,26 +24,11 @@ def _reset_precision():
 
 # ---------------------------------------------------------------------------------------------
 # the fast loop: ``pytest -m "not slow"`` (README).  Slow tests carry @pytest.mark.slow in their
-# files; the hook below adds the marker where a decorator cannot go.
+# files; the notebooks (nbmake items, where a decorator cannot go) are marked here.
 # ---------------------------------------------------------------------------------------------
 
-#: tests marked here rather than in their files (those files were being edited elsewhere when the
-#: fast loop was set up; the markers can move into them): file name -> test function names
-SLOW_ELSEWHERE = {
-    "test_calcium.py": {"test_memory_is_returned", "test_memory_of_enclosures_strings_and_roots"},
-    "test_cascades.py": {"test_cascade_from_the_wall_ends_as_a_certified_accumulation",
-                         "test_cascade_after_a_flight_stops_at_the_certified_enclosure",
-                         "test_cascade_with_releases_used_to_end_in_an_unresolved_sign",
-                         "test_the_proof_does_not_follow_a_wrong_cycle"},
-    "test_simulate_scenes.py": {"test_period_pi_return_from_an_irrational_release",
-                                "test_impact_cascade_stops_with_a_certified_lower_bound"},
-}
-
-
 def pytest_collection_modifyitems(config, items):
-    """The notebooks (nbmake: whole kernels, seconds each) and the tests in SLOW_ELSEWHERE are slow."""
+    """The notebooks (nbmake: whole kernels, seconds each) are slow."""
     for item in items:
-        path = item.path
-        name = getattr(item, "originalname", None) or item.name
-        if path.suffix == ".ipynb" or name in SLOW_ELSEWHERE.get(path.name, ()):
+        if item.path.suffix == ".ipynb":
             item.add_marker(pytest.mark.slow)

@@ -433,6 +433,7 @@ def test_unavailable_library_is_reported_not_raised(monkeypatch):
         Ca(1)
 
 
+@pytest.mark.slow
 def test_memory_is_returned():
     pi, s2 = PI, Ca(2).sqrt()
     for k in range(20000):                   # warm-up: caches, allocator arenas
@@ -448,6 +449,7 @@ def test_memory_is_returned():
     assert grown < 4096, f"RSS grew by {grown} kB over 100,000 numbers"
 
 
+@pytest.mark.slow
 def test_memory_of_enclosures_strings_and_roots():
     x = Ca(2).sqrt() + PI
     for _ in range(2000):

@@ -2,6 +2,8 @@
 the alternatives (default) or yields every branch (branches="all"); derived by hand."""
 from __future__ import annotations
 
+from fractions import Fraction
+
 import mpmath as mp
 import pytest
 
@@ -29,13 +31,56 @@ def test_default_refuses_a_silent_choice():
 
 
 def test_all_branches_with_their_choices():
+    """From x0 = 1 both modes are solutions: x = e^-t (mode ∅) and x = 1 (mode {0}, u = x).  Each
+    branch is one solution with every digit right: certified; the problem is not unique."""
     b = L.simulate(SCALAR, [1], 2, branches="all")
-    assert len(b) == 2 and all(not tr.certified and not tr.partial for tr in b)
+    assert len(b) == 2 and all(tr.certified and not tr.partial for tr in b)
+    assert not b.unique and b.certified and all(not tr.unique for tr in b)
     decay, rest = b.trajectories
     assert [m for _, m in decay.choices] == [frozenset()] and [m for _, m in rest.choices] == [frozenset({0})]
+    assert [t.rational() for t, _ in decay.choices + rest.choices] == [0, 0]
     with mp.workdps(40):
-        assert abs(mp.mpf(decay.state(2)[0].ball(30).mid().str(35, radius=False)) - mp.exp(-2)) < mp.mpf(10) ** -29
-    assert rest.state(2)[0].rational() == 1
+        for t in ("1/3", 1, 2):
+            want = mp.exp(-mp.mpf(Fraction(t).numerator) / Fraction(t).denominator)
+            got = mp.mpf(decay.state(t)[0].ball(30).mid().str(35, radius=False))
+            assert abs(got - want) < mp.mpf(10) ** -29 * want
+    assert all(rest.state(t)[0].rational() == 1 for t in ("1/3", 1, 2))
+    assert rest.u(2)[0].rational() == 1 and decay.u(2)[0].rational() == 0  # u = x in mode {0}, 0 in ∅
+    text = repr(b)
+    assert "2 solutions" in text and "NOT unique" in text and "each certified" in text
+    assert "one of several solutions" in repr(decay) and "certified" in repr(decay)
+
+
+def test_four_branches_of_two_independent_scalars_each_certified():
+    """Two uncoupled copies of the scalar system from (1, 1): four solutions, (e^-t or 1) x (e^-t
+    or 1), found by hand; each branch certified with its own exact states."""
+    two = L.LCS([[-1, 0], [0, -1]], [[1, 0], [0, 1]], [[1, 0], [0, 1]], [[-1, 0], [0, -1]])
+    b = L.simulate(two, [1, 1], 3, branches="all")
+    assert len(b) == 4 and not b.unique and b.certified
+    found = set()
+    with mp.workdps(40):
+        for tr in b:
+            assert tr.certified and not tr.unique and tr.status is L.trajectory.Status.COMPLETE
+            x = tr.state(3)
+            kinds = []
+            for c in x:
+                if c.rational() == 1:
+                    kinds.append("rest")
+                else:
+                    got = mp.mpf(c.ball(30).mid().str(35, radius=False))
+                    assert abs(got - mp.exp(-3)) < mp.mpf(10) ** -29
+                    kinds.append("decay")
+            found.add(tuple(kinds))
+            (t0, mode), = tr.choices  # one choice at t = 0 among the four initial solutions
+            assert t0.rational() == 0 and kinds == ["rest" if i in mode else "decay" for i in range(2)]
+    assert found == {("rest", "rest"), ("rest", "decay"), ("decay", "rest"), ("decay", "decay")}
+
+
+def test_a_unique_problem_through_branches_all_is_one_certified_branch():
+    """branches='all' on a problem that does not branch: one trajectory, unique, certified."""
+    b = L.simulate(SCALAR, [0], 1, branches="all")
+    assert len(b) == 1 and b.unique and b.certified and b[0].unique and b[0].choices == ()
+    assert "unique" in repr(b) and "NOT unique" not in repr(b)
 
 
 def test_zero_is_unique_and_negative_is_a_deadlock():
