@@ -4,12 +4,13 @@ from __future__ import annotations
 from .compare import ComparisonReport, compare, convergence_order  # also hands the engine to the fixture reader
 from .errors import (Deadlock, FixtureMismatch, FormatError, HorizonExceeded, IllPosed, InvalidArgument, LCSError,
                      LimitExceeded, NotAutonomous, NotRational, ShapeError, Undetermined, UnresolvedSign,
-                     Unsupported, WorkerDied, ZenoDetected)
+                     TimeLimitExceeded, Unsupported, WorkerDied, ZenoDetected)
 from .fixture import FixtureTrajectory, read_fixture, validate_fixture
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
 from .ratfunc import RationalFunction, RationalMatrix
-from .reals import ExactVector, Real, expm_action
+from .reals import Real
+from .vectors import ExactVector, expm_action
 from .simulate import simulate
 from .sweep import SweepResult, param_sweep, sweep
 from .system import LCS, WellPosedness
@@ -23,7 +24,7 @@ __all__ = [
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
-    "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied", "HorizonExceeded",
+    "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied", "HorizonExceeded", "TimeLimitExceeded",
     "read_fixture", "validate_fixture", "compare", "convergence_order", "ComparisonReport",
     "FixtureTrajectory", "ModeMap", "Region", "examples", "models", "sources", "zoo",
 ]

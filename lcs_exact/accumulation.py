@@ -27,6 +27,7 @@ cascades, which have no symmetry, are proven on a family of states by :mod:`lcs_
 """
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass
 from typing import Any, Sequence
@@ -35,10 +36,11 @@ from flint import arb, fmpq, fmpq_mat
 
 from . import calcium
 from .balls import workprec
-from .errors import LCSError
+from .errors import InvalidArgument, LCSError
 from .rational import submatrix
 from .subspaces import solve_any
-from .reals import ExactVector, RationalVector, Real, algebraic_vector, ca_matvec
+from .reals import Real, as_real
+from .vectors import ExactVector, RationalVector, algebraic_vector, ca_matvec
 
 __all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle", "event_signature"]
 
@@ -458,17 +460,14 @@ class ScaledCycle:
 
     def _map(self, dt: Any) -> tuple[Real, fmpq]:
         """(t_ref, scale) for a time t_k + dt of the window."""
-        from .reals import as_real
         d = as_real(dt)
         if d.known_rational() is None and d.known_ca() is None:
-            from .errors import InvalidArgument
             raise InvalidArgument("inside an accumulation window states are evaluated at exact (rational or "
                                   "algebraic) times only")
         law = self.law
         rho, T = law.ratio, law.cycle_length
         # cycle m covers [s_m, s_m + T rho^(m+1)) after t_k, s_m = T rho (1 - rho^m) / (1 - rho):
         # m from a float estimate, then the two bounds checked exactly (moved by one if needed)
-        import math
         frac = float(d) / max(float(T) * float(rho) / (1 - float(rho)), 1e-300)
         m = max(0, int(math.log(max(1e-300, 1 - min(frac, 1 - 1e-16))) / math.log(float(rho)))) if frac > 0 else 0
 

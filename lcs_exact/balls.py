@@ -30,11 +30,11 @@ from typing import Callable, Iterator
 
 from flint import arb, ctx, fmpq
 
-from .errors import InvalidArgument, LimitExceeded, UnresolvedSign
+from .errors import InvalidArgument, TimeLimitExceeded, UnresolvedSign
 
 __all__ = ["Policy", "Deadline", "DEFAULT_POLICY", "workprec", "long_int_strings", "digits_to_bits", "decide_sign",
            "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb", "dyadic", "dyadic_lower",
-           "dyadic_upper"]
+           "dyadic_upper", "decimal_of_fmpq", "decimal_of_ball"]
 
 #: largest ``digits`` accepted (10^4 digits = 33,220 bits: e^{Mt} at that precision takes seconds)
 MAX_DIGITS = 10_000
@@ -100,7 +100,7 @@ class Deadline:
     """A wall-clock limit (``time_limit`` seconds from its creation); mutable: a run disarms it
     when it returns, and every later query of its results (``ball``, ``decimal``, ``sample``)
     re-arms it for its own duration (:meth:`query`), so no query runs longer than the run's
-    ``time_limit`` either: it ends in :class:`LimitExceeded`, never in a hang."""
+    ``time_limit`` either: it ends in :class:`TimeLimitExceeded`, never in a hang."""
 
     __slots__ = ("limit", "_end")
 
@@ -109,7 +109,7 @@ class Deadline:
         self._end = None if limit is None else time.monotonic() + limit
 
     def check(self, where: str | Callable[[], str] = "") -> None:
-        """Raise :class:`LimitExceeded` when the limit has passed (``where``: text, or a callable
+        """Raise :class:`TimeLimitExceeded` when the limit has passed (``where``: text, or a callable
         making it - built only when the limit is reached)."""
         if self._end is not None and time.monotonic() > self._end:
             if callable(where):
@@ -118,7 +118,7 @@ class Deadline:
                     where = where()
                 finally:
                     self._end = end
-            raise LimitExceeded(f"time_limit = {self.limit} s reached{where}")
+            raise TimeLimitExceeded(f"time_limit = {self.limit} s reached{where}")
 
     def disarm(self) -> None:
         self._end = None
@@ -134,7 +134,7 @@ class Deadline:
         ...     d.check(" in a query")
         Traceback (most recent call last):
         ...
-        lcs_exact.errors.LimitExceeded: time_limit = 0.0 s reached in a query
+        lcs_exact.errors.TimeLimitExceeded: time_limit = 0.0 s reached in a query
         """
         if self.limit is None or self._end is not None:
             yield
@@ -291,3 +291,46 @@ def closed_form_arb(e) -> arb:
         return f(closed_form_arb(e.args[0]))
     raise InvalidArgument(f"closed form {e} is outside the supported set (rationals, pi, E, +, *, powers, "
                      f"exp, log, trigonometric functions)")
+
+
+# ---------------------------------------------------------------------------------------------
+# text: decimals with an error bound
+# ---------------------------------------------------------------------------------------------
+
+def _bound_up(err) -> str:
+    """A 3-digit decimal >= err (nstr rounds to nearest, within 0.5%: scale by 1.01 first)."""
+    from mpmath import mpf, nstr
+    return nstr(err * mpf("1.01"), 3) if err else "0"
+
+
+def decimal_of_fmpq(q: fmpq, digits: int) -> str:
+    """q to ``digits`` significant digits; exact strings stand alone, rounded ones carry a bound."""
+    with long_int_strings():
+        return _decimal_of_fmpq(q, digits)
+
+
+def _decimal_of_fmpq(q: fmpq, digits: int) -> str:
+    from fractions import Fraction
+    from mpmath import mp, mpf, nstr
+    if q.q == 1 and len(str(abs(int(q.p)))) <= digits:
+        return str(int(q.p))  # an integer is exact as it stands ("0", not "0.0")
+    with mp.workdps(digits + 10):
+        text = nstr(mpf(int(q.p)) / int(q.q), digits, strip_zeros=True)
+        err = abs(Fraction(text) - Fraction(int(q.p), int(q.q)))
+        return text if err == 0 else f"{text} +/- {_bound_up(mpf(err.numerator) / err.denominator)}"
+
+
+def decimal_of_ball(b: arb, digits: int) -> str:
+    """mid rounded to ``digits`` significant digits, with an upper bound on the total error."""
+    with long_int_strings():
+        return _decimal_of_ball(b, digits)
+
+
+def _decimal_of_ball(b: arb, digits: int) -> str:
+    from mpmath import mp, mpf, nstr
+    mid = b.mid()
+    with mp.workdps(digits + 20):
+        m = mpf(mid.str(digits + 15, radius=False)) if not mid.is_zero() else mpf(0)
+        s = nstr(m, digits, strip_zeros=False, min_fixed=-5, max_fixed=digits + 1)
+        err = abs(mpf(s) - m) + mpf(b.rad().str(5, radius=False)) * 2 + abs(m) * mpf(10) ** (-(digits + 12))
+        return f"{s} +/- {_bound_up(err)}"

@@ -47,7 +47,7 @@ from .modelfile import MODEL_KEYS, check_exponents, load_model, read_model
 from .models import two_carts
 from .modes import format_mode
 from .rational import to_vector
-from .reals import expm_action
+from .vectors import expm_action
 from .simulate import simulate
 from .system import LCS
 from .zoo import write_zoo

@@ -30,7 +30,7 @@ from .errors import LCSError, UnresolvedSign
 from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
 from .forms import Closed
 from .rational import matrix_to_sympy
-from .reals import RationalVector, orbit_start
+from .vectors import RationalVector, orbit_start
 from .subspaces import in_row_span
 
 __all__ = ["candidates", "prove_root", "prove_zero_at", "function_closed_form", "prove_touch",

@@ -72,6 +72,11 @@ class LimitExceeded(LCSError):
     """A user limit (events, wall-clock time) was reached before t_end."""
 
 
+class TimeLimitExceeded(LimitExceeded):
+    """The wall-clock limit (``time_limit``) was reached: by a run (its trajectory so far is kept,
+    status ``time limit``) or by a query after it."""
+
+
 class HorizonExceeded(LimitExceeded):
     """A phase has no event within the horizon limit of its rates (docs/limits.md) while t_end
     is further: the run stops there, its trajectory computed up to that time."""

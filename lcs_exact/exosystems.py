@@ -21,7 +21,8 @@ from flint import fmpq_mat
 
 from .errors import InvalidArgument, ShapeError
 from .rational import hstack, to_matrix, to_vector, vector_entries, vstack, zeros
-from .reals import ComponentsVector, ExactVector, RationalReal, as_exact_vector
+from .reals import RationalReal
+from .vectors import ComponentsVector, ExactVector, as_exact_vector
 from .sources import Exosystem, as_source, exosystem
 from .system import LCS
 

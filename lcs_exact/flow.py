@@ -23,7 +23,8 @@ from .errors import LCSError
 from .interfaces import SystemLike
 from .modes import format_mode
 from .phase import Constraint, Phase
-from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, Real, as_exact_vector, as_real
+from .reals import RationalReal, Real, as_real
+from .vectors import ExactVector, ProjectedVector, RationalVector, as_exact_vector
 from .polyroots import exact_first_crossing
 from .roots import RootReal, first_crossing, float_crossing, positive_step
 

@@ -31,7 +31,7 @@ from flint import fmpq, fmpq_mat
 
 from .errors import NotAutonomous, ShapeError, Unsupported
 from .interfaces import SystemLike
-from .modes import format_mode, latex_mode
+from .modes import format_mode, latex_mode, mode_order
 from .plotting import plot_mode_map
 from .polyhedra import find_point
 from .rational import hstack, identity, to_fmpq, to_vector, zeros
@@ -156,7 +156,7 @@ def _latex_ineq(q: Inequality) -> str:
 
 
 def _sorted_modes(modes) -> list:
-    return sorted(modes, key=lambda m: (len(m), sorted(m)))
+    return sorted(modes, key=mode_order)
 
 
 class ModeMap:
@@ -386,7 +386,7 @@ def mode_map(lcs: SystemLike, slice: Any = None) -> ModeMap:
     face_region: dict[tuple, Region] = {}
     for S, fs in by_value.items():
         conj = _cover(S, fs, faces, value_of, hyperplanes, names)
-        mode = min(S, key=lambda m: (len(m), sorted(m))) if S else None
+        mode = min(S, key=mode_order) if S else None
         jump = lcs.mode(mode).projection() if mode is not None else None
         unique = all(_agree_on(lcs.mode(I).projection(), jump, base, D, fs, hyperplanes) for I in S if I != mode)
         reg = Region(S, mode, jump, conj, tuple(fs), max(f.dimension for f in fs), unique)

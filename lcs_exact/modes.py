@@ -33,7 +33,7 @@ from .interfaces import SystemLike
 from .rational import hstack, identity, matrix_to_sympy, submatrix, vstack, zeros
 from .subspaces import image, intersection, kernel, left_kernel, projection, rank, solve_any
 
-__all__ = ["Mode", "format_mode", "latex_mode", "LATEX_MAX_N"]
+__all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
 
 #: ``_repr_latex_`` of a mode (and of results showing n x n matrices) returns None above this n
 LATEX_MAX_N = 12
@@ -46,6 +46,16 @@ def format_mode(I) -> str:
     ('{0, 2}', '∅')
     """
     return "{" + ", ".join(str(i) for i in sorted(I)) + "}" if I else "∅"
+
+
+def mode_order(I) -> tuple:
+    """The order in which modes are tried and listed: fewer indices first, then lexicographically
+    (the smallest admissible mode of Remark 4.8 is ``min(S, key=mode_order)``).
+
+    >>> sorted([{1}, {0, 1}, set(), {0}], key=mode_order)
+    [set(), {0}, {1}, {0, 1}]
+    """
+    return len(I), sorted(I)
 
 
 def latex_mode(I) -> str:

@@ -7,7 +7,7 @@ in I), each f(t) = g e^{A_I t} z with a rational row g (:class:`Constraint`).
 Representation.  The spectral data of A_I live on the mode (computed once per mode); the phase
 computes the modal vectors K_lambda N^j z / j! of its start once per precision, and every
 constraint is then an exponential sum (:class:`PhaseFunction`, :class:`~lcs_exact.roots.ExpSum`).
-Homogeneity: when z = c v with c > 0 proven (:class:`~lcs_exact.reals.ScaledVector`), the
+Homogeneity: when z = c v with c > 0 proven (:class:`~lcs_exact.vectors.ScaledVector`), the
 functions are those of v - the same roots, exactly, with no dependence on c.
 
 Forms vanishing on the whole phase (``zero_forms``): for a rational start q, the left kernel of
@@ -24,8 +24,8 @@ from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
 from . import calcium
 from .balls import Policy, workprec
 from .modes import format_mode
-from .reals import (ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, as_real, ca_matvec,
-                    orbit_start)
+from .reals import as_real
+from .vectors import ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, ca_matvec, orbit_start
 from .polyhedra import eliminate
 from .rational import is_zero, submatrix, vstack, zeros
 from .roots import ExpSum, RootReal, newton_ball
@@ -300,7 +300,7 @@ RADIUS_PREC = 64
 
 class EventState(ExpVector):
     """x(theta-) = e^{A_I theta} z where theta = theta(z) is the root of a constraint g e^{A_I t} z
-    that ends the phase: an :class:`~lcs_exact.reals.ExpVector` whose ball is computed by the
+    that ends the phase: an :class:`~lcs_exact.vectors.ExpVector` whose ball is computed by the
     mean-value (centered) form
 
         x(z) in x(z_c) + J(Z) (Z - z_c),   J = (I - A_I x g / (g A_I x)) e^{A_I theta},

@@ -40,8 +40,8 @@ from flint import arb, ctx, fmpq_mat
 from .errors import InvalidArgument, LCSError
 from .interfaces import SystemLike
 from .mapplot import MODE_COLORS, default_names, plot_mode_map
-from .modes import format_mode
-from .reals import ProjectedVector
+from .modes import format_mode, mode_order
+from .vectors import ProjectedVector
 
 __all__ = ["plot_trajectory", "plot_mode_map", "phase_intervals", "PhaseInterval"]
 
@@ -146,7 +146,7 @@ def phase_intervals(traj) -> list[PhaseInterval]:
         mode = evs[-1].mode_after
     else:
         S = traj.lcs.select_modes(traj.x0)
-        mode = min(S, key=lambda m: (len(m), sorted(m))) if S else None
+        mode = min(S, key=mode_order) if S else None
     if float(end) > float(start):
         out.append(PhaseInterval(start, end, mode, start_event, end_event))
     return _split_at_accumulations(traj, out)
@@ -186,7 +186,7 @@ def _mode_after(traj, acc):
         if not hasattr(rec.phase, "offsets") and abs(float(rec.t0) - float(acc.time)) == 0:
             return rec.mode
     S = traj.lcs.select_modes(acc.state)
-    return min(S, key=lambda m: (len(m), sorted(m))) if S else None
+    return min(S, key=mode_order) if S else None
 
 
 def _component(v, i: int) -> tuple[float, bool]:
@@ -380,7 +380,7 @@ class _Canvas:
 
 def _mode_colors(phases: list) -> dict:
     """One colour per mode, the same whatever the order of the phases: the free mode grey."""
-    ordered = sorted({ph.mode for ph in phases if ph.mode}, key=lambda m: (len(m), sorted(m)))
+    ordered = sorted({ph.mode for ph in phases if ph.mode}, key=mode_order)
     colors = {m: MODE_COLORS[i % len(MODE_COLORS)] for i, m in enumerate(ordered)}
     colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
     return colors
@@ -579,7 +579,7 @@ def _draw_legends(cv: _Canvas) -> None:
                 handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="left limit (τ−)"),
                             Line2D([], [], ls="", marker="o", color="0.3", label="right limit (τ+)")]
             handles += [Patch(color=cv.colors[m], alpha=0.3, label=_mode_label(lcs, m, cv.free_of.get(m, frozenset())))
-                        for m in sorted(cv.colors, key=lambda m: (m is None, len(m or ()), sorted(m or ())))]
+                        for m in sorted(cv.colors, key=lambda m: (m is None, mode_order(m or ())))]
         # a long legend in columns: it must not be taller than its panel
         ncol = 1 + (len(handles) - 1) // 12
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False,

@@ -38,7 +38,7 @@ from .interfaces import SystemLike
 __all__ = [
     "RationalLike", "to_fmpq", "to_matrix", "to_vector", "vector_entries", "to_int", "is_rational_vector",
     "zeros", "identity", "is_zero", "hstack", "vstack", "submatrix", "column", "mat_rows", "mat_equal",
-    "sign_of_form", "lex_sign",
+    "sign_of_form", "lex_sign", "format_form",
     "fmpq_to_sympy", "matrix_to_sympy", "adjugate_coefficients", "poly_at_matrix",
     "MAX_RATIONAL_BITS", "MAX_DIMENSION", "MAX_ENUMERATION_K", "MAX_P_TEST_K", "MAX_MARKOV_INDEX",
     "MAX_KAPPA", "MAX_HORIZON_SLOW", "MAX_HORIZON_FAST", "MAX_PREC_BITS", "check_enumerable",
@@ -554,3 +554,8 @@ def as_state(lcs: SystemLike, x0: Any):
 def evaluate_forms(forms: fmpq_mat, x):
     """forms . x for a rational x; the forms themselves otherwise."""
     return forms * x if is_rational_vector(x) else forms
+
+
+def format_form(form: fmpq_mat) -> str:
+    """A row as text: (1, 0, -1/2)."""
+    return "(" + ", ".join(str(form[0, j]) for j in range(form.ncols())) + ")"

@@ -40,16 +40,16 @@ from flint import fmpq_mat
 
 from .errors import Deadlock, InvalidArgument, LCSError, NotAutonomous
 from .interfaces import SystemLike
-from .modes import LATEX_MAX_N, format_mode, latex_mode
+from .modes import LATEX_MAX_N, format_mode, latex_mode, mode_order
 from .rcpfamily import family, row_series
 from .ldcp import LDCPSolution, impulse_forms, ldcp, ldcp_modes
 from .ratfunc import RationalFunction, RationalMatrix
 from .rational import (as_state, check_enumerable, identity, is_rational_vector, is_zero, lex_sign, sign_of_form,
                        submatrix, zeros)
-from .reals import ProjectedVector
+from .vectors import ProjectedVector
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "ldcp_modes", "LDCPSolution", "select_modes",
-           "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data", "impulse_forms",
+           "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data", "RCPData", "impulse_forms",
            "admissibility_forms", "admissibility_conditions", "NONAUTONOMOUS", "state_response",
            "state_groups", "undetermined_inputs"]
 
@@ -69,13 +69,26 @@ def _apply(P: fmpq_mat, x):
 # ---------------------------------------------------------------------------------------------
 
 
-def rcp_data(mode) -> dict:
-    """W_I(s), Z_I(s), their Laurent forms and the impulse matrices of mode I (cached on the mode):
-    ``{"W", "Z", "u", "y", "impulse"}``, impulse[p] the k x n forms of u^{-p} (3.6)."""
+@dataclass(frozen=True)
+class RCPData:
+    """The RCP data of an autonomous mode I (5.3)-(5.5), computed once per mode: ``W`` = W_I(s)
+    (u_I(s) = W_I(s) x0), ``Z`` = Z_I(s) (y_Ic(s) = Z_I(s) x0), ``u`` and ``y`` their rows'
+    Laurent series at s = oo (forms in x0, for the lexicographic signs), and ``impulse``,
+    impulse[p] the k x n forms of u^{-p} (the coefficient of s^p in u(s), (3.6))."""
+
+    W: RationalMatrix
+    Z: RationalMatrix
+    u: tuple
+    y: tuple
+    impulse: tuple
+
+
+def rcp_data(mode) -> RCPData:
+    """The :class:`RCPData` of mode I (cached on the mode)."""
     return mode.memo("rcp", lambda: _build_rcp_data(mode))
 
 
-def _build_rcp_data(mode) -> dict:
+def _build_rcp_data(mode) -> RCPData:
     mode.require_autonomous()
     lcs = mode.lcs
     G, R = lcs.G(), lcs.R()
@@ -98,7 +111,7 @@ def _build_rcp_data(mode) -> dict:
                     raise LCSError(f"internal inconsistency: u(s) of mode {format_mode(I)} has "
                                    f"polynomial degree {p} >= n")
                 imp[p][i, c] = v
-    return {"W": W, "Z": Z, "u": u_rows, "y": y_rows, "impulse": imp}
+    return RCPData(W, Z, tuple(u_rows), tuple(y_rows), tuple(imp))
 
 
 def mode_admissible(mode, x) -> bool:
@@ -118,7 +131,7 @@ def mode_admissible(mode, x) -> bool:
     if not mode.is_autonomous:
         return family(mode).admissible(x)
     data = rcp_data(mode)
-    return all(r.sign(x) >= 0 for r in data["u"]) and all(r.sign(x) >= 0 for r in data["y"])
+    return all(r.sign(x) >= 0 for r in data.u) and all(r.sign(x) >= 0 for r in data.y)
 
 
 def admissibility_forms(mode) -> tuple:
@@ -137,7 +150,7 @@ def admissibility_forms(mode) -> tuple:
     [['[1, 0, 0, 0]', '[0, 0, 1, 0]', '[-2, 1, 0, 0]', '[0, 0, -2, 1]']]
     """
     data = rcp_data(mode)
-    return tuple(r.forms for r in data["u"]) + tuple(r.forms for r in data["y"])
+    return tuple(r.forms for r in data.u) + tuple(r.forms for r in data.y)
 
 
 def admissibility_conditions(mode) -> tuple[tuple, tuple]:
@@ -224,7 +237,7 @@ def rcp(lcs: SystemLike, x0: Any) -> list[RCPSolution]:
         if mode_admissible(mode, x):
             if mode.is_autonomous:
                 data = rcp_data(mode)
-                uI, yIc = data["W"].apply(x), data["Z"].apply(x)
+                uI, yIc = data.W.apply(x), data.Z.apply(x)
             else:
                 uI, yIc = family(mode).solution(x)
             u = [RationalFunction(0)] * lcs.k
@@ -274,7 +287,7 @@ def select_modes(lcs: SystemLike, x0: Any, method: str = "auto", *, nonautonomou
     if method == "ldcp" or (method == "auto" and lcs.well_posedness().N_is_P):
         return ldcp_modes(lcs, x)
     S = {I for I in _all_modes(lcs.k) if mode_admissible(lcs.mode(I), x)}
-    bad = sorted((I for I in S if not lcs.mode(I).is_autonomous), key=lambda m: (len(m), sorted(m)))
+    bad = sorted((I for I in S if not lcs.mode(I).is_autonomous), key=mode_order)
     if bad and nonautonomous == "raise":
         undetermined = [I for I in bad if not _state_determined(lcs.mode(I))]
         if undetermined or len(state_groups(lcs, x, S)) > 1:
@@ -329,18 +342,18 @@ def initial_solution(lcs: SystemLike, x0: Any, mode: Any = None) -> InitialSolut
     modes = select_modes(lcs, x)
     if not modes:
         raise Deadlock(f"S(x0) is empty: RCP(x0) has no solution at x0 = {_fmt_state(x)}")
-    I = frozenset(mode) if mode is not None else min(modes, key=lambda m: (len(m), sorted(m)))
+    I = frozenset(mode) if mode is not None else min(modes, key=mode_order)
     if I not in modes:
         raise InvalidArgument(f"mode {format_mode(I)} is not in S(x0) = {sorted(format_mode(m) for m in modes)}")
     m = lcs.mode(I)
     data = rcp_data(m)
-    jump = _jump_forms(lcs, data["impulse"])
+    jump = _jump_forms(lcs, data.impulse)
     P = m.projection()
     if jump != P:
         raise LCSError(f"internal inconsistency in mode {format_mode(I)}: x0 + sum A^i B u^(-i) != P_I x0")
-    impulse = {i: _apply(u, x) for i, u in enumerate(data["impulse"])}
+    impulse = {i: _apply(u, x) for i, u in enumerate(data.impulse)}
     smooth = all(sign_of_form(submatrix(u, [r], None), x) == 0
-                 for u in data["impulse"] for r in range(lcs.k))
+                 for u in data.impulse for r in range(lcs.k))
     return InitialSolution(I, frozenset(modes), impulse, _apply(P, x), smooth)
 
 
@@ -364,7 +377,7 @@ def is_regular(lcs: SystemLike, x0: Any) -> bool:
                 return False
         return True
     for I in select_modes(lcs, x, method="rcp"):
-        imp = rcp_data(lcs.mode(I))["impulse"]
+        imp = rcp_data(lcs.mode(I)).impulse
         if all(sign_of_form(submatrix(u, [r], None), x) == 0 for u in imp for r in range(lcs.k)):
             return True
     return False
@@ -390,9 +403,9 @@ def _full_rcp_rows(mode) -> RationalMatrix:
         zero = [0] * lcs.n
         rows = [list(zero) for _ in range(2 * lcs.k)]
         for r, i in enumerate(mode.I):
-            rows[i] = [data["W"][r, c] for c in range(lcs.n)]
+            rows[i] = [data.W[r, c] for c in range(lcs.n)]
         for r, i in enumerate(mode.Ic):
-            rows[lcs.k + i] = [data["Z"][r, c] for c in range(lcs.n)]
+            rows[lcs.k + i] = [data.Z[r, c] for c in range(lcs.n)]
         return RationalMatrix(rows)
     return mode.memo("rcp-full", build)
 
@@ -416,7 +429,7 @@ def initial_solution_groups(lcs: SystemLike, x0: Any, modes) -> list[list[frozen
     continuation is unique whatever mode is chosen; several groups mean S(x0) leaves a choice that
     changes the trajectory (outside Theorem 6.3)."""
     groups: list[list[frozenset]] = []
-    for I in sorted(modes, key=lambda m: (len(m), sorted(m))):
+    for I in sorted(modes, key=mode_order):
         for g in groups:
             if same_initial_solution(lcs, x0, g[0], I):
                 g.append(I)
@@ -450,7 +463,7 @@ def state_response(mode) -> RationalMatrix | None:
         if not mode.I:
             return _rmat(zeros(n, n))
         if mode.is_autonomous:
-            return _rmat(submatrix(lcs.B, None, mode.I)) * rcp_data(mode)["W"]
+            return _rmat(submatrix(lcs.B, None, mode.I)) * rcp_data(mode).W
         fam = family(mode)
         Q, F = list(fam.pivot_cols), list(fam.free)
         if F:
@@ -479,7 +492,7 @@ def state_groups(lcs: SystemLike, x0: Any, modes) -> list[list[frozenset]]:
     inputs are chosen.  A mode whose free inputs move the state is a group of its own."""
     x = as_state(lcs, x0)
     groups: list[list[frozenset]] = []
-    for I in sorted(modes, key=lambda m: (len(m), sorted(m))):
+    for I in sorted(modes, key=mode_order):
         X = state_response(lcs.mode(I))
         for g in groups:
             Y = state_response(lcs.mode(g[0]))
@@ -500,7 +513,7 @@ def _input_rows(mode) -> tuple[RationalMatrix, frozenset]:
         rows = [[RationalFunction(0)] * n for _ in range(k)]
         free: set = set()
         if mode.is_autonomous:
-            W = rcp_data(mode)["W"]
+            W = rcp_data(mode).W
             for r, i in enumerate(mode.I):
                 rows[i] = list(W.rows[r])
         else:

@@ -10,7 +10,7 @@
 Each event state is anchored: its ball is computed at the run's working precision when the event
 is found (:meth:`~lcs_exact.balls.Policy.working_prec`), which grows by the accuracy the run
 measures as lost, so the cost of an event does not grow with its index and refinement walks
-forward from the nearest anchor (:func:`lcs_exact.reals.evaluate`).
+forward from the nearest anchor (:func:`lcs_exact.nodes.evaluate`).
 
 Stops: deadlock (S(z) = empty) -> :class:`Deadlock`; a re-initialization chain that does not end
 -> :class:`ZenoDetected`; event times accumulating (geometrically shrinking phases with the limit
@@ -20,24 +20,30 @@ the partial :class:`~lcs_exact.trajectory.Trajectory` in ``.trajectory``.
 """
 from __future__ import annotations
 
+import math
 import time as _time
+from collections.abc import Iterator
+from numbers import Real as RealNumber
 from typing import Any
 
-from flint import arb, fmpq
+from flint import arb, fmpq, fmpq_mat
 
 from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, dyadic_upper, workprec
-from .errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, ShapeError,
-                     UnresolvedSign, ZenoDetected)
+from .errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, NotRational,
+                     ShapeError, TimeLimitExceeded, UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
 from .cascade import cascade_bound
 from .flow import next_event
 from .impacts import newton_impact
 from .phase import Phase, PhaseFunction
-from .rational import submatrix, vstack
-from .reals import ExactVector, ProjectedVector, RationalReal, RationalVector, as_exact_vector, as_real, homogenized
+from .rational import (MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_PREC_BITS, submatrix, to_fmpq, to_int, to_short,
+                       vector_entries, vstack)
+from .reals import RationalReal, Real, as_real
+from .vectors import ExactVector, ProjectedVector, RationalVector, as_exact_vector, homogenized
 from .selection import (impulse_forms, initial_solution, initial_solution_groups, rcp_data, select_modes, state_groups,
                         undetermined_inputs)
-from .modes import format_mode
+from .modes import format_mode, mode_order
+from .system import LCS
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory, full_feedback
 
 __all__ = ["simulate", "check_accumulation"]
@@ -51,17 +57,6 @@ def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_p
     """Validated options: every bad value is a named LCSError whose message names the argument
     (:class:`InvalidArgument` for option values, :class:`ShapeError` / :class:`NotRational` for
     x0 and t_end), and the limits of docs/limits.md are enforced before anything is computed."""
-    import math
-    from collections.abc import Iterator
-    from numbers import Real as RealNumber
-
-    from flint import fmpq_mat
-
-    from .errors import InvalidArgument, NotRational
-    from .rational import MAX_PREC_BITS, to_fmpq, to_int, to_short, vector_entries
-    from .reals import Real
-    from .system import LCS
-
     def is_int(v):
         return isinstance(v, int) and not isinstance(v, bool)
 
@@ -240,7 +235,7 @@ def _all_branches(lcs, z0, T, digits, max_events, policy, zeno) -> Branches:
             except _Fork as f:
                 pending.extend(forced + [c] for c in reversed(range(f.count)))
             except LCSError as e:
-                if isinstance(e, LimitExceeded) and "time_limit" in str(e):
+                if isinstance(e, TimeLimitExceeded):
                     raise
                 done.append(e.trajectory)
     finally:
@@ -248,7 +243,7 @@ def _all_branches(lcs, z0, T, digits, max_events, policy, zeno) -> Branches:
     return Branches(done)
 
 
-_STATUS = {LimitExceeded: Status.EVENT_LIMIT, HorizonExceeded: Status.HORIZON_LIMIT, Deadlock: Status.DEADLOCK,
+_STATUS = {LimitExceeded: Status.EVENT_LIMIT, TimeLimitExceeded: Status.TIME_LIMIT, HorizonExceeded: Status.HORIZON_LIMIT, Deadlock: Status.DEADLOCK,
            ZenoDetected: Status.ZENO,
            UnresolvedSign: Status.UNRESOLVED, IllPosed: Status.ILL_POSED}
 
@@ -276,15 +271,13 @@ class _Run:
         self.cascade_tried: set = set()  # starts of cascade proofs tried (accumulation.cascade_bound)
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
-        if status is Status.EVENT_LIMIT and reason and "time_limit" in reason:
-            status = Status.TIME_LIMIT
         return Trajectory(self.lcs, z0, self.T, digits, events=self.events, phases=self.phases,
                           status=status, stop_reason=reason, assumptions=self.policy.assumptions,
                           accumulations=self.accumulations, elapsed=elapsed, policy=self.policy,
                           choices=self.choices)
 
     def execute(self, z: ExactVector) -> None:
-        lcs, policy = self.lcs, self.policy
+        policy = self.policy
         t = RationalReal(0, policy)
         mode_before = None
         triggers: tuple = ()
@@ -363,8 +356,6 @@ class _Run:
     def enclose(self, form, t0, t1):
         """An arb enclosure of form . x(t) over [t0, t1] (exact reals inside the computed run),
         from the phases' exponential sums over their (outer, rational) time intervals."""
-        from flint import arb, fmpq
-        from .phase import PhaseFunction
         prec = 128
         out = None
         with workprec(prec):
@@ -453,7 +444,7 @@ class _Run:
         floating network), the modes are grouped by the state they give: one group means the
         state is unique, and the inputs that differ or are free are recorded as undetermined
         on the phase (``self.undetermined``)."""
-        smallest = min(S, key=lambda m: (len(m), sorted(m)))
+        smallest = min(S, key=mode_order)
         self.undetermined = frozenset()
         nonautonomous = not self.unique_by_theorem and any(not self.lcs.mode(I).is_autonomous for I in S)
         if not nonautonomous and (len(S) == 1 or self.unique_by_theorem):
@@ -474,7 +465,7 @@ class _Run:
             raise _Fork(len(groups))
         alternatives = [(g[0], initial_solution(self.lcs, q if q is not None else z, g[0])) for g in groups]
         raise IllPosed(f"non-unique continuation at t = {t.label()}: S(z) = "
-                       f"{{{', '.join(format_mode(m) for m in sorted(S, key=lambda m: (len(m), sorted(m))))}}} "
+                       f"{{{', '.join(format_mode(m) for m in sorted(S, key=mode_order))}}} "
                        f"holds {len(groups)} different initial solutions (modes "
                        f"{', '.join(format_mode(g[0]) for g in groups)}); Theorem 6.3 does not hold, so the "
                        "solution is not unique: see .alternatives, or simulate(..., branches='all')",
@@ -581,7 +572,6 @@ class _ReferenceStates:
         return self.run.lcs
 
     def __call__(self, t_ref, kind: str = "x"):
-        from .reals import as_real
         t = as_real(t_ref)
         phases = self.run.phases
         for i, rec in enumerate(phases):
@@ -619,7 +609,6 @@ def _phase_horizon(phase: Phase, H):
     and H min{|lambda(A_I)| != 0} <= MAX_HORIZON_SLOW.  Applied to the phases evaluated (a mode
     can be faster than A: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0}); a nilpotent A_I
     has no limit (its constraints are polynomials)."""
-    from .rational import MAX_HORIZON_FAST, MAX_HORIZON_SLOW
     eig = phase.spectrum.eigenvalues(64)
     with workprec(64):
         mods = [abs(lam) for lam, _ in eig]
@@ -633,8 +622,8 @@ def _phase_horizon(phase: Phase, H):
             return H, None
         cap = dyadic_lower(allowed)
         which = "fast" if arb(MAX_HORIZON_FAST) / fast <= arb(MAX_HORIZON_SLOW) / slow else "slow"
-        reason = (f"t * max|eigenvalue| <= 10^12, MAX_HORIZON_FAST" if which == "fast" else
-                  f"t * min nonzero |eigenvalue| <= 10^6, MAX_HORIZON_SLOW")
+        reason = ("t * max|eigenvalue| <= 10^12, MAX_HORIZON_FAST" if which == "fast" else
+                  "t * min nonzero |eigenvalue| <= 10^6, MAX_HORIZON_SLOW")
     return RationalReal(cap, phase.policy), reason
 
 
@@ -680,7 +669,7 @@ def _impulse(mode, z: ExactVector) -> dict:
     # well-posed (Theorem 6.3): the impulse of the unique initial solution comes from the LDCP
     # stages at z; otherwise from the mode's RCP data W_I(s) = -G_II^{-1} R_I
     q = z.known_rational()
-    forms = impulse_forms(lcs, q if q is not None else z) if lcs.well_posedness() else rcp_data(mode)["impulse"]
+    forms = impulse_forms(lcs, q if q is not None else z) if lcs.well_posedness() else rcp_data(mode).impulse
     for i, U in enumerate(forms):
         if any(U.entries()):
             out[i] = RationalVector(U * q, z.policy) if q is not None else ProjectedVector(U, z)

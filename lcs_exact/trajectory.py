@@ -14,10 +14,14 @@ from typing import Any, Sequence
 
 from flint import arb, fmpq, fmpq_mat
 
-from .balls import DEFAULT_POLICY, Policy, accuracy_bits, digits_to_bits, workprec
-from .errors import InvalidArgument, LCSError
-from .modes import format_mode
-from .reals import ExactVector, ProjectedVector, Real, as_real
+from .balls import DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, digits_to_bits, workprec
+from .errors import InvalidArgument, LCSError, Undetermined
+from .fixture import fixture_dict
+from .modes import format_mode, latex_mode
+from .plotting import plot_trajectory
+from .rational import to_fmpq, to_int
+from .reals import Real, as_real
+from .vectors import ExactVector, ProjectedVector
 
 __all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA", "Branches"]
 
@@ -221,8 +225,6 @@ class Trajectory:
             return self._sample(ts, digits)
 
     def _sample(self, ts: Sequence[Any], digits: int) -> list[list[arb]]:
-        from .balls import MAX_DIGITS
-        from .rational import to_fmpq, to_int
         digits = to_int(digits, "digits", 1, MAX_DIGITS)
         if isinstance(ts, (str, bytes)) or not hasattr(ts, "__iter__"):
             raise InvalidArgument(f"ts must be a sequence of rational times, got {type(ts).__name__}")
@@ -272,7 +274,6 @@ class Trajectory:
         ``closed_forms=False`` writes only the closed forms already derived (a quick write);
         ``provenance`` (a JSON-ready dict: builder, parameters, version, ...) is written as the
         fixture's ``provenance`` and covered by its digest."""
-        from .fixture import fixture_dict
         return fixture_dict(self, digits, sample, closed_forms, provenance)
 
     def plot(self, **kw):
@@ -282,14 +283,12 @@ class Trajectory:
         (indices or names to draw), ``panels`` (a subset of ``("x", "u", "y")``), ``points``
         (about 800 certified sample times in total), ``label_events`` (how many events get a
         label), ``figsize``, ``title``.  Returns the matplotlib Figure."""
-        from .plotting import plot_trajectory
         return plot_trajectory(self, **kw)
 
     # --- arrays and data frames ---------------------------------------------------------------
     def _columns(self, t: Any, u: bool, y: bool) -> tuple[list, list[str], list[list[float]]]:
         """(times as fmpq, column names, rows of floats): the states at t (right limits), then
         u and y when asked (an undetermined input is NaN)."""
-        from .rational import to_fmpq
         if hasattr(t, "tolist"):
             t = t.tolist()
         if isinstance(t, (str, bytes)) or not hasattr(t, "__iter__"):
@@ -399,7 +398,6 @@ class UndeterminedReal(Real):
         return arb(0, "inf")
 
     def _refuse(self, *args, **kw):
-        from .errors import Undetermined
         raise Undetermined(f"{self.name} is not determined by the state here: any value that keeps the "
                            "complementarity conditions solves the LCS (a free input of a mode that is not "
                            "autonomous, e.g. the potential of a floating node)")
@@ -458,11 +456,6 @@ class PartlyUndetermined(ExactVector):
 
 def _accurate(b: arb, need: int) -> bool:
     return b.is_exact() or accuracy_bits(b) >= need or (b.rad() < arb(2) ** (-need))
-
-
-def latex_mode(m) -> str:
-    """A mode set in LaTeX: \\{0, 2\\} or \\emptyset."""
-    return r"\{" + ", ".join(str(i) for i in sorted(m)) + r"\}" if m else r"\emptyset"
 
 
 def full_feedback(mode) -> fmpq_mat:

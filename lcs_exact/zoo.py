@@ -42,7 +42,7 @@ from .examples import (ball_column, bouncing_ball, cart_chain, diode_bridge, dio
                        two_carts_with_hook)
 from .fixture import MAX_SAMPLES, SCHEMA, validate_fixture
 from .models import circuit, relay
-from .reals import expm_action
+from .vectors import expm_action
 from .simulate import simulate
 from .system import LCS
 

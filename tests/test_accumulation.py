@@ -8,7 +8,8 @@ from flint import fmpq, fmpq_mat
 
 import lcs_exact as L
 from lcs_exact.accumulation import ScaledCycle, geometric_law, symmetry_exponents
-from lcs_exact.reals import RationalReal, RationalVector
+from lcs_exact.reals import RationalReal
+from lcs_exact.vectors import RationalVector
 from lcs_exact.trajectory import Event
 
 

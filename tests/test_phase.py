@@ -9,7 +9,7 @@ from flint import arb, ctx, fmpq_mat
 import lcs_exact as L
 from lcs_exact.balls import Policy, workprec
 from lcs_exact.phase import EventState, Phase
-from lcs_exact.reals import ExpVector, as_exact_vector, expm_action
+from lcs_exact.vectors import ExpVector, as_exact_vector, expm_action
 
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
 CARTS = L.LCS(A_CARTS, [[0], [0], [1], [0]], [[1, 0, 0, 0]], [[0]])
@@ -29,7 +29,7 @@ def test_event_state_centered_form():
     vector, projected): the centered enclosure contains x(1-) = (0, -1, -1, 0) and is at least as
     tight as the plain one."""
     x0 = expm_action(A_CARTS, -1, [0, -1, -1, 0])
-    z = L.reals.ProjectedVector(fmpq_mat([[int(i == j) for j in range(4)] for i in range(4)]), x0)
+    z = L.vectors.ProjectedVector(fmpq_mat([[int(i == j) for j in range(4)] for i in range(4)]), x0)
     phase = Phase(CARTS.mode(set()), z, Policy())
     root = L.flow.first_root(phase, phase.constraints[0], L.rational.to_fmpq(3), 128)
     x = phase.event_state(root)

@@ -10,8 +10,8 @@ import sympy as sp
 from flint import arb, fmpq, fmpq_mat
 
 import lcs_exact as L
-from lcs_exact.reals import (RationalReal, RationalVector, ScaledVector, SumReal, as_real,
-                             expm_action, homogenized, linear_terms)
+from lcs_exact.reals import RationalReal, SumReal, as_real, linear_terms
+from lcs_exact.vectors import RationalVector, ScaledVector, expm_action, homogenized
 
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
 
@@ -56,8 +56,8 @@ def test_homogeneity_decides_signs_exactly():
     """P v with v = (sqrt 2, 0) and P = [[3, 0], [-1, 0]]: the relation x1 + 3 x2 = 0 is proven
     (pulled back through P), so x = c q with q = (3, -1) and c = sqrt 2 > 0 certified; every sign
     at x is then the sign at q: exact, even for forms that no single relation decides."""
-    v = L.reals.ComponentsVector([as_real(sp.sqrt(2)), as_real(0)])
-    x = L.reals.ProjectedVector(fmpq_mat([[3, 0], [-1, 0]]), v)
+    v = L.vectors.ComponentsVector([as_real(sp.sqrt(2)), as_real(0)])
+    x = L.vectors.ProjectedVector(fmpq_mat([[3, 0], [-1, 0]]), v)
     h = homogenized(x)
     assert isinstance(h, ScaledVector) and h.v.known_rational() is not None
     q = h.v.known_rational()

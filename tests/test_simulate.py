@@ -8,6 +8,7 @@ from helpers import A_CARTS, carts, close, modes, num
 
 import lcs_exact as L
 from lcs_exact.flow import theta
+from lcs_exact.trajectory import Status
 
 mp.mp.dps = 60
 
@@ -100,15 +101,19 @@ def test_no_event_at_zero_for_consistent_start():
     assert all(close(num(c), want[i]) for i, c in enumerate(tr.state(1)))
 
 
-@pytest.mark.parametrize("limit, events", [({"max_events": 1}, 1), ({"time_limit": 0}, None)])
-def test_limits_return_partial_trajectory(limit, events):
-    """A run stopped by a limit raises LimitExceeded naming it; nothing computed is lost."""
+@pytest.mark.parametrize("limit, events, error, status", [
+    ({"max_events": 1}, 1, L.LimitExceeded, Status.EVENT_LIMIT),
+    ({"time_limit": 0}, None, L.TimeLimitExceeded, Status.TIME_LIMIT)])
+def test_limits_return_partial_trajectory(limit, events, error, status):
+    """A run stopped by a limit raises LimitExceeded naming it (TimeLimitExceeded for the clock);
+    nothing computed is lost, and the trajectory's status says which limit stopped it."""
     (name,) = limit
     x0 = L.expm_action(A_CARTS, -1, [0, -1, -1, 0])
     with pytest.raises(L.LimitExceeded, match=name) as err:
         L.simulate(carts(), x0, 3, **limit)
+    assert type(err.value) is error
     tr = err.value.trajectory
-    assert tr.partial and name in tr.stop_reason
+    assert tr.partial and name in tr.stop_reason and tr.status is status
     if events is not None:  # exactly max_events events are kept
         assert len(tr.events) == events and tr.events[0].time.closed_form == 1
 
