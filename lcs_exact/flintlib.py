@@ -26,7 +26,7 @@ from typing import Any
 import flint
 from flint import acb, arb, arf
 
-__all__ = ["available", "backend", "Backend", "self_check", "CTYPES", "CA_UNKNOWN", "CA_UNDEFINED", "CA_INF", "truth", "take_str", "fmpz_to_int", "acb_from_address",
+__all__ = ["available", "backend", "isolated_backend", "find_library", "Backend", "self_check", "CTYPES", "CA_UNKNOWN", "CA_UNDEFINED", "CA_INF", "truth", "take_str", "fmpz_to_int", "acb_from_address",
            "TempFmpz", "CA_WORDS", "STRUCT_SIZES", "T_TRUE", "T_FALSE", "T_UNKNOWN", "c_ptr", "c_ulong",
            "FmpqStruct", "FmpzPolyStruct", "AcbStruct", "QqbarStruct", "qqbar_distinct_roots", "select_qqbar_root",
            "PREC_LIMIT_ALGEBRAIC"]
@@ -183,7 +183,7 @@ _backend_error: str | None = None
 _init_lock = threading.Lock()
 
 
-def _find_library() -> Path:
+def find_library() -> Path:
     """The libflint that python-flint loads (wheel: ``site-packages/python_flint.libs/``), else
     the system's libflint (a python-flint built against a shared FLINT)."""
     libdir = Path(flint.__file__).resolve().parent.parent / "python_flint.libs"
@@ -260,7 +260,7 @@ def backend() -> Backend:
         try:
             if ctypes.sizeof(ctypes.c_long) != 8 or ctypes.sizeof(ctypes.c_void_p) != 8:
                 raise OSError("the binding assumes a 64-bit LP64 platform")
-            path = _find_library()
+            path = find_library()
             lib = ctypes.CDLL(str(path))        # the library python-flint has already loaded
             version = ctypes.cast(ctypes.addressof(ctypes.c_char.in_dll(lib, "flint_version")),
                                   ctypes.c_char_p).value.decode()
@@ -281,6 +281,22 @@ def backend() -> Backend:
         atexit.register(b.close)
         _backend = b
         return b
+
+
+@contextlib.contextmanager
+def isolated_backend():
+    """Within the block no backend is cached, so the next use loads (and checks) the library
+    again, through :func:`find_library` as it is then; the previous backend (or load error) is
+    restored on exit.  For tests of the loading path (a missing library, a bad layout)."""
+    global _backend, _backend_error
+    with _init_lock:
+        saved = _backend, _backend_error
+        _backend, _backend_error = None, None
+    try:
+        yield
+    finally:
+        with _init_lock:
+            _backend, _backend_error = saved
 
 
 def available() -> bool:
