@@ -223,8 +223,10 @@ class RationalReal(Real):
     def __init__(self, q: Any, policy: Policy | None = None):
         super().__init__(policy)
         self.q = to_fmpq(q)
-        if self.q.q == 1:  # an integer is an exact ball at every precision
-            self._ball, self._prec = arb(self.q), 1 << 30
+        if self.q.q == 1:  # an integer is an exact ball at every precision (when it fits this one)
+            ball = arb(self.q)
+            if ball.is_exact():
+                self._ball, self._prec = ball, 1 << 30
 
     def _compute(self, prec):
         return arb(self.q)
@@ -500,7 +502,9 @@ class AlgebraicReal(Real):
         self._q = ca.to_fmpq()
         self._bounds = None
         if self._q is not None and self._q.q == 1:
-            self._ball, self._prec = arb(self._q), 1 << 30
+            ball = arb(self._q)
+            if ball.is_exact():  # an integer that fits the precision: exact at every precision
+                self._ball, self._prec = ball, 1 << 30
 
     def _compute(self, prec):
         if self._q is not None:

@@ -202,8 +202,10 @@ class RationalVector(ExactVector):
     def __init__(self, q: fmpq_mat, policy: Policy | None = None):
         super().__init__(q.nrows(), None, policy)
         self.q = q
-        if all(q[i, 0].q == 1 for i in range(q.nrows())):  # integer entries: exact balls
-            self._ball, self._prec = arb_mat(q), 1 << 30
+        if all(q[i, 0].q == 1 for i in range(q.nrows())):  # integer entries: exact balls ...
+            ball = arb_mat(q)
+            if all(ball[i, 0].is_exact() for i in range(q.nrows())):  # ... when they fit the precision
+                self._ball, self._prec = ball, 1 << 30
 
     def _compute(self, prec):
         return arb_mat(self.q)

@@ -154,3 +154,32 @@ def test_exact_tangential_touches_of_one_frequency_phases():
     with mpmath.workdps(40):
         x = tr.state(3)
         assert abs(mpmath.mpf(x[0].ball(30).mid().str(40, radius=False)) + mpmath.sin(3)) < mpmath.mpf(10) ** -28
+
+
+def test_two_stops_hit_1e30_apart():
+    """Two uncoupled unit oscillators with stops (q_i >= 0), from q = (1, 1), v = (0, -10^-30):
+    q1 = cos t - 10^-30 sin t hits first, at t1 = pi/2 - atan(10^-30) (plastic: q1 = v1 = 0
+    after), and q0 = cos t at pi/2 exactly, 10^-30 later.  After the first event the state is
+    cos(t1) (1, 0, -10^30, 0): a rational direction with an entry beyond 53 bits, whose ball
+    used to be rounded at 53 bits and kept as exact (the start of q0 was then refused)."""
+    from lcs_exact.models import mechanical
+    lcs = mechanical([[1, 0], [0, 1]], [[1, 0], [0, 1]], [[1, 0], [0, 1]])
+    tr = L.simulate(lcs, [1, 1, 0, fmpq(-1, 10 ** 30)], 3)
+    assert tr.certified and not tr.partial and [e.triggers for e in tr.events] == [("y_1",), ("y_0",)]
+    with mp.workdps(80):
+        t1 = mp.pi / 2 - mp.atan(mp.mpf(10) ** -30)
+        got = [mp.mpf(e.time.ball(60).mid().str(70, radius=False)) for e in tr.events]
+        assert abs(got[0] - t1) < mp.mpf(10) ** -60 and abs(got[1] - mp.pi / 2) < mp.mpf(10) ** -60
+        assert mp.mpf(10) ** -30 * 0.999 < got[1] - got[0] < mp.mpf(10) ** -30 * 1.001
+    x = tr.state(3)  # both masses at rest on their stops
+    assert [c.rational() for c in x] == [0, 0, 0, 0]
+
+
+def test_integers_beyond_the_working_precision_are_not_rounded():
+    """An integer entry that needs more than 53 bits is not an exact 53-bit ball."""
+    from lcs_exact.reals import RationalReal
+    from lcs_exact.vectors import RationalVector
+    big = 10 ** 30 + 1
+    assert RationalReal(big).arb(200).is_exact() and RationalReal(big).arb(200) == big
+    v = RationalVector(fmpq_mat([[big], [-big]]))
+    assert v.arb(200)[0, 0] == big and v.arb(200)[1, 0] == -big
