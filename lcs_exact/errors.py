@@ -56,8 +56,9 @@ class ZenoDetected(LCSError):
     a tight dyadic enclosure of an algebraic one), an interval as narrow as the event times'
     digits for an impact cascade proven without a law (docs/numerics.md), and otherwise ``lower``
     the last event computed with ``upper`` None (nothing bounds the accumulation time from above
-    but t_end).  ``estimate`` is a float inside the enclosure, or an uncertified guess from the
-    shrinking gaps when ``upper`` is None (for messages only)."""
+    but t_end).  ``estimate`` is a float near the enclosure (rounded: not certified to lie in
+    it), or an uncertified guess from the shrinking gaps when ``upper`` is None (for messages
+    only); with ``upper`` None the accumulation itself is suspected, not proven."""
 
     def __init__(self, message: str, *, trajectory=None, lower=None, upper=None, estimate=None, time=None):
         super().__init__(message, trajectory=trajectory)

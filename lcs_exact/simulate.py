@@ -20,6 +20,7 @@ the partial :class:`~lcs_exact.trajectory.Trajectory` in ``.trajectory``.
 """
 from __future__ import annotations
 
+import decimal
 import math
 import time as _time
 from collections.abc import Iterator
@@ -500,14 +501,14 @@ class _Run:
         lo, hi = bound.lower, bound.upper
         first = self.events[bound.first_event]
         kind = "two contacts taking turns over a moving background" if bound.background else "a corner"
-        message = (f"event times accumulate at T* in [{_num(lo)}, {_num(hi)}] (width {_num(hi - lo, 2)}): an "
+        message = (f"event times accumulate at T* in [{_num(lo, down=True)}, {_num(hi)}] (width {_num(hi - lo, 2)}): an "
                    f"impact cascade ({kind}) whose cycle of {bound.period} events repeats forever from event "
                    f"{bound.first_event} (t = {_short(first.time)}), its small parameter shrinking by a factor "
                    f"<= {_num(bound.contraction, 3)} a cycle (proven on a family of states, Remark 4.11, "
                    "docs/numerics.md); no exact law is known, so the solution is not continued past T*")
         if err is not None:
             message += f" (the decision that stopped the run: {err})"
-        raise ZenoDetected(message, lower=lo, upper=hi, estimate=float((lo + hi) / 2)) from err
+        raise ZenoDetected(message, lower=lo, upper=hi, estimate=float((lo + hi) / 2)) from err  # estimate: display only
 
     def cascade_or_raise(self, err: LCSError, t) -> None:
         """A decision that fails inside an impact cascade: stop with :class:`ZenoDetected` and a
@@ -531,11 +532,12 @@ class _Run:
             lower = dyadic_lower(t.arb(64))
             estimate = float(t.arb(64).mid()) + float((d[-1] * d[-1] / (d[-2] - d[-1])).mid()) \
                 if (d[-2] - d[-1]) > 0 else float(t.arb(64).mid())
-        raise ZenoDetected(f"event times accumulate at t = {float(lower):.17g}+ (gaps "
+        raise ZenoDetected(f"events closer and closer after t = {_num(lower, 17, down=True)} (gaps "
                            f"{', '.join(f'{float(x.mid()):.2g}' for x in d[-3:])}): a right-accumulation of events "
-                           "(Remark 4.11) whose law is not proven, so the solution cannot be continued past it; "
-                           f"certified: the accumulation time is >= {float(lower):.17g}, nothing bounds it from "
-                           f"above but t_end (the decision that failed: {err})",
+                           "(Remark 4.11) is suspected, not proven (no law and no cascade proof applies), and the "
+                           f"solution cannot be computed past this point; certified: the trajectory up to "
+                           f"t >= {_num(lower, 17, down=True)}, and any accumulation time is after it "
+                           f"(the decision that failed: {err})",
                            lower=lower, upper=None, estimate=estimate) from err
 
 
@@ -591,10 +593,12 @@ class _ReferenceStates:
         raise LCSError("internal inconsistency: a reference time outside the computed run")
 
 
-def _num(q, digits: int = 20) -> str:
-    """A rational for a message, to ``digits`` significant digits."""
-    with workprec(128):
-        return arb(q).str(digits, radius=False)
+def _num(q, digits: int = 20, *, down: bool = False) -> str:
+    """A rational for a message, to ``digits`` significant digits, rounded up (a bound from
+    above stays one), or down with ``down=True``."""
+    with decimal.localcontext() as ctx:
+        ctx.prec, ctx.rounding = digits, (decimal.ROUND_FLOOR if down else decimal.ROUND_CEILING)
+        return str(decimal.Decimal(int(q.p)) / decimal.Decimal(int(q.q)))
 
 
 def _short(r) -> str:

@@ -12,6 +12,7 @@ in mpmath at 250 digits, until the next phase is shorter than the digits can res
 from __future__ import annotations
 
 import itertools
+import re
 from fractions import Fraction
 
 import mpmath as mp
@@ -227,6 +228,10 @@ def test_cascade_from_the_wall_ends_as_a_certified_accumulation():
         assert mp.mpf("0.00999973") < t_last < mp.mpf("0.00999974")
         contains(err, t_last, left, mp.mpf(10) ** -35)
         assert abs(mp.mpf(err.estimate) - t_last) < mp.mpf(10) ** -15
+        # the message's decimals are bounds too: rounded outward
+        lo_text, hi_text = re.search(r"T\* in \[([0-9.eE+-]+), ([0-9.eE+-]+)\]", str(err)).groups()
+        assert Fraction(lo_text) <= Fraction(int(err.lower.p), int(err.lower.q))
+        assert Fraction(hi_text) >= Fraction(int(err.upper.p), int(err.upper.q))
         tr = err.trajectory
         assert tr.partial and tr.status is Status.ZENO and tr.certified and err.time is None
         assert 3 <= len(tr.events) <= 5 and [e.triggers for e in tr.events[:2]] == [("y_1",), ("y_0",)]
