@@ -312,7 +312,7 @@ def _simulate(args) -> int:
     check_exponents(str(t_end), "t_end")
     if args.sample is not None:
         check_exponents(args.sample, "--sample")
-        sample_grid(0, args.sample)  # a bad step is an input error before the run, not after it
+        sample_grid(t_end, args.sample)  # a bad step or too many points: an input error before the run
     if args.output:
         _check_writable(args.output)  # before the run: nothing computed is lost to a bad path
     opts = {"digits": args.digits, "max_events": args.max_events, "time_limit": args.time_limit}
@@ -363,7 +363,8 @@ def _fmt_t(t) -> str:
 
 
 def _check_writable(path: str) -> None:
-    """-o must name a file that can be written: its folder exists and is writable."""
+    """-o must name a file that can be written: its folder exists and the file opens for
+    appending (an existing file is left as it is; a new one is removed again)."""
     p = Path(path)
     folder = p.parent if str(p.parent) else Path(".")
     if p.is_dir():
@@ -372,6 +373,14 @@ def _check_writable(path: str) -> None:
         raise InvalidArgument(f"-o {path}: the folder {folder} does not exist")
     if not os.access(folder, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
         raise InvalidArgument(f"-o {path}: not writable")
+    existed = p.exists()
+    try:  # the real test (permission bits say yes to root, and /sys or /proc say no later)
+        with open(p, "a", encoding="utf-8"):
+            pass
+    except OSError as e:
+        raise InvalidArgument(f"-o {path}: not writable ({e.strerror or e})") from None
+    if not existed:
+        p.unlink()
 
 
 def _write_fixture(traj, args, closed_forms: bool = True) -> None:

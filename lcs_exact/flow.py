@@ -138,10 +138,11 @@ def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int
 
 
 def horizon_bound(H: Real) -> fmpq:
-    """A rational upper bound of H (slightly above it)."""
+    """A rational upper bound of H (above it by a relative 2^-40: a horizon of 10^-188, the
+    limit of a rate of 10^200, stays 10^-188, not 2^-40)."""
     with workprec(64):
         b = H.arb(64)
-        return dyadic_upper(b + arb(2) ** -40)
+        return dyadic_upper(b + abs(b) * arb(2) ** -40)
 
 
 def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Constraint) -> int:

@@ -416,7 +416,8 @@ def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
             return None
         best = None
         b = hi
-        for _ in range(3):  # a bound on a shorter interval gives a longer step
+        tiny = arb(2) ** -64
+        for _ in range(8):  # a bound on a shorter interval gives a longer step
             X = arb(lo).union(arb(b))
             bounds = f.values(X, range(1, len(lows) + 1))
             w = None
@@ -430,6 +431,11 @@ def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
                         w = s if w is None or s > w else w
             if w is None:
                 return best
+            if best is None and w < arb(b - lo) * tiny:
+                # the bounds over [lo, b] are far too coarse (a rate of 10^200 over its horizon
+                # gives e^(10^12)): shrink b before taking a step, never a dyadic of e^-(10^12)
+                b = lo + (b - lo) * fmpq(1, 2 ** 64)
+                continue
             step = dyadic_lower(w * arb(fmpq(15, 16)))
             if step <= 0:
                 return best

@@ -624,7 +624,10 @@ def _phase_horizon(phase: Phase, H):
         allowed = min(arb(MAX_HORIZON_FAST) / fast, arb(MAX_HORIZON_SLOW) / slow)
         if H.arb(64) <= allowed:
             return H, None
-        cap = dyadic_lower(allowed)
+        q = dyadic_lower(allowed)
+        with decimal.localcontext() as dc:  # a short decimal below it: readable, and exact to resume from
+            dc.prec, dc.rounding = 3, decimal.ROUND_FLOOR
+            cap = to_fmpq(str(decimal.Decimal(int(q.p)) / decimal.Decimal(int(q.q))))
         which = "fast" if arb(MAX_HORIZON_FAST) / fast <= arb(MAX_HORIZON_SLOW) / slow else "slow"
         reason = ("t * max|eigenvalue| <= 10^12, MAX_HORIZON_FAST" if which == "fast" else
                   "t * min nonzero |eigenvalue| <= 10^6, MAX_HORIZON_SLOW")

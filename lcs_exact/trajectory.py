@@ -176,6 +176,8 @@ class Trajectory:
     def state(self, t: Any) -> ExactVector:
         """x(t), exact (t rational or an exact real); at an event time, the state after it."""
         t = as_real(t, self.policy)
+        if not self.phases and (t - self.t_last).sign() == 0:  # stopped before its first phase
+            return self.events[-1].state_after if self.events else self.x0
         i, at_end = self._locate(t)
         if at_end and i + 1 < len(self.phases):
             return self.phases[i + 1].phase.z  # x(t+): the start of the next phase

@@ -182,6 +182,37 @@ def test_run_stopped_by_a_limit_writes_a_partial_fixture(tmp_path, capsys):
     assert p.returncode == 3 and one_line_error(p.stderr) and "time_limit" in p.stderr
 
 
+def test_run_stopped_before_its_first_phase_writes_its_fixture(tmp_path, capsys):
+    """The carts from x0 = (0, 1, -1, 0) jump at t = 0 (cart 0 at the wall moving into it); with
+    max_events = 0 the run stops before that jump and before any phase, and still writes the
+    partial fixture: no events, final state x0 exactly (it used to fail: 'no continuous phase')."""
+    model, out = write(tmp_path, {**CARTS, "x0": [0, 1, -1, 0], "t_end": 5}), tmp_path / "p.json"
+    assert main(["simulate", model, "--max-events", "0", "-o", str(out)]) == 3
+    assert "partial fixture written" in capsys.readouterr().err
+    fx = L.read_fixture(str(out))
+    assert fx.partial and len(fx.events) == 0
+    assert [c["exact"] for c in json.loads(out.read_text())["final_state"]] == ["0", "1", "-1", "0"]
+    tr = L.simulate(L.LCS(CARTS["A"], CARTS["B"], CARTS["C"], CARTS["D"]), [0, 1, -1, 0], 2)
+    assert [c.rational() for c in tr.state(0)] == [0, 1, 0, 0]  # x(0+) after the jump, by hand
+
+
+def test_outputs_and_sample_counts_are_checked_before_the_run(tmp_path, capsys):
+    """A step giving more than MAX_SAMPLES grid points on [0, t_end], and an -o the system refuses
+    although its permission bits (as root) say yes, are errors before the run: nothing printed,
+    nothing computed."""
+    model = write(tmp_path, {**OSC, "t_end": 100000})
+    assert main(["simulate", model, "--sample", "1e-9"]) == 2
+    cap = capsys.readouterr()
+    assert cap.out == "" and one_line_error(cap.err) and "100000000000001 grid points" in cap.err
+    assert main(["simulate", model, "-o", "/proc/lcs-exact-test.json"]) == 2
+    cap = capsys.readouterr()
+    assert cap.out == "" and one_line_error(cap.err) and "not writable" in cap.err
+    existing = tmp_path / "keep.json"
+    existing.write_text("old")
+    assert main(["simulate", write(tmp_path, OSC, "o.json"), "--max-events", "0", "-o", str(existing)]) == 3
+    assert json.loads(existing.read_text())["partial"] is True  # checked, then written once
+
+
 # ---------------------------------------------------------------------------------------------
 # model files are read exactly
 # ---------------------------------------------------------------------------------------------

@@ -152,6 +152,21 @@ def test_simulate_accepts_the_documented_inputs_exactly():
 
 
 @pytest.mark.slow
+def test_a_rate_of_1e200_stops_at_its_horizon_at_once():
+    """x'' = 10^400 x (rates +-10^200), y = x >= 0 from (1, 0): x = cosh(10^200 t) never reaches
+    0; the phase is searched up to 10^6 / 10^200 (MAX_HORIZON_SLOW: both rates have modulus
+    10^200) and the run stops there with HorizonExceeded.  It used to search up to 2^-40 (an
+    absolute slack on the horizon) and build a dyadic of e^-(10^188): a hang."""
+    from lcs_exact import HorizonExceeded, Status
+    big = LCS([[0, 1], [10**400, 0]], [[0], [1]], [[1, 0]], [[0]])
+    with pytest.raises(HorizonExceeded, match="MAX_HORIZON_SLOW") as err:
+        simulate(big, [1, 0], 1, time_limit=60)
+    tr = err.value.trajectory
+    end = tr.t_last.rational()
+    assert tr.status is Status.HORIZON_LIMIT and fmpq(9, 10**195) < end <= fmpq(1, 10**194)
+    assert tr.state(end)[0].ball(20) > 1  # cosh > 1 all the way
+
+
 def test_horizon_limits_follow_the_spectrum_of_the_phases():
     """Issue 15: the horizon limit applies to the phases evaluated, not to t_end up front.  The
     carts from X0 keep having events: t_end = 10^18 with max_events = 50 runs its 50 events and
