@@ -21,12 +21,20 @@ from .errors import IllPosed
 from .interfaces import SystemLike
 from .lcp import murty
 from .modes import format_mode
-from .rational import (MAX_KAPPA, as_state, evaluate_forms, is_rational_vector, is_zero, sign_of_form, submatrix,
-                       to_int, zeros)
+from .rational import MAX_KAPPA, is_zero, sign_of_form, submatrix, to_int, zeros
+from .vectors import as_state
 
 __all__ = ["LDCPSolution", "ldcp", "ldcp_modes", "impulse_forms", "lcp_sequence", "stage_lcp", "require_N_P"]
 
 
+def _rational(x0) -> bool:
+    """Whether a solution's x0 is held as Q^n (its values computed) or as an exact vector (forms)."""
+    return isinstance(x0, fmpq_mat) and x0.ncols() == 1
+
+
+def _evaluate(forms: fmpq_mat, x0):
+    """forms . x0 for a rational x0 (a value); the forms themselves for an exact x0."""
+    return forms * x0 if _rational(x0) else forms
 
 
 @dataclass(frozen=True)
@@ -66,9 +74,9 @@ class LDCPSolution:
         for i in range(-n + 1, self.kappa + 1):
             if i >= 1:
                 apow = lcs.C if i == 1 else apow * lcs.A
-                c = evaluate_forms(apow, self.x0)
+                c = _evaluate(apow, self.x0)
             else:
-                c = zeros(lcs.k, 1 if is_rational_vector(self.x0) else n)
+                c = zeros(lcs.k, 1 if _rational(self.x0) else n)
             coeffs = {j: lcs.markov(i - j) for j in range(-n + 1, i + 1) if not is_zero(lcs.markov(i - j))}
             out.append((i, c, coeffs))
         return out
@@ -78,7 +86,7 @@ class LDCPSolution:
         lines = []
         for i, c, coeffs in self.equations():
             terms = []
-            if is_rational_vector(self.x0) and self.lcs.k == 1:
+            if _rational(self.x0) and self.lcs.k == 1:
                 if c[0, 0] != 0:
                     terms.append(str(c[0, 0]))
                 for j in sorted(coeffs, reverse=True):
@@ -133,8 +141,10 @@ def ldcp(lcs: SystemLike, x0: Any, kappa: int) -> LDCPSolution:
     K = frozenset(range(k)) - I - J
     undetermined = frozenset((l, j) for l in range(k) for j in range(max(kappa - eta[l] + 1, -n + 1), kappa + 1))
     modes = frozenset(frozenset(I) | frozenset(c) for r in range(len(K) + 1) for c in combinations(sorted(K), r))
-    return LDCPSolution(lcs, x, kappa, {j: evaluate_forms(f, x) for j, f in U.items()},
-                        {i: evaluate_forms(f, x) for i, f in Y.items()}, frozenset(I), frozenset(J), K,
+    q = x.known_rational()
+    x0 = q if q is not None else x  # a rational x0 is shown (and its values computed) as Q^n
+    return LDCPSolution(lcs, x0, kappa, {j: _evaluate(f, x0) for j, f in U.items()},
+                        {i: _evaluate(f, x0) for i, f in Y.items()}, frozenset(I), frozenset(J), K,
                         undetermined, modes)
 
 

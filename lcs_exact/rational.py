@@ -33,7 +33,6 @@ import flint
 from flint import fmpq, fmpq_mat, fmpq_poly, fmpz
 
 from .errors import InvalidArgument, NotRational, ShapeError, Unsupported
-from .interfaces import SystemLike
 
 __all__ = [
     "RationalLike", "to_fmpq", "to_matrix", "to_vector", "vector_entries", "to_int", "is_rational_vector",
@@ -42,7 +41,7 @@ __all__ = [
     "fmpq_to_sympy", "matrix_to_sympy", "adjugate_coefficients", "poly_at_matrix",
     "MAX_RATIONAL_BITS", "MAX_DIMENSION", "MAX_ENUMERATION_K", "MAX_P_TEST_K", "MAX_MARKOV_INDEX",
     "MAX_KAPPA", "MAX_HORIZON_SLOW", "MAX_HORIZON_FAST", "MAX_PREC_BITS", "check_enumerable",
-    "eigenvalue_moduli", "to_short", "pivot_tableau", "as_state", "evaluate_forms",
+    "eigenvalue_moduli", "to_short", "pivot_tableau",
 ]
 
 RationalLike = Union[int, str, Fraction, fmpq, fmpz, Rational, float]
@@ -531,29 +530,6 @@ def poly_at_matrix(p: fmpq_poly, S: fmpq_mat) -> fmpq_mat:
     for c in reversed(p.coeffs()):
         out = out * S + identity(n) * c
     return out
-
-
-# ---------------------------------------------------------------------------------------------
-# states given to mode selection
-# ---------------------------------------------------------------------------------------------
-
-
-def as_state(lcs: SystemLike, x0: Any):
-    """A rational n x 1 ``fmpq_mat``, or an exact vector (anything with ``sign_of_form``)."""
-    if hasattr(x0, "sign_of_form") and not isinstance(x0, fmpq_mat):
-        if hasattr(x0, "rational"):  # an exact vector proven rational collapses to Q^n
-            r = x0.known_rational()
-            if r is not None:
-                return to_vector(r, lcs.n)
-        if len(x0) != lcs.n:
-            raise ShapeError(f"x0 has length {len(x0)}, expected {lcs.n}")
-        return x0
-    return to_vector(x0, lcs.n, "x0")
-
-
-def evaluate_forms(forms: fmpq_mat, x):
-    """forms . x for a rational x; the forms themselves otherwise."""
-    return forms * x if is_rational_vector(x) else forms
 
 
 def format_form(form: fmpq_mat) -> str:

@@ -416,8 +416,9 @@ def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
             return None
         best = None
         b = hi
-        tiny = arb(2) ** -64
-        for _ in range(8):  # a bound on a shorter interval gives a longer step
+        tiny = arb(2) ** -(1 << 20)  # below any step a precision can resolve (MAX_PREC_BITS)
+        rounds, shrinks = 0, 0
+        while rounds < 3 and shrinks < 64:  # a bound on a shorter interval gives a longer step
             X = arb(lo).union(arb(b))
             bounds = f.values(X, range(1, len(lows) + 1))
             w = None
@@ -431,11 +432,12 @@ def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
                         w = s if w is None or s > w else w
             if w is None:
                 return best
-            if best is None and w < arb(b - lo) * tiny:
-                # the bounds over [lo, b] are far too coarse (a rate of 10^200 over its horizon
-                # gives e^(10^12)): shrink b before taking a step, never a dyadic of e^-(10^12)
-                b = lo + (b - lo) * fmpq(1, 2 ** 64)
+            if best is None and w < tiny:
+                # the bounds over [lo, b] are useless (a rate of 10^200 over its horizon gives
+                # e^(10^6)): shrink b before taking a step, never a dyadic of e^-(10^6)
+                b, shrinks = lo + (b - lo) * fmpq(1, 2 ** 64), shrinks + 1
                 continue
+            rounds += 1
             step = dyadic_lower(w * arb(fmpq(15, 16)))
             if step <= 0:
                 return best

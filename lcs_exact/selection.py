@@ -44,9 +44,9 @@ from .modes import LATEX_MAX_N, format_mode, latex_mode, mode_order
 from .rcpfamily import family, row_series
 from .ldcp import LDCPSolution, impulse_forms, ldcp, ldcp_modes
 from .ratfunc import RationalFunction, RationalMatrix
-from .rational import (as_state, check_enumerable, identity, is_rational_vector, is_zero, lex_sign, sign_of_form,
+from .rational import (check_enumerable, identity, is_zero, lex_sign, sign_of_form,
                        submatrix, zeros)
-from .vectors import ProjectedVector
+from .vectors import ProjectedVector, as_state
 
 __all__ = ["as_state", "rcp", "RCPSolution", "ldcp", "ldcp_modes", "LDCPSolution", "select_modes",
            "initial_solution", "InitialSolution", "is_regular", "mode_admissible", "rcp_data", "RCPData", "impulse_forms",
@@ -59,9 +59,8 @@ NONAUTONOMOUS = ("raise", "include")
 
 def _apply(P: fmpq_mat, x):
     """P x: rational for a rational x, else an exact vector."""
-    if is_rational_vector(x):
-        return P * x
-    return ProjectedVector(P, x)
+    q = x.known_rational()
+    return P * q if q is not None else ProjectedVector(P, x)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -229,7 +228,8 @@ def rcp(lcs: SystemLike, x0: Any) -> list[RCPSolution]:
     [RCPSolution(mode=∅, u(s)=(0), y(s)=(1/s)), RCPSolution(mode={0}, u(s)=(1/(s - 1)), y(s)=(0))]
     """
     x = as_state(lcs, x0)
-    if not is_rational_vector(x):
+    q = x.known_rational()
+    if q is None:
         raise InvalidArgument("rcp() displays u(s), y(s) for a rational x0; use select_modes for exact states")
     out = []
     for I in _all_modes(lcs.k):
@@ -237,9 +237,9 @@ def rcp(lcs: SystemLike, x0: Any) -> list[RCPSolution]:
         if mode_admissible(mode, x):
             if mode.is_autonomous:
                 data = rcp_data(mode)
-                uI, yIc = data.W.apply(x), data.Z.apply(x)
+                uI, yIc = data.W.apply(q), data.Z.apply(q)
             else:
-                uI, yIc = family(mode).solution(x)
+                uI, yIc = family(mode).solution(q)
             u = [RationalFunction(0)] * lcs.k
             y = [RationalFunction(0)] * lcs.k
             for r, i in enumerate(mode.I):
@@ -384,8 +384,9 @@ def is_regular(lcs: SystemLike, x0: Any) -> bool:
 
 
 def _fmt_state(x) -> str:
-    if is_rational_vector(x):
-        return "(" + ", ".join(str(x[i, 0]) for i in range(x.nrows())) + ")"
+    q = x.known_rational()
+    if q is not None:
+        return "(" + ", ".join(str(q[i, 0]) for i in range(q.nrows())) + ")"
     return repr(x)
 
 

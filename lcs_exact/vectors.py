@@ -23,13 +23,14 @@ from . import calcium
 from .balls import Policy, decide_sign
 from .errors import ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of, symbolic_expm, t_symbol
+from .interfaces import SystemLike
 from .nodes import Node
 from .rational import format_form, is_zero, matrix_to_sympy, to_matrix, to_vector, vector_entries, zeros
 from .reals import ComponentReal, Real, ScaledReal, as_real, ca_from_state, ca_state, is_sympy, radical_form, rational_ca
 from .subspaces import RowSpan, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
 __all__ = ["ExactVector", "RationalVector", "ScaledVector", "ExpVector", "ProjectedVector", "ComponentsVector",
-           "AlgebraicVector", "algebraic_vector", "ca_matvec", "as_exact_vector", "expm_action", "homogenized",
+           "AlgebraicVector", "algebraic_vector", "ca_matvec", "as_exact_vector", "as_state", "expm_action", "homogenized",
            "orbit_start"]
 
 
@@ -575,6 +576,14 @@ def as_exact_vector(x: Any, n: int | None = None, name: str = "x0", policy: Poli
         # the library's own exact reals (a component of traj.state(t)) and SymPy closed forms
         return ComponentsVector([as_real(e, policy) for e in flat], policy)
     return RationalVector(to_vector(flat, len(flat), name), policy)
+
+
+def as_state(lcs: SystemLike, x0: Any) -> ExactVector:
+    """The state as every layer from here up holds it: one exact vector of length n (a
+    :class:`RationalVector` for rational input; an exact vector as it is, length checked).  Its
+    ``sign_of_form`` is the one decision mode selection asks of it, ``known_rational()`` the
+    rational fast path (section 5: every test is a sign of a linear form in x0)."""
+    return as_exact_vector(x0, lcs.n, "x0")
 
 
 def orbit_start(v: ExactVector, M: fmpq_mat) -> tuple[ExactVector, Real | None]:

@@ -181,8 +181,11 @@ def test_a_worker_killed_by_a_signal_loses_nothing():
     x0s = [[0, 1, -1, 0], [0, -1, -1, 0], [0, 0, 0, 1], [0, 1, 0, -1], [1, 0, 0, 0], [0, 2, -1, 1]]
     pool = ProcessPoolExecutor(max_workers=2)
 
-    def kill_a_worker():
-        time.sleep(1)
+    def kill_a_worker():  # once the workers exist (they start late on a loaded machine), mid-sweep
+        deadline = time.monotonic() + 60
+        while not getattr(pool, "_processes", None) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(0.5)
         pids = list(getattr(pool, "_processes", {}) or {})
         if pids:
             os.kill(pids[0], signal.SIGKILL)
