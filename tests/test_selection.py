@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 from helpers import carts, hook, mat, modes, vec
 
-from lcs_exact import RationalFunction
+from lcs_exact import LCS, RationalFunction
 
 s = RationalFunction.s()
 
@@ -128,3 +128,13 @@ def test_select_modes_methods_validate():
 def test_mode_sets_are_exact_for_the_origin_k2():
     assert hook().select_modes([0, 0, 0, 0]) == modes(set(), {0}, {1}, {0, 1})
     assert mat(hook().mode({0, 1}).projection()) == [[0] * 4 for _ in range(4)]
+
+
+def test_exact_real_states_are_decided_like_rational_ones():
+    """x' = u, y = x - u: from x0 > 0 both modes are admissible (y(s) = x0/s in mode ∅, u(s) =
+    x0/(s - 1) in mode {0}), from x0 < 0 neither.  x0 = ±(sqrt(2) - 1) (a SymPy closed form)
+    is decided through its exact sign, as 1 and -1 are."""
+    lcs = LCS([[0]], [[1]], [[1]], [[-1]])
+    both = {frozenset(), frozenset({0})}
+    assert lcs.select_modes([1]) == both and lcs.select_modes([-1]) == set()
+    assert lcs.select_modes([sp.sqrt(2) - 1]) == both and lcs.select_modes([1 - sp.sqrt(2)]) == set()
