@@ -71,9 +71,10 @@ def long_int_strings() -> Iterator[None]:
         sys.set_int_max_str_digits(old)
 
 
-@contextlib.contextmanager
-def workprec(prec: int) -> Iterator[None]:
-    """Scoped flint precision (``ctx.prec`` is process-global): restored in ``finally``.
+class workprec:
+    """Scoped flint precision (``ctx.prec`` is process-global): restored on exit, also on an
+    exception.  A plain class, not a generator context manager: the evaluation loops enter it
+    hundreds of thousands of times in a long run.
 
     >>> from flint import arb, ctx, fmpq
     >>> with workprec(200):
@@ -81,12 +82,18 @@ def workprec(prec: int) -> Iterator[None]:
     >>> third.rel_accuracy_bits() >= 198, ctx.prec
     (True, 53)
     """
-    old = ctx.prec
-    ctx.prec = prec
-    try:
-        yield
-    finally:
-        ctx.prec = old
+
+    __slots__ = ("prec", "old")
+
+    def __init__(self, prec: int):
+        self.prec = prec
+
+    def __enter__(self) -> None:
+        self.old = ctx.prec
+        ctx.prec = self.prec
+
+    def __exit__(self, *exc) -> None:
+        ctx.prec = self.old
 
 
 def accuracy_bits(b: arb) -> int:

@@ -93,10 +93,13 @@ class ExpSum:
             for d in orders:
                 acc = arb(0)
                 for (lam, w, cs), e in zip(self._deriv_terms(d), exps):
-                    p = cs[-1]
-                    for c in reversed(cs[:-1]):
-                        p = p * tc + c
-                    v = (e * p).real
+                    if len(cs) == 1:  # a semisimple eigenvalue: no polynomial (the usual case)
+                        v = (e * cs[0]).real
+                    else:
+                        p = cs[-1]
+                        for c in reversed(cs[:-1]):
+                            p = p * tc + c
+                        v = (e * p).real
                     acc += v * w if w != 1 else v
                 out.append(acc)
             return out
