@@ -480,7 +480,8 @@ class FixtureTrajectory:
     ``accumulations``, ``provenance`` (the dict written with the fixture, or None), ``data``
     (the dict).  Numbers are certified ``flint.arb`` balls.
     ``x0_rational`` holds x0 as Fractions when the fixture says it is rational; then ``exact``
-    is the trajectory recomputed exactly (on first use, checked against the fixture).
+    is the trajectory recomputed exactly (on first use, checked against the fixture's events and
+    samples).  ``digested``: the fixture carries its content digest (checked on reading).
     """
 
     def __init__(self, data: dict, source: str = "fixture"):
@@ -494,6 +495,10 @@ class FixtureTrajectory:
             pass
         check_digest(data, source)  # an edited fixture is not ground truth
         self.data, self.source = data, source
+        #: True when the fixture carries its digest (checked above); a fixture without one
+        #: (written before digests existed, or with them removed) is verified against its
+        #: recomputed run before :func:`lcs_exact.compare` takes its samples as ground truth
+        self.digested = "digest" in data
         sysd = _key(data, "system")
         self.lcs = LCS(_key(sysd, "A", "system"), _key(sysd, "B", "system"), _key(sysd, "C", "system"),
                        _key(sysd, "D", "system"), name=sysd.get("name"), restitution=sysd.get("restitution"),
@@ -556,6 +561,15 @@ class FixtureTrajectory:
             self._exact = self._recompute()
         return self._exact
 
+    def verify(self) -> "FixtureTrajectory":
+        """Recompute the run exactly and check every event and sample of the fixture against it
+        (:class:`~lcs_exact.errors.FixtureMismatch` on a disagreement; :class:`FormatError` when
+        x0 or t_end is not rational).  Returns the fixture."""
+        if not self.can_recompute:
+            raise FormatError(f"{self.source}: x0 or t_end is not rational: the run cannot be recomputed exactly")
+        self.exact  # noqa: B018 -- computed and checked on first access
+        return self
+
     def _recompute(self):
         simulate = _ENGINE
         if simulate is None:  # pragma: no cover - lcs_exact/__init__ imports compare, which sets it
@@ -577,8 +591,9 @@ class FixtureTrajectory:
         return traj
 
     def _verify(self, traj) -> None:
-        """Every event of the recomputed run agrees with the fixture (modes exactly, times and
-        states as overlapping certified balls: disjoint balls prove a disagreement)."""
+        """Every event and every sample of the recomputed run agrees with the fixture (modes
+        exactly, times and states as overlapping certified balls: disjoint balls prove a
+        disagreement)."""
         src, d = self.source, self.digits
         if len(traj.events) != len(self.events):
             raise FixtureMismatch(f"{src}: the recomputed run has {len(traj.events)} events, the fixture "
@@ -596,6 +611,13 @@ class FixtureTrajectory:
                     if not c.ball(d).overlaps(b):
                         raise FixtureMismatch(f"{src}: event {j}: {key}[{i}] recomputed as "
                                               f"{c.decimal(20)} is outside the fixture's {b}")
+        if self.samples:
+            rows = traj.sample([s.t for s in self.samples], d)
+            for s, row in zip(self.samples, rows):
+                for i, (c, b) in enumerate(zip(row, s.x)):
+                    if not c.overlaps(b):
+                        raise FixtureMismatch(f"{src}: the sample at t = {s.t}: x[{i}] recomputed as {c} is "
+                                              f"outside the fixture's {b}")
 
     def state(self, t: Any):
         """x(t) as an exact vector (from the recomputed run); see :meth:`sample` for balls."""
@@ -610,6 +632,8 @@ class FixtureTrajectory:
         the exact recomputation (FormatError when neither is available)."""
         times = [to_fraction(t, "t") for t in ts]
         if all(t in self._by_time for t in times):
+            if not self.digested and self.can_recompute:
+                self.verify()  # no digest vouches for the samples: the recomputed run checks them
             return [list(self._by_time[t].x) for t in times]
         if self.exact is None:
             missing = next(t for t in times if t not in self._by_time)

@@ -172,6 +172,23 @@ def test_an_edited_fixture_is_refused(osc_fixture, tmp_path):
     assert main(["compare", str(path), str(csv)]) == 2
 
 
+def test_an_edited_fixture_without_its_digests_is_checked_against_the_system(osc_fixture):
+    """Deleting the digests does not make an edited sample ground truth: a fixture without a
+    digest is read (older fixtures have none), but compare first recomputes its run from the
+    system and x0 it carries and refuses a sample the run contradicts; an honest one passes."""
+    d = copy.deepcopy(osc_fixture)
+    del d["digest"], d["samples_digest"]
+    honest = L.read_fixture(copy.deepcopy(d))
+    assert not honest.digested and honest.verify() is honest
+    s = d["samples"][3]
+    s["x"][0].update(value="0.5", exact=None)
+    edited = L.read_fixture(d)
+    ts = [float(edited.samples[k].t) for k in (2, 3)]
+    with pytest.raises(L.FixtureMismatch, match="sample at t ="):
+        L.compare(edited, ts, [[0.5, 0.0], [0.5, 0.0]])
+    assert L.read_fixture(copy.deepcopy(osc_fixture)).digested
+
+
 @pytest.mark.parametrize("bad, fragment", [
     ({"schema": "something/else"}, "schema"),
     ([1, 2], "path or a dict, got list"),
