@@ -662,7 +662,10 @@ def read_fixture(path_or_dict: Any) -> FixtureTrajectory:
     """Read a fixture (a path to its JSON file, or the dict) back as a :class:`FixtureTrajectory`.
 
     Validates it (the shipped JSON Schema when ``jsonschema`` is installed, and the reader's own
-    shape checks); raises :class:`~lcs_exact.errors.FormatError` naming what is wrong.
+    shape checks); raises :class:`~lcs_exact.errors.FormatError` naming what is wrong.  A fixture
+    whose content does not match its digest is refused (:class:`~lcs_exact.errors.FixtureMismatch`);
+    one without a digest (written before digests existed, or with them removed) is recomputed from
+    its system when x0 is rational and refused when an event or sample disagrees.
 
     Examples
     --------
@@ -678,7 +681,7 @@ def read_fixture(path_or_dict: Any) -> FixtureTrajectory:
     if isinstance(path_or_dict, FixtureTrajectory):
         return path_or_dict
     if isinstance(path_or_dict, dict):
-        return FixtureTrajectory(path_or_dict)
+        return _checked(FixtureTrajectory(path_or_dict))
     if isinstance(path_or_dict, (str, Path)):
         p = Path(path_or_dict)
         try:
@@ -687,5 +690,10 @@ def read_fixture(path_or_dict: Any) -> FixtureTrajectory:
             raise FormatError(f"{p}: not JSON ({e})") from None
         except RecursionError:
             raise FormatError(f"{p}: JSON nested too deeply") from None
-        return FixtureTrajectory(data, str(p))
+        return _checked(FixtureTrajectory(data, str(p)))
     raise FormatError(f"read_fixture takes a path or a dict, got {type(path_or_dict).__name__}")
+
+
+def _checked(fx: FixtureTrajectory) -> FixtureTrajectory:
+    """No digest vouches for the content: check it against the recomputed run (x0 rational)."""
+    return fx.verify() if not fx.digested and fx.can_recompute else fx
