@@ -19,7 +19,7 @@ from flint import arb, fmpq
 
 from .balls import Deadline, Policy, ball_sign, dyadic_lower, dyadic_upper, workprec
 from .closedforms import prove_root, prove_touch
-from .errors import LCSError
+from .errors import LCSError, UnresolvedSign
 from .interfaces import SystemLike
 from .modes import format_mode
 from .phase import Constraint, Phase
@@ -129,8 +129,9 @@ def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int
         if eps is not None:
             break
         if prec >= policy.max_prec:  # the sign was certified exactly: this needs more bits only
-            raise LCSError(f"could not certify the start of {c.name} (sign 1, order {order}) in mode "
-                           f"{format_mode(phase.mode.I)} at {prec} bits")
+            raise UnresolvedSign(f"could not certify the start of {c.name} (sign 1, order {order}) in mode "
+                                 f"{format_mode(phase.mode.I)} at {prec} bits: no step (0, eps] with {c.name} > 0 "
+                                 f"is proven at this precision (max_prec)")
         prec = min(2 * prec, policy.max_prec)
     with workprec(64):
         eps = min(eps, dyadic_lower(arb(eps)))  # a short dyadic
