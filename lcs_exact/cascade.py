@@ -41,6 +41,7 @@ not hold (or that the models cannot decide) makes the proof fail, never guess.
 """
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from math import factorial
 from typing import Sequence
@@ -353,7 +354,7 @@ class CascadeBound:
 
 def cascade_bound(lcs, events: Sequence, *, prec: int = 128, max_prec: int = 4096,
                   orders: Sequence[int] = (7, 12, 40), check=None, tried: set | None = None,
-                  background_order: int = 12) -> CascadeBound | None:
+                  background_order: int = 12, budget: float | None = None) -> CascadeBound | None:
     """A certified enclosure of the accumulation time of the cascade the last events start, or
     None when no proof is found (the module docstring).
 
@@ -363,12 +364,25 @@ def cascade_bound(lcs, events: Sequence, *, prec: int = 128, max_prec: int = 409
     ``max_prec`` the most spent on the start state's coordinates; ``check()`` (a deadline) is
     called between the steps; ``tried`` (a set kept by the caller) skips the starts a previous
     call tried already; ``background_order`` caps the order of the models for a family with a
-    background (they grow fast: a caller that can wait for more events tries 7 first).  Requires Theorem 6.3 (unique initial solutions) and the paper's
+    background (they grow fast: a caller that can wait for more events tries 7 first);
+    ``budget`` (seconds) ends the attempt with None when spent (checked before every product of
+    the models).  Requires Theorem 6.3 (unique initial solutions) and the paper's
     re-initialization (no restitution)."""
     if getattr(lcs, "restitution", None) is not None or not lcs.well_posedness():
         return None
     K = len(events) - 1
     tried = set() if tried is None else tried
+    started = time.monotonic()
+
+    def spent() -> bool:
+        return budget is not None and time.monotonic() - started > budget
+
+    def guard():
+        if check is not None:
+            check()
+        if spent():
+            raise NoProof("the proof's time budget is spent")
+
     for p in range(1, 9):
         if K - 2 * p + 1 < 0:
             break
@@ -385,12 +399,13 @@ def cascade_bound(lcs, events: Sequence, *, prec: int = 128, max_prec: int = 409
             if pattern[0][0] != ev.mode_after or pattern[-1] != event_signature(ev):
                 continue
             for N in orders:
-                if check is not None:
-                    check()
                 try:
-                    return _certify_cycle(lcs, ev, k0, pattern, N, prec, max_prec, check=check,
+                    guard()
+                    return _certify_cycle(lcs, ev, k0, pattern, N, prec, max_prec, check=guard,
                                           background_order=background_order)
                 except NoProof as e:
+                    if spent():
+                        return None
                     if not e.order:
                         break
     return None
@@ -489,7 +504,7 @@ def _certify_cycle(lcs, ev, k0: int, pattern: list, N: int, prec: int, max_prec:
                 for t, bc in enumerate(bcols):
                     xi = xi + sp.gens[2 + t] * bc[i, 0]
                 x_of.append(xi)
-        box = Box(sp)
+        box = Box(sp, check)
         x = [box.model(xi, N) for xi in x_of]
         casc = _Cascade(lcs, box, N)
         D, mode_now, U = None, ev.mode_after, V

@@ -269,7 +269,7 @@ class _Run:
         self.unique_by_theorem = bool(lcs.well_posedness())  # Theorem 6.3: one initial solution
         self.undetermined: frozenset = frozenset()  # inputs the state leaves free on the next phase
         self.bar = None  # a progress bar (simulate(..., progress=True))
-        self.cascade_tried: set = set()  # starts of cascade proofs tried (accumulation.cascade_bound)
+        self.cascade_tried: set = set()  # starts of cascade proofs tried (cascade.cascade_bound)
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
         return Trajectory(self.lcs, z0, self.T, digits, events=self.events, phases=self.phases,
@@ -485,7 +485,7 @@ class _Run:
             return bool(d[-1] * 10**9 < max(d[:-1], key=lambda b: b.mid()))
 
     def stop_at_cascade(self, err: LCSError | None) -> None:
-        """Prove the accumulation of an impact cascade (:func:`~lcs_exact.accumulation.cascade_bound`:
+        """Prove the accumulation of an impact cascade (:func:`~lcs_exact.cascade.cascade_bound`:
         a cycle of events repeating forever from a one-parameter family of states, its times
         summed by a certified contraction) and stop with :class:`ZenoDetected` carrying the
         certified enclosure lower <= T* <= upper; return (nothing proven) otherwise."""
@@ -493,7 +493,8 @@ class _Run:
         bound = cascade_bound(self.lcs, self.events, prec=max(128, policy.target_bits + 32),
                               max_prec=policy.max_prec, tried=self.cascade_tried,
                               check=lambda: policy.check_deadline(lambda: " while proving an impact cascade"),
-                              background_order=7 if err is None else 12)  # cheap while more events can come
+                              background_order=7 if err is None else 12,  # cheap while more events can come
+                              budget=CASCADE_BUDGET[err is not None])
         if bound is None:
             return
         if err is None and bound.lower > self.T.arb(64).upper():
@@ -591,6 +592,10 @@ class _ReferenceStates:
             M = F if kind == "u" else self.run.lcs.C + self.run.lcs.D * F
             return ProjectedVector(M, x)
         raise LCSError("internal inconsistency: a reference time outside the computed run")
+
+
+#: seconds a cascade proof may take: (while the run can go on, when a decision failed and it cannot)
+CASCADE_BUDGET = (2.0, 20.0)
 
 
 def _num(q, digits: int = 20, *, down: bool = False) -> str:

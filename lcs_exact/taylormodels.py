@@ -138,10 +138,12 @@ class Model:
 
 
 class Box:
-    """Taylor-model arithmetic on a :class:`Space` (module docstring)."""
+    """Taylor-model arithmetic on a :class:`Space` (module docstring).  ``check()``, when given,
+    is called before every product (the costly operation): a deadline or a budget raises there."""
 
-    def __init__(self, sp: Space):
+    def __init__(self, sp: Space, check=None):
         self.sp = sp
+        self.check = check
         self.E = sp.box[0]
         self.Sa = arb(sp.S)
         self.sig = sp.sig
@@ -228,6 +230,8 @@ class Box:
         return a.n + 1 if v is None or v > a.n else v
 
     def mul(self, a: Model, b: Model) -> Model:
+        if self.check is not None:
+            self.check()
         va, vb = self.val(a), self.val(b)
         n = min(a.n + vb, b.n + va)
         low, (k, R) = self.tail(a.p * b.p, n)

@@ -350,4 +350,5 @@ def test_the_proof_does_not_follow_a_wrong_cycle():
     assert cascade_bound(lcs, events) is not None
     swapped = [replace(e, triggers=("y_0",) if e.triggers == ("y_1",) else ("y_1",)) for e in events]
     assert cascade_bound(lcs, swapped) is None
+    assert cascade_bound(lcs, events, budget=0) is None  # a spent budget ends the attempt: no proof, no error
     assert isinstance(cascade_bound(lcs, events).lower, type(fmpq(0)))
