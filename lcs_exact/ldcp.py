@@ -244,7 +244,10 @@ def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_m
             M = submatrix(N, K, K) - submatrix(N, K, I) * b
         else:
             q, M = submatrix(z, K, None), submatrix(N, K, K)
-        _, vK, _ = murty(M, q, x)
+        if len(K) == 1:  # a 1 x 1 LCP (M > 0): Murty's first step decides it (no pivoting tableau)
+            vK = -q / M[0, 0] if sign_of_form(q, x) < 0 else zeros(1, n)
+        else:
+            _, vK, _ = murty(M, q, x)
         for r, l in enumerate(K):
             for c in range(n):
                 v[l, c] = vK[r, c]
