@@ -102,20 +102,17 @@ def select_degrees(sp: Space, p, lo: int, hi: int | None):
     return sp.ctx.from_dict({e: c for e, c in terms(p).items() if e[0] >= lo and (hi is None or e[0] <= hi)})
 
 
-def split_degree(sp: Space, p, n: int) -> tuple:
-    """(the terms of eps-degree <= n, the others)."""
-    low, high = {}, {}
-    for e, c in terms(p).items():
-        (low if e[0] <= n else high)[e] = c
-    return sp.ctx.from_dict(low), sp.ctx.from_dict(high)
-
-
 def evaluate(sp: Space, p, box: list | None = None) -> arb:
     """p over the box (interval arithmetic, term by term)."""
+    return evaluate_terms(sp, terms(p).items(), box)
+
+
+def evaluate_terms(sp: Space, items, box: list | None = None) -> arb:
+    """sum of c x^e over the box for the (exponents, coefficient) pairs ``items``."""
     box = box or sp.box
     out = arb(0)
     powers: dict = {}
-    for e, c in terms(p).items():
+    for e, c in items:
         t = arb(c)
         for i, k in enumerate(e):
             if k:
@@ -181,12 +178,25 @@ class Box:
 
     def tail(self, p, n: int) -> tuple:
         """(p's terms of eps-degree <= n, (k, R): the rest as eps^(n+1) sigma^k R)."""
-        low, high = split_degree(self.sp, p, n)
-        if high.is_zero():
-            return low, (0, arb(0))
-        h = shift(self.sp, high, 0, -(n + 1))
-        k = self.vs(h)
-        return low, (k, evaluate(self.sp, shift(self.sp, h, self.sig, -k) if k else h))
+        # one pass over p's terms (the products are large: no intermediate polynomials)
+        low, high = {}, []
+        for e, c in terms(p).items():
+            if e[0] <= n:
+                low[e] = c
+            else:
+                high.append((e, c))
+        lowp = self.sp.ctx.from_dict(low)
+        if not high:
+            return lowp, (0, arb(0))
+        k = 0 if self.sig is None else min(e[self.sig] for e, _ in high)
+        shifted = []  # the rest divided by eps^(n+1) sigma^k: a translation of the exponents
+        for e, c in high:
+            e2 = list(e)
+            e2[0] -= n + 1
+            if k:
+                e2[self.sig] -= k
+            shifted.append((tuple(e2), c))
+        return lowp, (k, evaluate_terms(self.sp, shifted))
 
     # --- construction -------------------------------------------------------------------
     def model(self, p, n: int) -> Model:
