@@ -321,10 +321,11 @@ class Box:
             return evaluate(self.sp, c)
         lo_b, hi_b = None, None
         Sg = self.sp.Sigma
+        items = list(terms(c).items())  # once, not once a piece
         for j in range(pieces):
             box = list(self.sp.box)
             box[self.sig] = interval(Sg * j / pieces, Sg * (j + 1) / pieces)
-            v = evaluate(self.sp, c, box)
+            v = evaluate_terms(self.sp, items, box)
             lo_b = v.lower() if lo_b is None else min(lo_b, v.lower())
             hi_b = v.upper() if hi_b is None else max(hi_b, v.upper())
         return arb((lo_b + hi_b) / 2, (hi_b - lo_b) / 2)
@@ -365,6 +366,7 @@ def positive_on(box: Box, P: list, lo: fmpq, hi: fmpq, margin: arb, pieces: int 
     parameter polynomials), certified by interval evaluation on pieces of tau (and sigma)."""
     sp = box.sp
     Sg = sp.Sigma if sp.sig is not None else None
+    items = [(i, list(terms(c).items())) for i, c in enumerate(P) if not c.is_zero()]  # once, not once a piece
     stack = [(lo, hi, fmpq(0), Sg)]
     count = 0
     while stack:
@@ -377,16 +379,14 @@ def positive_on(box: Box, P: list, lo: fmpq, hi: fmpq, margin: arb, pieces: int 
             bx[sp.sig] = interval(s0, s1)
         tau = interval(a, b)
         val = arb(0)
-        for i, c in enumerate(P):
-            if not c.is_zero():
-                val += evaluate(sp, c, bx) * ipow(tau, i)
+        for i, its in items:
+            val += evaluate_terms(sp, its, bx) * ipow(tau, i)
         if val > margin:
             continue
         bx_mid = list(bx)
         if sp.sig is not None:
             bx_mid[sp.sig] = interval((s0 + s1) / 2, (s0 + s1) / 2)
-        midval = sum((evaluate(sp, c, bx_mid) * ipow(arb((a + b) / 2), i) for i, c in enumerate(P) if not c.is_zero()),
-                     arb(0))
+        midval = sum((evaluate_terms(sp, its, bx_mid) * ipow(arb((a + b) / 2), i) for i, its in items), arb(0))
         if not midval > margin:
             return False  # P <= margin somewhere (up to rounding): not certified
         if Sg and (s1 - s0) * (hi - lo) > (b - a) * Sg:
