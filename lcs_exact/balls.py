@@ -30,7 +30,7 @@ from typing import Callable, Iterator
 
 from flint import arb, ctx, fmpq
 
-from .errors import InvalidArgument, LimitExceeded, TimeLimitExceeded, UnresolvedSign
+from .errors import InvalidArgument, TimeLimitExceeded, UnresolvedSign, Unsupported
 
 __all__ = ["Policy", "Deadline", "DEFAULT_POLICY", "workprec", "long_int_strings", "digits_to_bits", "decide_sign",
            "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb", "dyadic", "dyadic_lower",
@@ -216,12 +216,12 @@ MAX_DYADIC_EXPONENT = 1 << 24
 
 
 def dyadic(x: arb) -> fmpq:
-    """The exact midpoint of a ball as fmpq (:class:`LimitExceeded` beyond 2^(+-2^24))."""
+    """The exact midpoint of a ball as fmpq (:class:`Unsupported` beyond 2^(+-2^24))."""
     m, e = x.mid().man_exp()
     m, e = int(m), int(e)
     if abs(e) > MAX_DYADIC_EXPONENT:
-        raise LimitExceeded(f"a number of magnitude 2^{e} arose (beyond 2^(+-{MAX_DYADIC_EXPONENT}), "
-                            "docs/limits.md): the system's rates or entries are too far apart")
+        raise Unsupported(f"a number of magnitude 2^{e} arose (beyond 2^(+-{MAX_DYADIC_EXPONENT}), "
+                          "docs/limits.md): the system's rates or entries are too far apart")
     return fmpq(m * 2 ** e) if e >= 0 else fmpq(m, 2 ** (-e))
 
 

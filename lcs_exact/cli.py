@@ -363,8 +363,9 @@ def _fmt_t(t) -> str:
 
 
 def _check_writable(path: str) -> None:
-    """-o must name a file that can be written: its folder exists and the file opens for
-    appending (an existing file is left as it is; a new one is removed again)."""
+    """-o must name a file that can be written: its folder exists and a regular file opens for
+    appending (an existing file is left as it is; a new one is removed again; links, FIFOs and
+    devices get the permission test only)."""
     p = Path(path)
     folder = p.parent if str(p.parent) else Path(".")
     if p.is_dir():
@@ -373,6 +374,8 @@ def _check_writable(path: str) -> None:
         raise InvalidArgument(f"-o {path}: the folder {folder} does not exist")
     if not os.access(folder, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
         raise InvalidArgument(f"-o {path}: not writable")
+    if p.is_symlink() or (p.exists() and not p.is_file()):
+        return  # a link or a FIFO/device: opening it here could create its target or consume a reader
     existed = p.exists()
     try:  # the real test (permission bits say yes to root, and /sys or /proc say no later)
         with open(p, "a", encoding="utf-8"):

@@ -9,7 +9,8 @@ loses nothing: :func:`number_ball` turns a number back into a certified ``flint.
   the decimal and bound texts below them (exact integer arithmetic, no float);
 * reading: :func:`number_ball`, :func:`number_exact`, :func:`number_rational`, the exact reader
   of decimal strings;
-* showing a ball read back: :func:`ball_text` (the digits its radius supports), :func:`short_text`.
+* showing a ball read back: :func:`ball_text` (the digits its radius supports), :func:`short_text`;
+* the sample grid of rational times: :func:`sample_grid`.
 
 The names are also importable from :mod:`lcs_exact.fixture`, the module of the whole format.
 This module sits just above :mod:`lcs_exact.errors` and :mod:`lcs_exact.rational`.
@@ -26,7 +27,9 @@ from .errors import FormatError, LCSError
 from .rational import to_fmpq
 
 __all__ = ["rational_number", "ball_number", "number_ball", "number_exact", "number_rational", "to_fraction",
-           "ball_text", "short_text"]
+           "ball_text", "short_text", "sample_grid", "MAX_SAMPLES"]
+
+MAX_SAMPLES = 1_000_000  # a grid beyond this is a typo in the step, not a fixture anyone reads
 
 
 # ---------------------------------------------------------------------------------------------
@@ -264,3 +267,52 @@ def short_text(b: arb) -> str:
     ('3', '0.333333333333333')
     """
     return b.str(15, radius=False) if not b.is_exact() or not b.mid().is_integer() else str(int(b.unique_fmpz()))
+
+
+# ---------------------------------------------------------------------------------------------
+# the sample grid
+# ---------------------------------------------------------------------------------------------
+
+def _as_fraction(r: Any) -> Fraction | None:
+    """An exact real as a Fraction when its closed form is rational, else None."""
+    cf = r.closed_form
+    if cf is not None and getattr(cf, "is_Rational", False):
+        return Fraction(int(cf.p), int(cf.q))
+    return None
+
+
+def sample_grid(t_end: Any, h: Any) -> list[Fraction]:
+    """The grid 0, h, 2h, ... <= t_end (h rational > 0; t_end rational or an exact real).
+
+    ``h`` accepts what :func:`lcs_exact.rational.to_fmpq` accepts (a float by its shortest
+    repr: 0.1 is 1/10).  The count is decided exactly (certified balls when t_end is irrational).
+
+    >>> [str(t) for t in sample_grid(1, "1/4")]
+    ['0', '1/4', '1/2', '3/4', '1']
+    """
+    step = to_fraction(h, "the sample step")
+    if step <= 0:
+        raise FormatError(f"the sample step must be > 0, got {step}")
+    if hasattr(t_end, "ball"):
+        T = _as_fraction(t_end)
+    else:
+        T = to_fraction(t_end, "t_end")
+    if T is not None:
+        count = int(T // step)
+    else:  # irrational t_end: floor(t_end / h) from a ball that excludes every integer
+        count = None
+        for digits in (30, 60, 120, 240):
+            with ctx.workprec(4 * digits + 64):
+                ratio = t_end.ball(digits) / arb(fmpq(step.numerator, step.denominator))
+                lo, hi = ratio.lower().floor(), ratio.upper().floor()
+            if lo == hi:
+                count = int(lo.unique_fmpz())
+                break
+        if count is None:
+            raise FormatError(f"cannot decide how many grid points of step {step} fit before t_end")
+    if count < 0:
+        return []
+    if count + 1 > MAX_SAMPLES:
+        raise FormatError(f"the sample step {step} gives {count + 1} grid points on [0, t_end]; "
+                          f"at most {MAX_SAMPLES} are written (choose a larger step)")
+    return [k * step for k in range(count + 1)]

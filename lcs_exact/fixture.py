@@ -32,12 +32,12 @@ from importlib.resources import files
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-from flint import arb, ctx, fmpq
+from flint import arb, fmpq
 
 from .balls import MAX_DIGITS
-from .errors import FixtureMismatch, FormatError, InvalidArgument, LCSError
-from .fixnumbers import (ball_number, ball_text, number_ball, number_exact, number_rational, rational_number,
-                         short_text, to_fraction)
+from .errors import FixtureMismatch, FormatError, IllPosed, InvalidArgument, LCSError
+from .fixnumbers import (MAX_SAMPLES, ball_number, ball_text, number_ball, number_exact, number_rational,
+                         rational_number, sample_grid, short_text, to_fraction)
 from .modes import format_mode
 from .rational import to_fmpq
 from .system import LCS
@@ -47,7 +47,6 @@ __all__ = ["content_digest", "check_digest", "SCHEMA", "MAX_SAMPLES", "fixture_d
            "number_ball", "number_exact", "number_rational", "ball_number", "rational_number"]
 
 SCHEMA = "lcs-exact/trajectory/1"
-MAX_SAMPLES = 1_000_000  # a grid beyond this is a typo in the step, not a fixture anyone reads
 _SCHEMA_FILE = "trajectory-1.schema.json"
 
 
@@ -85,55 +84,6 @@ def _matrix(m: Any) -> list:
 
 def _mode(m: Any) -> list | None:
     return None if m is None else sorted(int(i) for i in m)
-
-
-# ---------------------------------------------------------------------------------------------
-# the sample grid
-# ---------------------------------------------------------------------------------------------
-
-def _as_fraction(r: Any) -> Fraction | None:
-    """An exact real as a Fraction when its closed form is rational, else None."""
-    cf = r.closed_form
-    if cf is not None and getattr(cf, "is_Rational", False):
-        return Fraction(int(cf.p), int(cf.q))
-    return None
-
-
-def sample_grid(t_end: Any, h: Any) -> list[Fraction]:
-    """The grid 0, h, 2h, ... <= t_end (h rational > 0; t_end rational or an exact real).
-
-    ``h`` accepts what :func:`lcs_exact.rational.to_fmpq` accepts (a float by its shortest
-    repr: 0.1 is 1/10).  The count is decided exactly (certified balls when t_end is irrational).
-
-    >>> [str(t) for t in sample_grid(1, "1/4")]
-    ['0', '1/4', '1/2', '3/4', '1']
-    """
-    step = to_fraction(h, "the sample step")
-    if step <= 0:
-        raise FormatError(f"the sample step must be > 0, got {step}")
-    if hasattr(t_end, "ball"):
-        T = _as_fraction(t_end)
-    else:
-        T = to_fraction(t_end, "t_end")
-    if T is not None:
-        count = int(T // step)
-    else:  # irrational t_end: floor(t_end / h) from a ball that excludes every integer
-        count = None
-        for digits in (30, 60, 120, 240):
-            with ctx.workprec(4 * digits + 64):
-                ratio = t_end.ball(digits) / arb(fmpq(step.numerator, step.denominator))
-                lo, hi = ratio.lower().floor(), ratio.upper().floor()
-            if lo == hi:
-                count = int(lo.unique_fmpz())
-                break
-        if count is None:
-            raise FormatError(f"cannot decide how many grid points of step {step} fit before t_end")
-    if count < 0:
-        return []
-    if count + 1 > MAX_SAMPLES:
-        raise FormatError(f"the sample step {step} gives {count + 1} grid points on [0, t_end]; "
-                          f"at most {MAX_SAMPLES} are written (choose a larger step)")
-    return [k * step for k in range(count + 1)]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -582,6 +532,8 @@ class FixtureTrajectory:
             opts["max_events"] = len(self.events)
         try:
             traj = simulate(self.lcs, x0, T, digits=self.digits, **opts)
+        except IllPosed:  # a non-unique problem (Theorem 6.3 fails): the fixture is one of its branches
+            return self._matching_branch(simulate(self.lcs, x0, T, digits=self.digits, branches="all", **opts))
         except LCSError as e:
             if not self.partial or getattr(e, "trajectory", None) is None:
                 raise FixtureMismatch(f"{self.source}: recomputing the run failed where the fixture "
@@ -589,6 +541,17 @@ class FixtureTrajectory:
             traj = e.trajectory
         self._verify(traj)
         return traj
+
+    def _matching_branch(self, branches):
+        """The branch of a non-unique problem whose events and samples are the fixture's."""
+        for traj in branches:
+            try:
+                self._verify(traj)
+            except FixtureMismatch:
+                continue
+            return traj
+        raise FixtureMismatch(f"{self.source}: the problem is not unique and none of its {len(branches)} "
+                              "solutions matches the fixture")
 
     def _verify(self, traj) -> None:
         """Every event and every sample of the recomputed run agrees with the fixture (modes

@@ -182,6 +182,8 @@ class Trajectory:
         if at_end and i + 1 < len(self.phases):
             return self.phases[i + 1].phase.z  # x(t+): the start of the next phase
         rec = self.phases[i]
+        if at_end and self.events and self.events[-1].time is rec.t1:  # a last event, no phase after it
+            return self.events[-1].state_after
         return rec.phase.state(t - rec.t0)
 
     def u(self, t: Any) -> ExactVector:
@@ -236,12 +238,18 @@ class Trajectory:
         cursor, last = 0, None
         for t in ts:
             tq = to_fmpq(t, "t")
+            if not self.phases:  # stopped before its first phase: the state at t_last only
+                out.append(self._accurate_balls(self.state(tq), tq, need, digits))
+                continue
             if last is None or tq < last:
                 cursor = 0
             i, at_end = self._locate(as_real(tq, self.policy), cursor)
             cursor, last = i, tq
             after = at_end and i + 1 < len(self.phases)  # x(t+) at an event time
             rec = self.phases[i + 1] if after else self.phases[i]
+            if at_end and not after and self.events and self.events[-1].time is rec.t1:
+                out.append(self._accurate_balls(self.events[-1].state_after, tq, need, digits))
+                continue  # a last event with no phase after it: x(t+) is its state after
             while True:
                 self.policy.check_deadline(lambda: f" while sampling x({tq})")
                 x = self._point(rec, tq, prec, after)
@@ -252,6 +260,19 @@ class Trajectory:
                     raise LCSError(f"could not evaluate x({tq}) to {digits} digits")
             out.append(x)
         return out
+
+    def _accurate_balls(self, v: ExactVector, tq: fmpq, need: int, digits: int) -> list[arb]:
+        """The components of an exact vector as balls accurate to ``need`` bits."""
+        prec = need + 32
+        while True:
+            self.policy.check_deadline(lambda: f" while sampling x({tq})")
+            xb = v.arb(prec)
+            x = [xb[i, 0] for i in range(xb.nrows())]
+            if all(_accurate(b, need) for b in x):
+                return x
+            prec *= 2
+            if prec > 64 * (need + 32):
+                raise LCSError(f"could not evaluate x({tq}) to {digits} digits")
 
     @staticmethod
     def _point(rec: PhaseRecord, tq: fmpq, prec: int, at_start: bool = False) -> list[arb]:

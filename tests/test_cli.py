@@ -194,6 +194,21 @@ def test_run_stopped_before_its_first_phase_writes_its_fixture(tmp_path, capsys)
     assert [c["exact"] for c in json.loads(out.read_text())["final_state"]] == ["0", "1", "-1", "0"]
     tr = L.simulate(L.LCS(CARTS["A"], CARTS["B"], CARTS["C"], CARTS["D"]), [0, 1, -1, 0], 2)
     assert [c.rational() for c in tr.state(0)] == [0, 1, 0, 0]  # x(0+) after the jump, by hand
+    sampled = tmp_path / "s.json"  # with samples too: the grid [0] holds x0
+    assert main(["simulate", model, "--max-events", "0", "--sample", "1/10", "-o", str(sampled)]) == 3
+    capsys.readouterr()
+    samples = json.loads(sampled.read_text())["samples"]
+    assert [[c["exact"] for c in s["x"]] for s in samples] == [["0", "1", "-1", "0"]]
+
+
+def test_output_through_a_link_is_written_where_the_link_points(tmp_path, capsys):
+    """-o naming a symbolic link to a file not yet there: the pre-run check neither creates the
+    target nor removes the link; the fixture is written through the link."""
+    target, link = tmp_path / "target.json", tmp_path / "link.json"
+    link.symlink_to(target)
+    assert main(["simulate", write(tmp_path, OSC), "-o", str(link)]) == 0
+    capsys.readouterr()
+    assert link.is_symlink() and json.loads(target.read_text())["certified"] is True
 
 
 def test_outputs_and_sample_counts_are_checked_before_the_run(tmp_path, capsys):

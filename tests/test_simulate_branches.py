@@ -95,3 +95,17 @@ def test_well_posed_systems_never_branch():
     h = L.models.two_carts_with_hook()
     tr = L.simulate(h, [0, 0, 0, 0], 1)
     assert tr.certified and tr.choices == ()
+
+
+def test_a_branch_fixture_without_its_digests_is_checked_against_its_branch():
+    """A fixture of one branch of a non-unique problem, its digests removed, is recomputed: the
+    run from x0 is not unique, so the branch whose events and samples match is found (x = e^-t or
+    x = 1 from x0 = 1); an edited sample matches no branch and is refused."""
+    b = L.simulate(SCALAR, [1], 2, branches="all")
+    for tr in b:
+        d = tr.to_fixture(10, sample="1/2")
+        del d["digest"], d["samples_digest"]
+        assert not L.read_fixture(dict(d)).digested
+        d["samples"][2]["x"][0].update(value="0.7", exact=None)  # x(1) is e^-1 or 1, never 0.7
+        with pytest.raises(L.FixtureMismatch, match="none of its 2 solutions matches"):
+            L.read_fixture(d)
