@@ -316,6 +316,33 @@ def test_two_contacts_taking_turns_over_a_moving_background():
         assert all(abs(num(e.time) - t) < mp.mpf(10) ** -35 for e, t in zip(tr.events, times))
 
 
+@pytest.mark.slow
+def test_four_coupled_masses_taking_turns_proven_without_a_budget():
+    """Four masses with a coupled (non-diagonal) mass matrix, contacts q1 >= 0 and q0 - q3 >= 0,
+    from x0 = (10/3, 1/3, 1/2, 2, -1, -2, -1, 3): the two contacts take turns (y_0, y_1, ...) with
+    phases 5.5e-6, 5.6e-12, 4.8e-23, ... over a background of dimension 4 (found by a fuzz of
+    random systems).  Inside simulate the proof has a time budget; called directly, without one,
+    on the first seven events it proves the cascade, and its enclosure contains the accumulation
+    time of the independent mpmath run."""
+    Mm = [[2, 1, 0, 0], [1, 2, 1, 0], [0, 1, 2, 1], [0, 0, 1, 2]]
+    K = [[3, -1, 0, 0], [-1, 6, -2, 0], [0, -2, 5, -3], [0, 0, -3, 3]]
+    E = [[0, 1, 0, 0], [1, 0, 0, -1]]
+    x0 = [Fraction(10, 3), Fraction(1, 3), Fraction(1, 2), 2, -1, -2, -1, 3]
+    lcs = mechanical(Mm, K, E)
+    with pytest.raises(L.LimitExceeded) as info:
+        L.simulate(lcs, x0, 4, max_events=7)
+    events = info.value.trajectory.events
+    bound = cascade_bound(lcs, events, background_order=12)
+    assert bound is not None and bound.background and bound.period == 2
+    times, kinds, t_last, left = plastic_run(Mm, K, E, x0, 4)
+    with mp.workdps(100):
+        assert [k[0] for k in kinds[:7]] == ["y_0", "y_1"] * 3 + ["y_0"]
+        lo = _mp(Fraction(int(bound.lower.p), int(bound.lower.q)))
+        hi = _mp(Fraction(int(bound.upper.p), int(bound.upper.q)))
+        assert lo <= t_last and t_last + left <= hi and hi - lo < mp.mpf(10) ** -35
+        assert all(abs(num(e.time) - t) < mp.mpf(10) ** -35 for e, t in zip(events, times))
+
+
 # --------------------------------------------------------------------------------------------
 # the proof refuses what it cannot prove
 # --------------------------------------------------------------------------------------------
