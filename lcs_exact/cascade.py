@@ -99,15 +99,6 @@ def _norm_inf(M: fmpq_mat) -> arb:
     return arb(max((sum(abs(M[i, j]) for j in range(M.ncols())) for i in range(M.nrows())), default=fmpq(0)))
 
 
-def _mat_power(A: fmpq_mat, r: int) -> fmpq_mat:
-    out = fmpq_mat(A.nrows(), A.ncols())
-    for i in range(A.nrows()):
-        out[i, i] = 1
-    for _ in range(r):
-        out = out * A
-    return out
-
-
 class _Cascade:
     """One cycle of a cascade run on the family (module docstring)."""
 
@@ -187,7 +178,7 @@ class _Cascade:
             if name in triggers or _vanishes(f, K):
                 continue
             r = 0
-            while _vanishes(f * _mat_power(A, r), U):
+            while _vanishes(f * A ** r, U):
                 r += 1
             orders[name] = r
         Jmax = -(-(self.N + 1) // mu) + max(orders.values(), default=0) + 1

@@ -239,7 +239,8 @@ class Trajectory:
         for t in ts:
             tq = to_fmpq(t, "t")
             if not self.phases:  # stopped before its first phase: the state at t_last only
-                out.append(self._accurate_balls(self.state(tq), tq, need, digits))
+                x, _ = self._refined(_components(self.state(tq)), tq, need, digits, need + 32)
+                out.append(x)
                 continue
             if last is None or tq < last:
                 cursor = 0
@@ -248,28 +249,20 @@ class Trajectory:
             after = at_end and i + 1 < len(self.phases)  # x(t+) at an event time
             rec = self.phases[i + 1] if after else self.phases[i]
             if at_end and not after and self.events and self.events[-1].time is rec.t1:
-                out.append(self._accurate_balls(self.events[-1].state_after, tq, need, digits))
-                continue  # a last event with no phase after it: x(t+) is its state after
-            while True:
-                self.policy.check_deadline(lambda: f" while sampling x({tq})")
-                x = self._point(rec, tq, prec, after)
-                if all(_accurate(b, need) for b in x):
-                    break
-                prec *= 2
-                if prec > 64 * (need + 32):
-                    raise LCSError(f"could not evaluate x({tq}) to {digits} digits")
+                # a last event with no phase after it: x(t+) is its state after
+                x, _ = self._refined(_components(self.events[-1].state_after), tq, need, digits, need + 32)
+            else:
+                x, prec = self._refined(lambda p: self._point(rec, tq, p, after), tq, need, digits, prec)
             out.append(x)
         return out
 
-    def _accurate_balls(self, v: ExactVector, tq: fmpq, need: int, digits: int) -> list[arb]:
-        """The components of an exact vector as balls accurate to ``need`` bits."""
-        prec = need + 32
+    def _refined(self, compute, tq: fmpq, need: int, digits: int, prec: int) -> tuple[list[arb], int]:
+        """(compute(p), p): balls accurate to ``need`` bits, p doubled from ``prec`` until they are."""
         while True:
             self.policy.check_deadline(lambda: f" while sampling x({tq})")
-            xb = v.arb(prec)
-            x = [xb[i, 0] for i in range(xb.nrows())]
+            x = compute(prec)
             if all(_accurate(b, need) for b in x):
-                return x
+                return x, prec
             prec *= 2
             if prec > 64 * (need + 32):
                 raise LCSError(f"could not evaluate x({tq}) to {digits} digits")
@@ -475,6 +468,14 @@ class PartlyUndetermined(ExactVector):
 
     def __repr__(self):
         return "(" + ", ".join(c.label() for c in self) + ")"
+
+
+def _components(v: ExactVector):
+    """p -> the components of v as balls at p bits."""
+    def at(prec: int) -> list[arb]:
+        xb = v.arb(prec)
+        return [xb[i, 0] for i in range(xb.nrows())]
+    return at
 
 
 def _accurate(b: arb, need: int) -> bool:
