@@ -196,15 +196,15 @@ def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
     """f(t) = g e^{Mt} v as a SymPy expression in t, or None; cross-checked against the certified
     ball of f at two rational times (a defect in the symbolic inversion must never become a
     false proof)."""
-    import sympy
     q = v.exact_rational()
     if q is not None:
         sym = laplace_closed_form(spectrum.M, g, q)
     else:
         vc = v.closed_form()
         E = symbolic_expm(spectrum) if vc is not None else None
-        sym = None if E is None else sympy.expand((matrix_to_sympy(g) * E * vc)[0, 0])
+        sym = None if E is None else (matrix_to_sympy(g) * E * vc)[0, 0].expand()
     if sym is not None:
+        import sympy
         t = t_symbol()
         for tq in (fmpq(1, 7), fmpq(5, 3)):
             with workprec(128):

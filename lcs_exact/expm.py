@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 from typing import Any, Callable
 
-from flint import acb, acb_mat, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly
+from flint import acb, acb_mat, acb_poly, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly
 
 from .balls import closed_form_arb, workprec
 from .errors import LCSError
@@ -60,6 +60,11 @@ def jordan_chevalley(M: fmpq_mat, r: fmpq_poly | None = None) -> tuple[fmpq_mat,
     while not is_zero(P):
         P, m = P * N, m + 1
     return S, N, m
+
+
+#: bits the spectral factors are computed beyond a doubled precision (covers the guard bits
+#: a root or an eigenvalue asks on top of a working precision)
+FACTOR_HEADROOM = 64
 
 
 class Spectrum:
@@ -158,8 +163,9 @@ class Spectrum:
         dr = self.r.derivative()
         with workprec(work):
             Lv = acb_mat(d, e)  # lambda^{d-1-i} / r'(lambda)
+            drp = acb_poly(dr)  # r' evaluated in C (rectangular splitting), not by Python Horner
             for k, (lam, _, _) in enumerate(eig):
-                p = acb(1) / _poly_at(dr, lam)
+                p = acb(1) / drp(lam)
                 for i in range(d - 1, -1, -1):
                     Lv[i, k] = p
                     p = p * lam
@@ -186,8 +192,14 @@ class Spectrum:
         if self._factors[0] >= prec:
             return self._factors[1]
         # the cost is mostly fixed, not per bit, and the precision asked of a phase grows by
-        # doubling (root isolation escalates so): compute well ahead of it
-        prec = 4 * prec if not self._factors[0] else max(2 * prec, 2 * self._factors[0]) + 32
+        # doubling (sign decisions and root isolation escalate so), plus a root's guard bits:
+        # compute well ahead of it.  Two doublings and their guard (4 p + FACTOR_HEADROOM): a
+        # request at 4 p + 32 (a root refined at a state's 4 p bits) recomputed every mode of
+        # the 64 x 64 chain at twice that, an eighth of its run
+        if not self._factors[0]:
+            prec = 4 * prec + FACTOR_HEADROOM
+        else:
+            prec = max(2 * prec, 2 * self._factors[0]) + FACTOR_HEADROOM
         n = self.n
         if not self._factors[0]:
             self._guard = self._initial_guard()
@@ -223,10 +235,24 @@ class Spectrum:
     def _initial_guard(self) -> int:
         """Bits the Krylov basis is expected to lose, about n (1.5 + log2 max(2, rho)) for
         eigenvalues of modulus up to rho (measured: 140-176 bits on the modes of the 64 x 64
-        chain, rho = 2); the accuracy check corrects the estimate."""
-        with workprec(64):
-            rho = max((abs(lam).upper() for lam, _, _ in self._eigen(64)), default=arb(1))
-            bits = float((rho.max(arb(2))).log().mid()) / math.log(2)
+        chain, rho = 2); the accuracy check corrects the estimate.  rho is a float estimate
+        (numpy's eigenvalues of S: an estimate is all a guard needs, and isolating the roots of r
+        at 64 bits only for it cost as much as at the working precision); certified balls when
+        the floats overflow."""
+        import numpy as np  # a heuristic only (as the float estimates of the root search)
+        rho = math.nan
+        try:
+            S = np.array([float(v) for v in self.S.entries()], dtype=float).reshape(self.n, self.n)
+            with np.errstate(all="ignore"):
+                if self.n and np.all(np.isfinite(S)):
+                    rho = float(np.max(np.abs(np.linalg.eigvals(S))))
+        except (OverflowError, np.linalg.LinAlgError):  # entries beyond floats; no convergence
+            pass
+        if not math.isfinite(rho):
+            with workprec(64):
+                b = max((abs(lam).upper() for lam, _, _ in self._eigen(64)), default=arb(1))
+                rho = float(b.mid()) if b < 2 ** 1000 else 2.0 ** 1000
+        bits = math.log2(max(2.0, rho))
         return 24 + int(self.n * (bits + 1.5))
 
     def modal(self, z: arb_mat | Callable[[int], arb_mat], prec: int) -> list[tuple[acb, int, list[acb_mat]]]:
@@ -244,7 +270,9 @@ class Spectrum:
     def matrix(self, t: arb, prec: int) -> arb_mat:
         """A ball of the propagator e^{Mt} (t a ball, possibly wide: an enclosure over it):
         sum_lambda w Re(e^{lambda t} R_lambda H_lambda) times sum_j t^j N^j / j!, one product
-        [R_lambda ...] diag(w e^{lambda t}) [H_lambda; ...]: O(n^3)."""
+        [R_lambda ...] diag(w e^{lambda t}) [H_lambda; ...]: O(n^3).  Only the real part is
+        wanted, so the complex product is taken as real ones: Re(R X) = Re R Re X - Im R Im X
+        with X = D H (a 64 x 64 complex product costs six times two real ones)."""
         n = self.n
         if n == 0:
             return arb_mat(0, 0)
@@ -252,14 +280,16 @@ class Spectrum:
         R, H = self._stacked_at(prec)
         with workprec(prec):
             tc = acb(t)
-            D = acb_mat(R.ncols(), R.ncols())
+            m = R.ncols()
+            Dr, Di = arb_mat(m, m), arb_mat(m, m)
             pos = 0
             for lam, w, Rl, _ in fac:
                 e = (lam * tc).exp() * w
                 for _ in range(Rl.ncols()):
-                    D[pos, pos] = e
+                    Dr[pos, pos], Di[pos, pos] = e.real, e.imag
                     pos += 1
-            E = (R * (D * H)).real
+            Hr, Hi = H.real, H.imag
+            E = R.real * (Dr * Hr - Di * Hi) - R.imag * (Dr * Hi + Di * Hr)
             if not self.semisimple:
                 P, tp = arb_mat(self.nilpotent[0]), arb(1)
                 for Q in self.nilpotent[1:]:
@@ -354,14 +384,6 @@ class Spectrum:
         return fmpq_mat(self.n, self.n, [cols[j][i] for i in range(self.n) for j in range(self.n)])
 
 
-def _poly_at(p: fmpq_poly, x: acb) -> acb:
-    """p(x) for a rational polynomial at a complex ball (Horner at the ambient precision)."""
-    out = acb(0)
-    for c in reversed(p.coeffs()):
-        out = out * x + acb(c)
-    return out
-
-
 def _probe(n: int, m: int, seed: int) -> fmpq_mat:
     """A fixed n x m matrix of small nonzero integers (a linear congruential sequence): the
     probes C, C' of the factored projectors, reproducible from ``seed``."""
@@ -454,17 +476,19 @@ def laplace_closed_form(M: fmpq_mat, row: fmpq_mat, z: fmpq_mat):
     partial fractions are inverted term by term (t^l e^{rt}, e^{at} cos/sin, cosh/sinh);
     otherwise None.
     """
-    import sympy
-    t = t_symbol()
-    s = _SYMBOLS["s"]
     f = resolvent(M, row, z)[0, 0]
+    ext = None if f.is_zero() else _quadratic_extension(f.den)
+    if ext is False:
+        return None  # decided without SymPy (importing it costs more than most runs)
+    import sympy
     if f.is_zero():
         return sympy.Integer(0)
-    ext = _quadratic_extension(f.den)
-    if ext is False:
-        return None
+    t = t_symbol()
+    s = _SYMBOLS["s"]
     expr = f.to_sympy().subs(sympy.Symbol("s"), s)
     total = sympy.Integer(0)
+    if ext is not None:
+        ext = sympy.sqrt(sympy.Rational(int(ext.p), int(ext.q)))
     parts = sympy.apart(expr, s) if ext is None else sympy.apart(expr, s, extension=ext)
     for term in sympy.Add.make_args(parts):
         inv = _inverse_laplace_term(term, s, t)
@@ -475,10 +499,10 @@ def laplace_closed_form(M: fmpq_mat, row: fmpq_mat, z: fmpq_mat):
 
 
 def _quadratic_extension(den):
-    """None when every irreducible factor of den over Q has degree <= 2; sqrt(d) when the others
-    are biquadratic a s^4 + b s^2 + c splitting over one Q(sqrt(d)), d = b^2 - 4ac (the two carts'
-    free mode: s^4 + 3s^2 + 1 over Q(sqrt 5)); False otherwise."""
-    import sympy
+    """None when every irreducible factor of den over Q has degree <= 2; d (a rational) when the
+    others are biquadratic a s^4 + b s^2 + c splitting over one Q(sqrt(d)), d = b^2 - 4ac (the two
+    carts' free mode: s^4 + 3s^2 + 1 over Q(sqrt 5)); False otherwise.  Decided in Q: two such
+    factors share their field when the product of their d is a rational square."""
     ext = None
     for p, _ in den.factor()[1]:
         if p.degree() <= 2:
@@ -487,11 +511,16 @@ def _quadratic_extension(den):
         if p.degree() != 4 or c[1] != 0 or c[3] != 0:
             return False
         d = c[2] * c[2] - 4 * c[4] * c[0]
-        root = sympy.sqrt(sympy.Rational(int(d.p), int(d.q)))
-        if ext is not None and sympy.simplify(sympy.sqrt(root ** 2 / ext ** 2)).is_Rational is not True:
+        if ext is not None and not _rational_square(d * ext):
             return False  # two different quadratic fields
-        ext = ext if ext is not None else root
+        ext = ext if ext is not None else d
     return ext
+
+
+def _rational_square(q: fmpq) -> bool:
+    """q = r^2 for a rational r."""
+    p, d = int(q.p), int(q.q)
+    return p >= 0 and math.isqrt(p) ** 2 == p and math.isqrt(d) ** 2 == d
 
 
 def _inverse_laplace_term(term, s, t):
@@ -540,7 +569,6 @@ def symbolic_expm(spectrum: Spectrum):
     never become a false closed form)."""
     if "symbolic" in spectrum.__dict__:
         return spectrum.symbolic
-    import sympy
     M, n = spectrum.M, spectrum.n
     t = t_symbol()
     unit = [fmpq_mat(n, 1, [int(i == j) for i in range(n)]) for j in range(n)]
@@ -551,6 +579,7 @@ def symbolic_expm(spectrum: Spectrum):
             cols = None
             break
         cols.append(col)
+    import sympy
     E = None if cols is None else sympy.Matrix(n, n, lambda i, j: cols[j][i])
     if E is not None:
         with workprec(128):

@@ -165,7 +165,10 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
             return -1
         if x > y:
             return 1
-        if not tried and (prec >= 2 * start or prec >= policy.max_prec):
+        # closed forms after two doublings: roots that are distinct but close (a cluster of
+        # impacts running down a chain, 10^-27 .. 10^-60 apart) separate at 2-4x the start,
+        # and a closed-form attempt costs more than a refinement
+        if not tried and (prec >= 4 * start or prec >= policy.max_prec):
             tried = True
             if policy.closed_forms != "off":
                 fa, fb = a.closed, b.closed

@@ -27,9 +27,9 @@ from .modes import format_mode
 from .reals import as_real
 from .vectors import ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, ca_matvec, orbit_start
 from .polyhedra import eliminate
-from .rational import is_zero, submatrix, vstack, zeros
+from .rational import is_zero, submatrix, zeros
 from .roots import ExpSum, RootReal, newton_ball
-from .subspaces import RowSpan, invariant_forms, orbit_zero_forms, rank, row_basis
+from .subspaces import RowSpan, invariant_forms, orbit_zero_forms, row_basis
 
 __all__ = ["Constraint", "Phase", "PhaseFunction", "EventState"]
 
@@ -282,10 +282,7 @@ class Phase:
         """g_a x(t) = c g_b x(t) on the whole phase with c != 0, proven exactly: g_a lies in
         span(g_b, forms vanishing on the phase) but not in the span of the vanishing forms alone
         (e.g. u_0 = 2 q_1 - q_2 and y_1 = q_1 - q_2 while q_1 = 0)."""
-        Z = [self.zero_forms] if self.zero_forms.nrows() else []
-        base = rank(Z[0]) if Z else 0
-        with_b = rank(vstack(*Z, gb))
-        return rank(vstack(*Z, gb, ga)) == with_b > base and rank(vstack(*Z, ga)) > base
+        return self.zero_span.proportional(ga, gb)
 
     def describe_state(self) -> str:
         return repr(self.z)

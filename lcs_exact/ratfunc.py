@@ -477,9 +477,28 @@ def resolvent(A: fmpq_mat, left: fmpq_mat, right: fmpq_mat | None = None) -> Rat
     RationalMatrix([['s/(s^2 + 1)', '1/(s^2 + 1)']])
     """
     chi = A.charpoly()
-    bs = adjugate_coefficients(A, chi)
     n = A.nrows()
+    if right is not None and left.nrows() * right.ncols() == 1:
+        return RationalMatrix([[RationalFunction(_transfer_numerator(A, chi, left, right), chi)]])
+    bs = adjugate_coefficients(A, chi)
     mats = [left * b * right if right is not None else left * b for b in bs]
     r, c = mats[0].nrows(), mats[0].ncols()
     return RationalMatrix([[RationalFunction(fmpq_poly([mats[n - 1 - d][i, j] for d in range(n)]), chi)
                             for j in range(c)] for i in range(r)])
+
+
+def _transfer_numerator(A: fmpq_mat, chi: fmpq_poly, row: fmpq_mat, col: fmpq_mat) -> fmpq_poly:
+    """N(s) = chi(s) row (sI - A)^{-1} col from the Markov parameters h_j = row A^j col
+    (n products of A with a vector, O(n^3), where the adjugate's n matrices cost O(n^4)):
+    row (sI - A)^{-1} col = sum_j h_j s^{-j-1}, so N_k = sum_j c_{k+j+1} h_j (chi = sum c_i s^i).
+
+    >>> _transfer_numerator(fmpq_mat([[0, 1], [-1, 0]]), fmpq_poly([1, 0, 1]), fmpq_mat([[1, 0]]), fmpq_mat([[1], [0]]))
+    x
+    """
+    n = A.nrows()
+    h, v = [], col
+    for _ in range(n):
+        h.append((row * v)[0, 0])
+        v = A * v
+    c = chi.coeffs() + [0] * (n + 1 - len(chi.coeffs()))
+    return fmpq_poly([sum((c[k + j + 1] * h[j] for j in range(n - k)), fmpq(0)) for k in range(n)])

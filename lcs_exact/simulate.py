@@ -37,7 +37,7 @@ from .cascade import cascade_bound
 from .flow import next_event
 from .impacts import newton_impact
 from .phase import Phase, PhaseFunction
-from .rational import (MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_PREC_BITS, submatrix, to_fmpq, to_int, to_short,
+from .rational import (MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_PREC_BITS, is_zero, submatrix, to_fmpq, to_int, to_short,
                        vector_entries, vstack)
 from .reals import RationalReal, Real, as_real
 from .vectors import ExactVector, ProjectedVector, RationalVector, as_exact_vector, homogenized
@@ -683,6 +683,6 @@ def _impulse(mode, z: ExactVector) -> dict:
     q = z.known_rational()
     forms = impulse_forms(lcs, q if q is not None else z) if lcs.well_posedness() else rcp_data(mode).impulse
     for i, U in enumerate(forms):
-        if any(U.entries()):
+        if not is_zero(U):
             out[i] = RationalVector(U * q, z.policy) if q is not None else ProjectedVector(U, z)
     return out

@@ -187,12 +187,31 @@ class RowSpan:
         return len(self.pivots)
 
     def __contains__(self, form: fmpq_mat) -> bool:
+        return not any(self.reduce(form))
+
+    def reduce(self, form: fmpq_mat) -> list:
+        """The entries of form minus its part in the span along the pivots: a linear map whose
+        kernel is the span (two forms agree modulo the span iff their reductions are equal)."""
         f = form.entries()
         for row, p in zip(self.rows, self.pivots):
             c = f[p]
             if c != 0:
                 f = [a - c * b for a, b in zip(f, row)]
-        return not any(f)
+        return f
+
+    def proportional(self, fa: fmpq_mat, fb: fmpq_mat) -> bool:
+        """fa = c fb modulo the span for some c != 0, neither form in the span.
+
+        >>> Z = RowSpan(fmpq_mat([[0, 0, 1]]))
+        >>> Z.proportional(fmpq_mat([[2, 4, 7]]), fmpq_mat([[1, 2, 0]])), Z.proportional(fmpq_mat([[0, 0, 1]]), fmpq_mat([[0, 0, 2]]))
+        (True, False)
+        """
+        a, b = self.reduce(fa), self.reduce(fb)
+        j = next((i for i, v in enumerate(b) if v != 0), None)
+        if j is None or a[j] == 0:
+            return False
+        c = a[j] / b[j]
+        return all(x == c * y for x, y in zip(a, b))
 
     def has_unit(self, i: int) -> bool:
         """e_i in the span (coordinate i vanishes wherever the relations hold)."""

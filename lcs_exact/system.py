@@ -203,7 +203,7 @@ class LCS:
         # and y' by C A B lambda (relative degree 2: D = 0, C B = 0, as for (8.3))
         CB = self.C * self.B
         for i in range(self.k):
-            what = f"restitution needs every constraint of relative degree 2 (mechanical contacts: D = 0, C B = 0)"
+            what = "restitution needs every constraint of relative degree 2 (mechanical contacts: D = 0, C B = 0)"
             if any(self.D[i, j] != 0 or self.D[j, i] != 0 for j in range(self.k)):
                 raise InvalidArgument(f"{what}; constraint {self.constraint_names[i]!r} has a nonzero entry in D")
             if any(CB[i, j] != 0 or CB[j, i] != 0 for j in range(self.k)):

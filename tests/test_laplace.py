@@ -5,7 +5,7 @@ biquadratic quartics over Q(√d))."""
 import mpmath as mp
 import pytest
 import sympy as sp
-from flint import fmpq, fmpq_mat
+from flint import fmpq, fmpq_mat, fmpq_poly
 from hypothesis import given, settings, strategies as st
 
 from lcs_exact.expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
@@ -76,3 +76,41 @@ def test_two_carts_free_mode_biquadratic():
         for i in range(4):
             for j in range(4):
                 assert abs(mp.mpf(str(sp.N(got[i, j], 45))) - want[i, j]) <= mp.mpf(10) ** -30
+
+
+def _block_diag(*blocks: fmpq_mat) -> fmpq_mat:
+    n = sum(b.nrows() for b in blocks)
+    M = fmpq_mat(n, n)
+    at = 0
+    for b in blocks:
+        for i in range(b.nrows()):
+            for j in range(b.ncols()):
+                M[at + i, at + j] = b[i, j]
+        at += b.nrows()
+    return M
+
+
+CARTS = fmpq_mat(4, 4, [0, 0, 1, 0, 0, 0, 0, 1, -2, 1, 0, 0, 1, -1, 0, 0])  # s^4 + 3s^2 + 1: Q(√5)
+
+
+@pytest.mark.slow
+def test_two_biquadratics_over_one_field():
+    """s^4 + 3s^2 + 1 (d = 5) and s^4 + 12s^2 + 16 (the carts at twice the rate, d = 80 = 16 * 5)
+    split over the same Q(√5): the transform of a row and a state touching both blocks is
+    inverted, and equals mpmath's expm."""
+    M = _block_diag(CARTS, CARTS * 2)
+    assert Spectrum(M).chi == fmpq_poly([1, 0, 3, 0, 1]) * fmpq_poly([16, 0, 12, 0, 1])
+    assert _check(M, fmpq_mat(1, 8, [1, 0, 0, 0, 1, 0, 0, 0]), fmpq_mat(8, 1, [1, 0, 0, 0, 0, 1, 0, 0]))
+
+
+def test_two_biquadratics_over_different_fields():
+    """s^4 + 3s^2 + 1 (Q(√5)) and s^4 + 4s^2 + 2 (d = 8: Q(√2)) have no common quadratic field:
+    no closed form (decided from d_1 d_2 = 40, not a rational square)."""
+    other = fmpq_mat(4, 4, [0, 0, 1, 0, 0, 0, 0, 1, -3, 1, 0, 0, 1, -1, 0, 0])
+    assert Spectrum(other).chi == fmpq_poly([2, 0, 4, 0, 1])
+    M = _block_diag(CARTS, other)
+    assert laplace_closed_form(M, fmpq_mat(1, 8, [1, 0, 0, 0, 1, 0, 0, 0]),
+                               fmpq_mat(8, 1, [1, 0, 0, 0, 1, 0, 0, 0])) is None
+    # each block alone has its closed form
+    assert _check(CARTS, fmpq_mat(1, 4, [1, 0, 0, 0]), fmpq_mat(4, 1, [1, 0, 0, 0]))
+    assert _check(other, fmpq_mat(1, 4, [1, 0, 0, 0]), fmpq_mat(4, 1, [1, 0, 0, 0]))

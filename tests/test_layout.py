@@ -121,3 +121,17 @@ def test_import_is_light():
             "'dask') if m in sys.modules]; print(heavy)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"
+
+
+def test_large_chain_runs_without_sympy():
+    """A run whose spectra have irreducible factors of degree > 4 (an 8-cart chain) decides that
+    no symbolic e^{At} exists from the factor degrees alone (every root is asked for a closed form,
+    closed_forms="eager") and never imports SymPy: the import
+    alone cost half a second of a 64 x 64 run."""
+    code = ("import sys, lcs_exact as L; lcs = L.examples.cart_chain(8); "
+            "x0 = [str((-1) ** i) + '/2' for i in range(8)] + [0] * 8; "
+            "tr = L.simulate(lcs, x0, 2, digits=20, closed_forms='eager'); "
+            "print(len(tr.events), tr.certified, 'sympy' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split()[1:] == ["True", "False"]
+    assert int(out.stdout.split()[0]) > 0

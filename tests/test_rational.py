@@ -18,8 +18,8 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from lcs_exact.errors import NotRational, ShapeError, UnresolvedSign
-from lcs_exact.ratfunc import RationalFunction, RationalMatrix, laurent_coefficients
-from lcs_exact.rational import lex_sign, sign_of_form, to_fmpq, to_matrix, to_vector
+from lcs_exact.ratfunc import RationalFunction, RationalMatrix, laurent_coefficients, resolvent
+from lcs_exact.rational import lex_sign, poly_at_matrix, sign_of_form, to_fmpq, to_matrix, to_vector
 
 from reference.polynomials import peval
 
@@ -608,3 +608,32 @@ def test_rational_matrix_shapes():
     with pytest.raises(ShapeError):
         RationalMatrix([[1, 2]]) * RationalMatrix([[1, 2]])
     assert RationalMatrix([]).det() == 1
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.integers(1, 5), st.lists(st.fractions(max_denominator=5).filter(lambda q: abs(q) < 9), min_size=0, max_size=14),
+       st.lists(st.integers(-4, 4), min_size=25, max_size=25))
+def test_poly_at_matrix_is_horners_rule(n, coeffs, entries):
+    """Paterson-Stockmeyer p(S) equals p(S) by Horner's rule in exact arithmetic, for every degree
+    (0 to 13: blocks of every length, a last block shorter than the others)."""
+    S = fmpq_mat(n, n, entries[:n * n])
+    p = fmpq_poly([fmpq(c.numerator, c.denominator) for c in coeffs])
+    want = fmpq_mat(n, n)
+    for c in reversed(p.coeffs()):
+        want = want * S + fmpq_mat(n, n, [c if i == j else 0 for i in range(n) for j in range(n)])
+    assert poly_at_matrix(p, S) == want
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 6), st.lists(st.integers(-3, 3), min_size=36, max_size=36),
+       st.lists(st.integers(-2, 2), min_size=12, max_size=12))
+def test_scalar_transfer_function_from_markov_parameters(n, entries, vecs):
+    """row (sI - A)^{-1} col from the Markov parameters (the O(n^3) path) equals the row of the
+    adjugate's resolvent (sI - A)^{-1} (Faddeev-LeVerrier) applied to col, in Q(s)."""
+    A = fmpq_mat(n, n, [fmpq(e, 2) for e in entries[:n * n]])
+    row, col = fmpq_mat(1, n, vecs[:n]), fmpq_mat(n, 1, vecs[6:6 + n])
+    full = resolvent(A, row)  # 1 x n, adjugate path
+    want = RationalFunction(0)
+    for j in range(n):
+        want = want + full[0, j] * RationalFunction(col[j, 0])
+    assert resolvent(A, row, col)[0, 0] == want
