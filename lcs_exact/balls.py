@@ -153,6 +153,11 @@ class Deadline:
             self._end = None
 
 
+#: bits above a state's accuracy that a run computes the next event with (a state computed from
+#: a ball gains nothing from more bits than that ball carries)
+ACCURACY_HEADROOM = 64
+
+
 @dataclass(frozen=True, eq=False)
 class Policy:
     """The precision policy of a run (see the module docstring).

@@ -258,14 +258,17 @@ class Spectrum:
     def modal(self, z: arb_mat | Callable[[int], arb_mat], prec: int) -> list[tuple[acb, int, list[acb_mat]]]:
         """[(lambda, weight, [w_0, w_1, ...])] with w_j = K_lambda N^j z / j! (z: n x 1 balls, or a
         function giving z at a precision), so that e^{Mt} z = sum weight * Re(e^{lambda t}
-        sum_j t^j w_j).  O(n^2) per call once the factors are known."""
+        sum_j t^j w_j).  O(n^2) per call once the factors are known.  The list of an eigenvalue
+        of multiplicity m stops at w_{m-1}: N = M - lambda on its generalized eigenspace, so
+        K_lambda N^j = 0 exactly for j >= m (a simple eigenvalue has no polynomial part, and no
+        tiny balls standing for its zeros)."""
         if self.n == 0:
             return []
         fac = self.factors(prec)
         zb = z(prec) if callable(z) else z
         with workprec(prec):
             levels = [acb_mat(arb_mat(P) * zb) for P in self.nilpotent] if not self.semisimple else [acb_mat(zb)]
-            return [(lam, w, [R * (H * y) for y in levels]) for lam, w, R, H in fac]
+            return [(lam, w, [R * (H * y) for y in levels[:R.ncols()]]) for lam, w, R, H in fac]
 
     def matrix(self, t: arb, prec: int) -> arb_mat:
         """A ball of the propagator e^{Mt} (t a ball, possibly wide: an enclosure over it):

@@ -212,18 +212,19 @@ def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
                 if col is not None:
                     z = z + col * row
         v = stage_lcp(N, z, x, sorted(I), sorted(J))
+        vrows = _rows(v)
         for l in range(k):
             j = i - eta[l]
-            row = submatrix(v, [l], None)
-            if j >= -n + 1 and not is_zero(row):
-                urows[l, j] = row
+            if j >= -n + 1 and not is_zero(vrows[l]):
+                urows[l, j] = vrows[l]
         y = z + N * v
+        yrows = _rows(y)
         for l in range(k):
             if l in I or l in J:
                 continue
-            if sign_of_form(submatrix(v, [l], None), x) > 0:
+            if sign_of_form(vrows[l], x) > 0:
                 I.add(l)
-            elif sign_of_form(submatrix(y, [l], None), x) > 0:
+            elif sign_of_form(yrows[l], x) > 0:
                 J.add(l)
         yield i, urows, y
 
@@ -254,6 +255,13 @@ def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_m
         rhs = submatrix(z, I, None) + (submatrix(N, I, K) * vK if K else zeros(len(I), n))
         v = v + _scatter(I, k) * (-NII.solve(rhs))
     return v
+
+
+def _rows(m: fmpq_mat) -> list[fmpq_mat]:
+    """The rows of m as 1 x n matrices (one read of the entries)."""
+    n = m.ncols()
+    e = m.entries()
+    return [fmpq_mat(1, n, e[i * n:(i + 1) * n]) for i in range(m.nrows())]
 
 
 def _scatter(rows: list[int], k: int) -> fmpq_mat:

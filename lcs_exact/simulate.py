@@ -29,7 +29,8 @@ from typing import Any
 
 from flint import arb, fmpq, fmpq_mat
 
-from .balls import MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, dyadic_upper, workprec
+from .balls import (ACCURACY_HEADROOM, MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, dyadic_upper,
+                    workprec)
 from .errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, NotRational,
                      ShapeError, TimeLimitExceeded, UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
@@ -302,7 +303,7 @@ class _Run:
                 if chain and self.cascade_suspected():  # an impact cascade: prove it before the digits run out
                     self.stop_at_cascade(None)
             policy.check_deadline(lambda: f" at t = {t.label()}")
-            prec = self.working_prec()
+            prec = self.event_prec()
             phase = Phase(mode, homogenized(z), policy)
             H = self.T - t
             if H.sign() == 0:
@@ -410,6 +411,16 @@ class _Run:
     def working_prec(self) -> int:
         """The working precision of the next event (policy target, measured loss, boost)."""
         return self.policy.working_prec(self.lost) + self.boost
+
+    def event_prec(self) -> int:
+        """The working precision capped ACCURACY_HEADROOM bits above the accuracy of the state the
+        next event starts from: bits beyond the ball it is computed from give nothing (a long run's
+        working precision grows with its measured loss, 149 to 469 bits in 1000 events, while its
+        states keep ~130 bits); re-anchoring (:meth:`anchor`'s boost) uses the full precision."""
+        prec = self.working_prec()
+        if self.accuracy is not None:
+            prec = min(prec, max(self.accuracy + ACCURACY_HEADROOM, self.policy.working_prec(0)))
+        return prec
 
     def select_and_reinitialize(self, z: ExactVector, t):
         """Steps one to three; returns (mode, chain of jump modes, state after, impulse)."""

@@ -43,6 +43,23 @@ def test_repeated_eigenvalues_through_jordan_chevalley():
     _check(M, fmpq(7, 3), [1, 1, 1, 1])
 
 
+def test_modal_vectors_stop_at_the_multiplicity():
+    """chi = s^3 (s^2 + 1)(s + 2): the triple eigenvalue 0 (a 3 x 3 Jordan block) has three modal
+    vectors w_0, w_1, w_2 (t^2 / 2 appears), the simple ones only w_0 (K_lambda N = 0 exactly),
+    and e^{Mt} z stays right (against mpmath)."""
+    M = [[0, 1, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0], [0, 0, 0, 0, 0, 0],
+         [0, 0, 0, 0, 1, 0], [0, 0, 0, -1, 0, 0], [1, 0, 0, 0, 0, -2]]
+    sp = Spectrum(fmpq_mat(M))
+    assert not sp.semisimple
+    with ctx.workprec(128):
+        modal = sp.modal(arb_mat([[1], [2], [3], [1], [1], [1]]), 128)
+        lengths = sorted((len(ws), lam.real.contains(0) and lam.imag.contains(0)) for lam, _, ws in modal)
+        assert lengths == [(1, False), (1, False), (3, True)]
+        (w2,) = [ws[2] for lam, _, ws in modal if len(ws) == 3]
+        assert w2[0, 0].overlaps(arb(fmpq(3, 2)))  # q_0 = 1 + 2t + 3 t^2 / 2: w_2 = N^2 z / 2
+    _check(M, fmpq(5, 3), [1, 2, 3, 1, 1, 1])
+
+
 def test_stiff_matrix_has_a_tight_ball():
     """Eigenvalues -10^6 and -1: at t = 1 the ball is tight (arb_mat.exp's bound would be ~e^(10^6))."""
     _check([[-10**6, 10**6 - 1], [0, -1]], 1, [1, 1], digits=40)
