@@ -118,14 +118,16 @@ def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int
     """(eps, prec) with f > 0 on (0, eps], when f(0) = ... = f^{(order-1)}(0) = 0 < f^{(order)}(0)
     (Lemma 5.1): the Taylor coefficients at 0 from ``order`` on, with bounds of the higher
     derivatives (:func:`~lcs_exact.roots.positive_step`), give eps in one step - a near graze
-    with f'(0) = 10^-65 and f = t^3 / 3 beyond costs no more than a plain start."""
+    with f'(0) = 10^-65 and f = t^3 / 3 beyond costs no more than a plain start.  More bits are
+    taken only when no step is certified at all: the step the certified coefficients give is
+    taken as it is (raising the precision of every constraint for a longer first step cost a
+    long run and the chain of carts 6-7 % of their instructions; the search goes on from eps)."""
     policy = phase.policy
-    patience = 4 * prec  # more bits for a longer first step, up to here
     while True:
         policy.check_deadline(lambda: f" while isolating the roots of {c.name} (at the phase start)")
         f = fn.at(prec)
         # f^{(order)}(0) > 0 is proven (exactly, by start_order); its ball may not show it yet
-        eps = positive_step(f, fmpq(0), horizon, zero_below=order, strict=prec < patience)
+        eps = positive_step(f, fmpq(0), horizon, zero_below=order)
         if eps is not None:
             break
         if prec >= policy.max_prec:  # the sign was certified exactly: this needs more bits only

@@ -389,7 +389,7 @@ class Advance:
 
 
 def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
-                  orders: int = TAYLOR_ORDER, strict: bool = False) -> fmpq | None:
+                  orders: int = TAYLOR_ORDER) -> fmpq | None:
     """p in (lo, hi] with f > 0 on (lo, p], from the Taylor coefficients c_j = f^{(j)}(lo) / j!
     and bounds M_K of |f^{(K)}| / K! on [lo, b]: when c_0, ..., c_{K-1} >= 0 and c_J > 0 for some
     J < K, f(lo + s) >= c_J s^J - M_K s^K > 0 for 0 < s < (c_J / M_K)^{1/(K - J)}.
@@ -398,9 +398,7 @@ def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
     derivatives vanish, Lemma 5.1); otherwise c_0 >= 0 is the caller's invariant (f > 0 just
     before lo).  This is a step of the right size where f is tiny at lo and grows (a constraint
     just released, f = 10^-65 t + t^3 / 3): bisection from the right would halve the interval a
-    hundred times to reach it.  None when no such J, K exist, or (``strict``) when the sign of
-    one of the coefficients is not certified at this precision (more bits may give a longer
-    step: the caller decides)."""
+    hundred times to reach it.  None when no such J, K exist."""
     with workprec(f.prec):
         cs = f.values(lo, range(zero_below, zero_below + orders))
         lows = [arb(0)] * zero_below
@@ -411,8 +409,6 @@ def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
             if j == 0:
                 low = max(low, arb(0))
             elif low < 0:
-                if strict and c.upper() > 0:
-                    return None
                 break
             lows.append(low)
         if not any(l > 0 for l in lows):
