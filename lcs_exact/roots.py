@@ -563,6 +563,11 @@ class RootReal(Real):
             if hi2 - lo2 <= (self.hi - self.lo) * 3 / 4:
                 self.lo, self.hi = lo2, hi2
                 continue
+            if fm.contains(0):
+                # f(m) is below the resolution of f at this precision and N(X) did not contract:
+                # the points a split would try lie closer to the root than that resolution
+                self.lo, self.hi = lo2, hi2
+                return  # the precision is exhausted: the caller raises it
             sp = _split_point(f, lo2, hi2)
             if sp is None:
                 self.lo, self.hi = lo2, hi2
