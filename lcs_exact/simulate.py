@@ -418,7 +418,7 @@ class _Run:
         working precision grows with its measured loss, 149 to 469 bits in 1000 events, while its
         states keep ~130 bits); re-anchoring (:meth:`anchor`'s boost) uses the full precision."""
         prec = self.working_prec()
-        if self.accuracy is not None:
+        if self.accuracy is not None and self.accuracy >= self.policy.target_bits + 8:  # else: boosting
             prec = min(prec, max(self.accuracy + ACCURACY_HEADROOM, self.policy.working_prec(0)))
         return prec
 
