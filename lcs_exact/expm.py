@@ -27,7 +27,7 @@ from typing import Any, Callable
 from flint import acb, acb_mat, acb_poly, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly
 
 from .balls import closed_form_arb, workprec
-from .errors import LCSError
+from .errors import LCSError, UnresolvedSign
 from .ratfunc import resolvent
 from .rational import adjugate_coefficients, identity, is_zero, poly_at_matrix, zeros
 
@@ -219,7 +219,8 @@ class Spectrum:
                         out.append((lam, w, R, G.solve(L)))
                 except ZeroDivisionError:  # G not certified invertible: other probes
                     continue
-            acc = min(min(_accuracy(_sample(R), work), _accuracy(_sample(H), work)) for _, _, R, H in out)
+            acc = min(min(_factor_accuracy(R, work, prec + 8), _factor_accuracy(H, work, prec + 8))
+                      for _, _, R, H in out)
             if acc >= prec + 8:
                 self._factors = (prec, out)
                 self.__dict__.pop("_stacked_low", None)
@@ -230,7 +231,8 @@ class Spectrum:
                                               for i in range(H.nrows())]))
                 return out
             self._guard += prec + 8 - acc + 16
-        raise ArithmeticError(f"spectral factors of a {n} x {n} matrix not certified at {prec} bits")
+        raise UnresolvedSign(f"the spectral factors of a {n} x {n} matrix could not be certified at {prec} "
+                             f"bits (64 attempts, up to {self._guard} guard bits)")
 
     def _initial_guard(self) -> int:
         """Bits the Krylov basis is expected to lose, about n (1.5 + log2 max(2, rho)) for
@@ -422,6 +424,16 @@ def _accuracy(entries: list, prec: int) -> int:
         return 0
     with workprec(64):
         return min(prec, max(0, int(float(((big.log() - rad.log()) / arb(2).log()).mid()))))
+
+
+def _factor_accuracy(W, work: int, want: int) -> int:
+    """The accuracy of a factor, from a sample of its rows; below ``want`` it is measured on every
+    entry before it counts: a sample can fall on coordinates where an eigenvector vanishes (a
+    symmetric chain of carts), whose balls hold only noise around 0."""
+    acc = _accuracy(_sample(W), work)
+    if acc < want:
+        acc = _accuracy([W[i, j] for i in range(W.nrows()) for j in range(W.ncols())], work)
+    return acc
 
 
 def _sample(W, rows: int = 4) -> list:
