@@ -68,10 +68,23 @@ SICONOS_PY = "/usr/bin/python3"
 SICONOS_SCRIPT = str(BENCH / "siconos_runs.py")
 ENV1 = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1")
 MARKER = "<!-- scale -->"
-WHERE_THE_TIME_GOES = """### Where the time goes
-
-`python benchmarks/scale.py --profile 32` prints the cProfile of the 32-cart chain; instruction counts (valgrind's callgrind) are the way to compare two versions on this noisy machine. On the chain, each event costs: the new mode's spectral data (characteristic polynomial, its complex roots and the factored projectors from Krylov columns at the working precision plus the Krylov guard, O(n^3), computed once per mode at 4p + 64 bits so that the usual escalations to 2p and 4p reuse it); the root search over the k constraints, each an exponential sum of about n/2 terms evaluated as Python-level sums of flint balls (the largest single item); the LDCP stages of mode selection and their sign decisions (near a cluster of impacts the state is evaluated at 2-4 times the working precision); and the centered form of the event state (one n x n propagator at 64 bits). Small systems (the two carts, the long run) spend their time in Python overhead spread over root isolation (about 35 certified evaluations of an exponential sum per event), mode selection and re-initialization, no single item above a fifth. The remaining gaps to the SciPy float baseline are the cost of certified ball arithmetic driven from Python: closing them needs compiled kernels (the exponential-sum evaluation and the LCP stages), not a different algorithm.
-"""
+WHERE_THE_TIME_GOES = (
+    '### Where the time goes\n\n'
+    '`python benchmarks/scale.py --profile 32` prints the cProfile of the 32-cart chain; instruction '
+    "counts (valgrind's callgrind) are the way to compare two versions on this noisy machine. On the "
+    "chain, each event costs: the new mode's spectral data (characteristic polynomial, its complex "
+    'roots and the factored projectors from Krylov columns at the working precision plus the Krylov '
+    'guard, O(n^3), computed once per mode at 4p + 64 bits so that the usual escalations to 2p and 4p '
+    'reuse it); the root search over the k constraints, each an exponential sum of about n/2 terms '
+    'evaluated as Python-level sums of flint balls (the largest single item); the LDCP stages of mode '
+    'selection and their sign decisions (near a cluster of impacts the state is evaluated at 2-4 '
+    'times the working precision); and the centered form of the event state (one n x n propagator at '
+    '64 bits). Small systems (the two carts, the long run) spend their time in Python overhead spread '
+    'over root isolation (about 35 certified evaluations of an exponential sum per event), mode '
+    'selection and re-initialization, no single item above a fifth. The remaining gaps to the SciPy '
+    'float baseline are the cost of certified ball arithmetic driven from Python: closing them needs '
+    'compiled kernels (the exponential-sum evaluation and the LCP stages), not a different algorithm.\n'
+)
 
 # one lcs_exact point in a fresh interpreter: warm-up, then the timed run; prints one JSON line
 CHILD = r"""

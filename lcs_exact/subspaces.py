@@ -203,8 +203,10 @@ class RowSpan:
         """fa = c fb modulo the span for some c != 0, neither form in the span.
 
         >>> Z = RowSpan(fmpq_mat([[0, 0, 1]]))
-        >>> Z.proportional(fmpq_mat([[2, 4, 7]]), fmpq_mat([[1, 2, 0]])), Z.proportional(fmpq_mat([[0, 0, 1]]), fmpq_mat([[0, 0, 2]]))
-        (True, False)
+        >>> Z.proportional(fmpq_mat([[2, 4, 7]]), fmpq_mat([[1, 2, 0]]))
+        True
+        >>> Z.proportional(fmpq_mat([[0, 0, 1]]), fmpq_mat([[0, 0, 2]]))  # both in the span
+        False
         """
         a, b = self.reduce(fa), self.reduce(fb)
         j = next((i for i, v in enumerate(b) if v != 0), None)
