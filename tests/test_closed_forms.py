@@ -121,3 +121,26 @@ def test_acos_of_a_quadratic_in_cos_t_two_harmonics():
     want = sympy.acos((1 + sympy.sqrt(257)) / 32)
     assert sympy.simplify(sympy.cos(tr.events[0].time.closed_form) - sympy.cos(want)) == 0
     assert abs(float(tr.events[0].time.closed_form) - float(want)) < 1e-15
+
+
+def test_state_at_a_rational_time_is_rational_only_on_the_generalized_kernel():
+    """e^{3A} q for a free mass beside a spring: rational exactly when q has no spring part
+    (Lindemann-Weierstrass: e^{3i} and e^{-3i} are independent of 1 over the algebraic numbers),
+    decided without Calcium; the spring part's closed form stays cos(3)."""
+    A = [[0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, -1, 0]]
+    assert L.expm_action(A, 3, [1, 2, 0, 0]).rational().entries() == [7, 2, 0, 0]  # q + 3 q'
+    w = L.expm_action(A, 3, [1, 2, 1, 0])
+    assert w.rational() is None
+    assert str(w[2].closed_form) == "cos(3)" and str(w[0].closed_form) == "7"
+
+
+def test_state_of_a_ten_dimensional_chain_at_a_rational_time_has_no_rational_form():
+    """A 5-cart chain (degree-10 eigenvalues) flowing to t = 3 without events: the state is not
+    rational (its parts at eigenvalues != 0 do not vanish), decided exactly; Calcium spent minutes
+    and 2 GB on e^{3 M} q to find the same."""
+    import lcs_exact as L
+    x0 = ["2/5", "-2/5", "2/5", "-1/2", "1/2", "1/5", "0", "1/5", "1/5", "1/5"]
+    tr = L.simulate(L.examples.cart_chain(5, stops=[4]), x0, 3, digits=30)
+    assert len(tr.events) == 0
+    x = tr.state(3)
+    assert x.rational() is None and x[0].closed_form is None
