@@ -10,7 +10,9 @@ percent are lost in the noise.  Run from the repository root (needs ``valgrind``
 Each scene runs in a fresh interpreter under callgrind (PYTHONHASHSEED=0); the table prints the
 instructions of the whole process and of the run alone (the whole process minus one that only
 imports lcs_exact and builds the scene).  Scenes: ``chainN`` (``systems.chain(N)``, t = 10, 30
-digits) and ``longK`` (``systems.long_run()`` stopped after K events, 30 digits).
+digits), ``longK`` (``systems.long_run()`` stopped after K events, 30 digits) and ``cartsK`` (the
+two carts of section 7, ``systems.two_carts()``, t = 3, 30 digits, K runs each on a new LCS and x0:
+the per-run cost the SciPy comparison of ``scale.py`` measures).
 """
 from __future__ import annotations
 
@@ -29,9 +31,14 @@ import sys
 sys.path.insert(0, {bench!r})
 import lcs_exact as L, systems as S
 kind, size = {kind!r}, {size}
-case = S.chain(size) if kind == "chain" else S.long_run()
+case = {{"chain": lambda: S.chain(size), "long": S.long_run, "carts": S.two_carts}}[kind]()
 lcs, x0 = case.lcs(), case.exact_x0()
-if {run}:
+if {run} and kind == "carts":
+    runs = [(case.lcs(), case.exact_x0()) for _ in range(size)]
+    for lcs, x0 in runs:
+        tr = L.simulate(lcs, x0, case.t_end, digits=30)
+    print(len(tr.events), tr.certified)
+elif {run}:
     try:
         tr = L.simulate(lcs, x0, case.t_end, digits=30,
                         max_events=size if kind == "long" else case.max_events)
@@ -55,7 +62,7 @@ def count(tree: Path, kind: str, size: int, run: bool) -> tuple[int, str]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("scenes", nargs="*", default=["chain16", "long300"], help="chainN or longK")
+    ap.add_argument("scenes", nargs="*", default=["chain16", "long300"], help="chainN, longK or cartsK")
     ap.add_argument("--tree", type=Path, default=ROOT, help="checkout to measure (default: this one)")
     args = ap.parse_args()
     if shutil.which("valgrind") is None:
@@ -65,9 +72,9 @@ def main() -> None:
     print("| scene | events, certified | instructions (process) | instructions (run) |")
     print("|---|---|---|---|")
     for scene in args.scenes:
-        m = re.fullmatch(r"(chain|long)(\d+)", scene)
+        m = re.fullmatch(r"(chain|long|carts)(\d+)", scene)
         if not m:
-            raise SystemExit(f"unknown scene {scene!r}: chainN or longK")
+            raise SystemExit(f"unknown scene {scene!r}: chainN, longK or cartsK")
         kind, size = m.group(1), int(m.group(2))
         base, _ = count(tree, kind, size, run=False)
         total, out = count(tree, kind, size, run=True)

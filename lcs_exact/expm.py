@@ -62,6 +62,9 @@ def jordan_chevalley(M: fmpq_mat, r: fmpq_poly | None = None) -> tuple[fmpq_mat,
     return S, N, m
 
 
+#: matrices up to this size estimate the Krylov guard from a norm, not from float eigenvalues
+SMALL_GUARD_N = 8
+
 #: bits the spectral factors are computed beyond a doubled precision (covers the guard bits
 #: a root or an eigenvalue asks on top of a working precision)
 FACTOR_HEADROOM = 64
@@ -108,8 +111,7 @@ class Spectrum:
                 P, fact = P * N, fact * j
             nil.append(P * fmpq(1, fact))
         self.nilpotent = nil  # N^j / j!, j < m (exact)
-        # the roots of r grouped by their multiplicity in chi (= the rank of K_lambda)
-        self._squarefree = [(fmpq_poly(p), k) for p, k in chi.factor_squarefree()[1]] if n else []
+        self._irreducible: list | None = None  # [(p, multiplicity in chi)], on first use
         self._roots: tuple = (0, [])  # (prec, [(lambda, weight, multiplicity)])
         self._factors: tuple = (0, [])  # (prec, [(lambda, weight, R_lambda, G^-1 L_lambda)])
         self._guard = 24  # bits the Krylov basis loses, learnt per matrix
@@ -132,6 +134,17 @@ class Spectrum:
             self._B = adjugate_coefficients(self.S, self.r)
         return self._B
 
+    def modulus_bounds(self) -> tuple[fmpq, fmpq] | None:
+        """Rational upper bounds of max |lambda| and of min{|lambda| : lambda != 0} from the
+        coefficients of chi alone, no roots (None when every eigenvalue is 0): Cauchy's bound
+        1 + max |a_i| of the monic chi, and max(1, |c|) >= |c|^(1/m) >= the smallest of the m
+        nonzero roots, c their product (the lowest nonzero coefficient, up to sign)."""
+        if self.n == 0 or self.nilpotent_only:
+            return None
+        cs = self.chi.coeffs()
+        low = next(c for c in cs if c != 0)
+        return 1 + max(abs(c) for c in cs[:-1]), max(fmpq(1), abs(low))
+
     def eigenvalues(self, prec: int) -> list[tuple[acb, int]]:
         """[(lambda, weight)] at ``prec`` bits: the roots of r, one of each conjugate pair
         (weight 2)."""
@@ -140,9 +153,16 @@ class Spectrum:
     def _eigen(self, prec: int) -> list[tuple[acb, int, int]]:
         """[(lambda, weight, multiplicity)], cached at the highest precision asked."""
         if self._roots[0] < prec:
+            if self._irreducible is None:
+                # the roots grouped by their multiplicity in chi (= the rank of K_lambda), from
+                # the irreducible factors over Q: isolating the roots of each factor costs a
+                # fraction of isolating them all at once (a 64 x 64 mode of a chain of carts:
+                # factors of degree 2, 2, 30, 30; 9 ms instead of 25 ms at 640 bits), and
+                # factoring over Q costs a few percent of that
+                self._irreducible = [(fmpq_poly(p), k) for p, k in self.chi.factor()[1]] if self.n else []
             with workprec(prec + 16):
                 out = []
-                for p, mult in self._squarefree:
+                for p, mult in self._irreducible:
                     for lam, _ in p.complex_roots():
                         if lam.imag.is_zero():
                             out.append((acb(lam.real), 1, mult))
@@ -238,9 +258,18 @@ class Spectrum:
         """Bits the Krylov basis is expected to lose, about n (1.5 + log2 max(2, rho)) for
         eigenvalues of modulus up to rho (measured: 140-176 bits on the modes of the 64 x 64
         chain, rho = 2); the accuracy check corrects the estimate.  rho is a float estimate
-        (numpy's eigenvalues of S: an estimate is all a guard needs, and isolating the roots of r
-        at 64 bits only for it cost as much as at the working precision); certified balls when
-        the floats overflow."""
+        (a row-sum norm up to SMALL_GUARD_N, else numpy's eigenvalues of S: an estimate is all a
+        guard needs, and isolating the roots of r at 64 bits only for it cost as much as at the
+        working precision); certified balls when the floats overflow."""
+        if self.n <= SMALL_GUARD_N:
+            # rho <= the largest absolute row sum: on a small matrix an overestimate adds a few
+            # bits, and numpy's eigenvalues cost ~0.1 ms a mode (3 % of a two-cart run)
+            try:
+                rho = max((sum(abs(float(v)) for v in row) for row in self.S.table()), default=0.0)
+            except OverflowError:  # entries beyond floats: the general path below
+                rho = math.inf
+            if math.isfinite(rho):
+                return 24 + int(self.n * (math.log2(max(2.0, rho)) + 1.5))
         import numpy as np  # a heuristic only (as the float estimates of the root search)
         rho = math.nan
         try:

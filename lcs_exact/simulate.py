@@ -443,7 +443,7 @@ class _Run:
                 return mode, chain, z, impulse
             if not chain:
                 impulse = _impulse(mode, z)
-            z = _project(mode, z)
+            z = _apply_forms(mode.projection(), z)  # step three: z := P_I z
             chain.append(I)
         raise ZenoDetected(f"re-initialization at t = {t.label()} did not end after {cap} jumps "
                            "(infinite multiplicity, Remark 7.2 (2))")
@@ -629,6 +629,12 @@ def _phase_horizon(phase: Phase, H):
     and H min{|lambda(A_I)| != 0} <= MAX_HORIZON_SLOW.  Applied to the phases evaluated (a mode
     can be faster than A: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0}); a nilpotent A_I
     has no limit (its constraints are polynomials)."""
+    quick = phase.spectrum.modulus_bounds()  # bounds from chi's coefficients: no roots
+    if quick is None:
+        return H, None
+    with workprec(64):
+        if H.arb(64) * quick[0] <= MAX_HORIZON_FAST and H.arb(64) * quick[1] <= MAX_HORIZON_SLOW:
+            return H, None
     eig = phase.spectrum.eigenvalues(64)
     with workprec(64):
         mods = [abs(lam) for lam, _ in eig]
@@ -665,15 +671,6 @@ def _in_consistent_subspace(mode, z: ExactVector) -> bool:
     if q is not None:
         return all(v == 0 for v in (W * q).entries()) if W.nrows() else True
     return all(z.sign_of_form(submatrix(W, [r], None)) == 0 for r in range(W.nrows()))
-
-
-def _project(mode, z: ExactVector) -> ExactVector:
-    """Step three: z := P_I z (rational stays rational)."""
-    P = mode.projection()
-    q = z.known_rational()
-    if q is not None:
-        return RationalVector(P * q, z.policy)
-    return ProjectedVector(P, z)
 
 
 def _apply_forms(P, z: ExactVector) -> ExactVector:

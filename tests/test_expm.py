@@ -89,3 +89,37 @@ def test_e_to_the_a_pi_is_rational():
 def test_e_to_the_a_at_one_is_not_rational():
     A = fmpq_mat([[0, 1], [-1, 0]])
     assert Spectrum(A).exact_at(calcium.Ca(1), calcium) is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.fractions(-50, 50, max_denominator=7), min_size=16, max_size=16), st.integers(0, 3))
+def test_modulus_bounds_hold_the_eigenvalues(entries, zero_rows):
+    """Spectrum.modulus_bounds (the horizon limits' test without roots) bounds max |lambda| and
+    the smallest nonzero |lambda| from above: checked against numpy's eigenvalues of the same
+    rational matrix (rows set to 0 give zero eigenvalues beside the others; how many of the
+    eigenvalues are 0 is read exactly off chi)."""
+    import numpy as np
+    M = [[fmpq(v.numerator, v.denominator) for v in entries[4 * i:4 * i + 4]] for i in range(4)]
+    for i in range(zero_rows):
+        M[i] = [fmpq(0)] * 4
+    sp = Spectrum(fmpq_mat(M))
+    ev = np.linalg.eigvals(np.array([[float(v) for v in row] for row in M]))
+    mods = sorted(abs(complex(e)) for e in ev)
+    zeros = next(j for j, c in enumerate(sp.chi.coeffs()) if c != 0)  # exact multiplicity of 0
+    nonzero = mods[zeros:]
+    b = sp.modulus_bounds()
+    if b is None:  # chi = s^n: every eigenvalue 0
+        assert sp.chi.coeffs()[:-1] == [0] * 4 and not nonzero
+        return
+    fast, slow = b
+    assert mods[-1] <= float(fast) * (1 + 1e-9)
+    if nonzero:
+        assert nonzero[0] <= float(slow) * (1 + 1e-9)
+
+
+def test_modulus_bounds_of_a_rotation_beside_a_free_mass():
+    """chi = s^2 (s^2 + 4): Cauchy 1 + 4 = 5 >= |2i|, and the nonzero product 4 >= |2i|; a
+    nilpotent matrix has no nonzero eigenvalue (None)."""
+    sp = Spectrum(fmpq_mat([[0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, -4, 0]]))
+    assert sp.modulus_bounds() == (5, 4)
+    assert Spectrum(fmpq_mat([[0, 1], [0, 0]])).modulus_bounds() is None
