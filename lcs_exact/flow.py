@@ -26,7 +26,8 @@ from .phase import Constraint, Phase
 from .reals import RationalReal, Real, as_real
 from .vectors import ExactVector, ProjectedVector, RationalVector, as_exact_vector
 from .polyroots import exact_first_crossing
-from .roots import RootReal, first_crossing, float_crossing, positive_step
+from .guesses import float_crossing
+from .roots import RootReal, first_crossing, positive_step
 
 __all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound", "IMMEDIATE", "Immediate"]
 
@@ -79,7 +80,7 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: 
     :mod:`lcs_exact.polyroots`), None (no event in (0, horizon]) or :data:`IMMEDIATE` (f is
     negative right after t = 0).
 
-    ``estimate``: a float guess of the crossing (:func:`~lcs_exact.roots.float_crossing`).  The
+    ``estimate``: a float guess of the crossing (:func:`~lcs_exact.guesses.float_crossing`).  The
     certified search covers (0, estimate] first and, only when it finds no crossing there, the
     rest of the horizon: a guess can cost time, never the result."""
     sign, order = phase.start_order(c)

@@ -29,7 +29,6 @@ and the phase start's ball at that precision (it is anchored like every node of
 """
 from __future__ import annotations
 
-import cmath
 import math
 from dataclasses import dataclass
 from typing import Callable, Protocol
@@ -40,10 +39,11 @@ from . import calcium
 from .balls import Policy, ball_sign, dyadic, dyadic_lower, dyadic_upper, workprec
 from .errors import LCSError
 from .forms import Closed
+from .guesses import float_root
 from .reals import Real
 
 __all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic", "newton_ball",
-           "positive_step", "float_crossing", "float_root"]
+           "positive_step"]
 
 TAYLOR_ORDER = 4
 #: extra bits for the exponential sum when a root is refined to a given precision
@@ -110,7 +110,7 @@ class ExpSum:
 
     def floats(self) -> tuple:
         """(lambda, weight, coefficients) as numpy arrays of the balls' midpoints: for float
-        estimates that only guide the certified search (see :func:`float_crossing`)."""
+        estimates that only guide the certified search (see :mod:`lcs_exact.guesses`)."""
         if "_floats" not in self.__dict__:
             import numpy as np  # only for guesses; `import lcs_exact` stays without numpy
             lam = np.array([complex(l) for l, _, _ in self.terms], dtype=complex)
@@ -174,72 +174,6 @@ class ExpSum:
             # where one exponential dominates (e^{-10^6 t} on [0, 1]): keep the intersection
             direct = self.values(X, range(d, d + 1))[0]
             return out.intersection(direct) if out.overlaps(direct) else direct
-
-
-#: how many float points an estimate of a crossing looks at, at most
-MAX_FLOAT_POINTS = 1 << 14
-
-
-def float_crossing(f: ExpSum, a: float, b: float, points: int = 64) -> float | None:
-    """A float estimate of the first t in (a, b] where f turns negative (None: none seen), from
-    the midpoints of the terms on a grid fine enough for the fastest oscillation (8 points a
-    radian), scanned in chunks from a so that an early crossing costs one chunk however long
-    the horizon.  A heuristic for the order and windows of the certified searches only: never a
-    decision."""
-    import numpy as np
-    lam, _, _ = f.floats()
-    if not len(lam) or not b > a:
-        return None
-    omega = float(np.max(np.abs(lam.imag)))
-    step = (b - a) / points if omega * (b - a) < points / 8 else 1 / (8 * omega)
-    chunk = 256
-    lo, b = a, min(b, a + MAX_FLOAT_POINTS * step)  # a long horizon: the estimate looks ahead only so far
-    while lo < b:
-        hi = min(b, lo + chunk * step)
-        n = max(1, int(round((hi - lo) / step)))
-        t = np.linspace(lo, hi, n + 1)[1:]
-        vals = f.float_values(t)
-        neg = np.nonzero(vals < 0)[0]
-        if len(neg):
-            return float(t[neg[0]]) if np.isfinite(vals[neg[0]]) else None
-        if not np.all(np.isfinite(vals)):
-            return None
-        lo = hi
-    return None
-
-
-def float_root(f: ExpSum, lo: float, hi: float) -> float | None:
-    """A float root of f in (lo, hi) by Newton's method from the midpoint (None if it leaves the
-    interval or does not settle): a guess that the certified refinement then checks."""
-    terms = [(complex(l), float(wt), [complex(c) for c in cs]) for l, wt, cs in f.terms]
-
-    def f_df(t: float) -> tuple[float, float]:
-        v = dv = 0.0
-        for l, wt, row in terms:  # scalar complex arithmetic: cheaper than numpy on one point
-            p = dp = 0j
-            for c in reversed(row):
-                dp = dp * t + p
-                p = p * t + c
-            e = cmath.exp(l * t)
-            v += wt * (e * p).real
-            dv += wt * (e * (l * p + dp)).real
-        return v, dv
-
-    t = (lo + hi) / 2
-    for _ in range(40):
-        try:
-            v, dv = f_df(t)
-        except OverflowError:
-            return None
-        if not (math.isfinite(v) and math.isfinite(dv)) or dv == 0:
-            return None
-        step = v / dv
-        t -= step
-        if not lo < t < hi:
-            return None
-        if abs(step) <= 4e-16 * max(1.0, abs(t)):
-            return t
-    return None
 
 
 class RootFunction(Protocol):
@@ -515,17 +449,64 @@ class RootReal(Real):
         # at twice the precision
         f = self.function.at(prec + ROOT_GUARD)
         if self.simple:
-            self._newton(f, prec, target)
+            if not self._polish(f, prec, target):
+                self._newton(f, prec, target)
         else:
             self._bisect(f, prec, target)
         return arb(self.lo).union(arb(self.hi))
+
+    def _polish(self, f: ExpSum, prec: int, target: fmpq) -> bool:
+        """Refine a simple bracket (f' < 0 on it is certified: a fact of the function, whatever
+        the precision that showed it) by Newton's method on points, then certify: from the float
+        root, or from the midpoint of a bracket already narrow, x <- x - f(x)/f'(x) doubles the
+        correct bits at each step; f(x - d) > 0 > f(x + d) with d = target/2 then brackets the
+        one root (f decreases).  Three or four evaluations instead of the interval Newton's
+        ten to twenty from a wide bracket.  False when the point iteration leaves the bracket or
+        the signs at x -+ d are not certified: the interval Newton takes over."""
+        lo, hi = self.lo, self.hi
+        scale = max(1, abs(hi))
+        if hi - lo < scale * fmpq(1, 2 ** 40):
+            x = (lo + hi) / 2
+            good = max(1, int(math.log2(float(scale / (hi - lo)))) if hi > lo else prec)
+        else:
+            t = float_root(f, float(lo), float(hi))
+            if t is None:
+                return False
+            with workprec(64):
+                x = dyadic(arb(t))
+            good = 40
+        with workprec(f.prec):
+            while True:
+                v, dv = f.values(x, range(2))
+                if not dv < 0:
+                    return False
+                if good >= prec + 8:
+                    break
+                x = dyadic(arb(x) - v / dv)
+                if not lo < x < hi:
+                    return False
+                good = 2 * good - 4
+            # the signs at x -+ d are certified only beyond the resolution of f: the radius of
+            # its ball (the start state's accuracy) over |f'|, where the interval Newton stops too
+            d = max(target / 2, dyadic_upper(2 * v.rad() / abs(dv).lower()))
+        for _ in range(3):
+            a, b = x - d, x + d
+            if not (lo <= a and b <= hi):
+                return False
+            fa, fb = f.value(a), f.value(b)
+            if fa > 0 and fb < 0:
+                self.lo, self.hi = a, b
+                return True
+            if not (fa.contains(0) or fb.contains(0)):
+                return False  # a sign against the guess: the point iteration did not settle
+            d = 4 * d
+        return False
 
     def _newton(self, f: ExpSum, prec: int, target: fmpq) -> None:
         """Interval Newton N(X) = m - f(m)/f'(X) on the bracket, kept as rational ends; a
         bisection step where Newton does not contract (a wide bracket), a stop where the
         precision is exhausted."""
         certified = False  # f' < 0 on the bracket; it stays so on every sub-bracket
-        guessed = False
         for _ in range(64 + 4 * prec.bit_length()):
             if self.hi - self.lo <= target:
                 return
@@ -536,10 +517,6 @@ class RootReal(Real):
             # not a Taylor form's three)
             dX = f.value(X, 1) if narrow else f.enclose(self.lo, self.hi, 1)
             certified = certified or dX < 0
-            if certified and not narrow and not guessed:
-                guessed = True
-                if self._float_shortcut(f):
-                    continue
             if not certified:
                 if not f.sign_enclose(self.lo, self.hi, 1) < 0:
                     self.simple = False
@@ -576,24 +553,6 @@ class RootReal(Real):
                 self.lo, self.hi = lo2, sp[0]
             else:
                 self.lo, self.hi = sp[0], hi2
-
-    def _float_shortcut(self, f: ExpSum) -> bool:
-        """Narrow a bracket on which f' < 0 is certified to (t - d, t + d] around a float root t,
-        when f(t - d) > 0 > f(t + d) is certified (two evaluations instead of the first
-        Newton steps from a wide bracket)."""
-        t = float_root(f, float(self.lo), float(self.hi))
-        if t is None:
-            return False
-        with workprec(64):
-            c = dyadic(arb(t))
-        d = max(1, abs(c)) * fmpq(1, 2 ** 40)
-        lo, hi = c - d, c + d
-        if not (self.lo < lo and hi < self.hi):
-            return False
-        if f.value(lo) > 0 and f.value(hi) < 0:
-            self.lo, self.hi = lo, hi
-            return True
-        return False
 
     def _bisect(self, f: ExpSum, prec: int, target: fmpq) -> None:
         """Bisection keeping "no crossing before lo" (a search on the left part at each step)."""

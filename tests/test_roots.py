@@ -8,7 +8,7 @@ from flint import acb, arb, ctx, fmpq
 
 from lcs_exact.balls import Policy, workprec
 from lcs_exact.errors import UnresolvedSign
-from lcs_exact.roots import ExpSum, RootReal, first_crossing
+from lcs_exact.roots import Bracket, ExpSum, RootReal, first_crossing
 
 
 class Fn:
@@ -135,3 +135,42 @@ def test_first_of_two_close_roots():
     fn = poly(1 + e, -(2 + e), 1)
     r = RootReal(fn, first_crossing(fn, fmpq(0), fmpq(3), 128))
     assert holds(r.ball(40), 1)
+
+
+class BlurredFn(Fn):
+    """Fn whose constant term is a ball of radius 2^-100 (as a phase start's state gives):
+    e^{-t} - (1/2 +- 2^-100), whose root log 2 is known to about 2^-99 only."""
+
+    def at(self, prec):
+        f = super().at(prec)
+        with workprec(prec + 16):
+            lam, w, cs = f.terms[1]
+            f.terms[1] = (lam, w, [acb(arb(cs[0].real, arb(2) ** -100))])
+        return f
+
+
+def test_refinement_stops_at_the_resolution_of_the_function():
+    """The point Newton's bracket is widened to the resolution of f (radius of f over |f'|), not
+    refused: refined at 300 bits, the root gets a ball that holds log 2 and is as narrow as the
+    blurred data allow (2^-99 .. 2^-90)."""
+    fn = BlurredFn([(-1, 1, [1]), (0, 1, [fmpq(-1, 2)])])
+    br = first_crossing(fn, fmpq(0), fmpq(5), 128)
+    r = RootReal(fn, br)
+    b = r.arb(300)
+    with mp.workdps(60):
+        assert holds(b, mp.log(2), 50)
+    assert arb(2) ** -100 < b.rad() < arb(2) ** -90
+    assert r.lo < r.hi and r.simple
+
+
+def test_root_near_a_double_root_refined_past_the_float_guess():
+    """(t - 1)^2 - 10^-40 on the simple bracket (0, 1 - 10^-20 + 10^-30] (f' = 2 (t - 1) < 0
+    there): the root 1 - 10^-20 is below the resolution of floats, the float guess is ~1 - 10^-16
+    and Newton's points from it only halve their distance to the root, so the certified signs
+    at x -+ d fail and the interval Newton refines instead: 180 digits, against the exact root."""
+    fn = poly(1 - fmpq(1, 10**40), -2, 1)
+    r = RootReal(fn, Bracket(fmpq(0), 1 - fmpq(1, 10**20) + fmpq(1, 10**30), True))
+    b = r.arb(640)
+    with mp.workdps(260):
+        assert holds(b, 1 - mp.mpf(10) ** -20, 240)
+        assert b.rad() < mp.mpf(10) ** -180
