@@ -81,10 +81,12 @@ def float_root(f: Any, lo: float, hi: float) -> float | None:
         else:
             return t
         step = v / dv if dv < 0 else math.inf
+        if abs(step) <= 4e-16 * max(1.0, abs(t)):
+            return t - step  # settled (the float sign of f here is noise: checked before use)
         nt = t - step
         if not a < nt < b:  # outside the float bracket: bisect
             nt = (a + b) / 2
-        if abs(nt - t) <= 4e-16 * max(1.0, abs(t)) or not a < nt < b:
-            return nt if a < nt < b else t
+            if not a < nt < b:
+                return t
         t = nt
     return t

@@ -67,6 +67,9 @@ class ExpSum:
         self.prec = prec
         self._d: dict[int, list] = {0: terms}
         self._shifted: dict[int, "ExpSum"] = {}
+        # every eigenvalue semisimple (one coefficient: the usual case): values by the powers of
+        # lambda, {d: [(lambda, w lambda^d c)]} (w = 2 exact in a ball)
+        self._powers: dict[int, list] | None = {} if all(len(cs) == 1 for _, _, cs in terms) else None
 
     def _deriv_terms(self, d: int) -> list:
         """Terms of f^{(d)}: (e^{lambda t} P)' = e^{lambda t} (lambda P + P')."""
@@ -88,6 +91,8 @@ class ExpSum:
         53 bits."""
         with workprec(self.prec):
             tc = acb(arb(t) if isinstance(t, fmpq) else t)
+            if self._powers is not None:
+                return self._semisimple_values(tc, orders)
             exps = [(lam * tc).exp() for lam, _, _ in self.terms]
             out = []
             for d in orders:
@@ -103,6 +108,22 @@ class ExpSum:
                     acc += v * w if w != 1 else v
                 out.append(acc)
             return out
+
+    def _semisimple_values(self, tc: acb, orders: range) -> list[arb]:
+        """values() when every term is w Re(c e^{lambda t}): f^{(d)}(t) = sum w Re(lambda^d c
+        e^{lambda t}), one exponential and one product a term and order (the caller holds the
+        precision)."""
+        d0, k = orders.start, len(orders)
+        if d0 not in self._powers:
+            self._powers[d0] = [(lam, cs[0] * w) for lam, w, cs in self._deriv_terms(d0)]
+        out = [arb(0)] * k
+        for lam, c in self._powers[d0]:
+            p = (lam * tc).exp() * c
+            out[0] += p.real
+            for j in range(1, k):
+                p *= lam
+                out[j] += p.real
+        return out
 
     def value(self, t: arb | fmpq, d: int = 0) -> arb:
         """f^{(d)}(t)."""
@@ -467,7 +488,8 @@ class RootReal(Real):
         scale = max(1, abs(hi))
         if hi - lo < scale * fmpq(1, 2 ** 40):
             x = (lo + hi) / 2
-            good = max(1, int(math.log2(float(scale / (hi - lo)))) if hi > lo else prec)
+            ratio = scale / (hi - lo) if hi > lo else fmpq(2) ** prec  # (no float: it can be 2^3000)
+            good = max(1, ratio.p.bit_length() - ratio.q.bit_length() - 1)
         else:
             t = float_root(f, float(lo), float(hi))
             if t is None:

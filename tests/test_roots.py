@@ -174,3 +174,31 @@ def test_root_near_a_double_root_refined_past_the_float_guess():
     with mp.workdps(260):
         assert holds(b, 1 - mp.mpf(10) ** -20, 240)
         assert b.rad() < mp.mpf(10) ** -180
+
+
+def test_float_guess_of_a_root():
+    """The float guess the refinement starts from (lcs_exact.guesses.float_root): log 2 for
+    e^{-t} - 1/2 on (0, 5) and pi/2 for cos t on (1/2, 3), to float accuracy; on (0, 40) Newton's
+    first step from the middle leaves the bracket (f'(20) = -2e-9: a step of 2.4e8) and bisection
+    takes over."""
+    from lcs_exact.guesses import float_root
+    f = Fn([(-1, 1, [1]), (0, 1, [fmpq(-1, 2)])]).at(64)
+    assert abs(float_root(f, 0.0, 5.0) - 0.6931471805599453) < 1e-15
+    cos = Fn([(acb(0, 1), 2, [fmpq(1, 2)])]).at(64)
+    assert abs(float_root(cos, 0.5, 3.0) - 1.5707963267948966) < 1e-15
+    assert abs(float_root(f, 0.0, 40.0) - 0.6931471805599453) < 1e-15
+
+
+def test_polish_from_a_bracket_narrower_than_floats():
+    """A simple bracket of width 2^-3000 around log 2 (e^{-t} - 1/2): the narrow path reads the
+    bits it already has off the exact width (as a float the ratio overflowed: a bare
+    OverflowError a fuzz found on a 3-contact mechanical scene) and refines on to 3300 bits."""
+    from lcs_exact.balls import dyadic_lower, dyadic_upper
+    with workprec(3100):
+        l2 = arb(2).log()
+        lo, hi = dyadic_lower(l2), dyadic_upper(l2)
+    assert 0 < hi - lo < fmpq(1, 2 ** 3000)
+    r = RootReal(Fn([(-1, 1, [1]), (0, 1, [fmpq(-1, 2)])]), Bracket(lo, hi, True))
+    b = r.arb(3300)
+    with workprec(3500):
+        assert b.overlaps(arb(2).log()) and b.rad() < arb(2) ** -3250
