@@ -26,7 +26,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from . import calcium
 from .balls import closed_form_arb, workprec
-from .errors import LCSError, UnresolvedSign
+from .errors import InvalidArgument, LCSError, UnresolvedSign
 from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
 from .forms import Closed
 from .rational import matrix_to_sympy
@@ -206,6 +206,8 @@ def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
     if sym is not None:
         import sympy
         t = t_symbol()
+        if sym.has(sympy.I):
+            return None  # SymPy's general inversion (a repeated complex pair) wrote it with I
         for tq in (fmpq(1, 7), fmpq(5, 3)):
             with workprec(128):
                 want = (arb_mat(g) * spectrum.apply(arb(tq), v.arb(128), 128))[0, 0]
@@ -233,11 +235,21 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
     if sym is None:
         return None
     for more in (exp_candidates, solve_candidates, harmonic_candidates):  # cheap ones first
-        for expr in more(sym, b):
-            cand = Closed.of_sympy(expr)
+        for cand in _representable(more(sym, b)):
             if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
                 return cand, cand.to_ca()
     return None
+
+
+def _representable(exprs):
+    """The candidates (SymPy expressions) that are closed forms of the supported set, as
+    :class:`Closed`; the others (a root written with I, a RootOf) are skipped: a candidate is a
+    guess to be proven, and one that cannot be written is simply not tried."""
+    for expr in exprs:
+        try:
+            yield Closed.of_sympy(expr)
+        except InvalidArgument:
+            continue
 
 
 def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, deadline=None) -> bool | None:
@@ -250,8 +262,8 @@ def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, dea
         yield from _shifted_candidates(mid, spectrum, v)
         sym = function_closed_form(spectrum, g * spectrum.M, v)  # f': t* is one of its roots
         if sym is not None:
-            yield from (Closed.of_sympy(e) for e in exp_candidates(sym, mid))
-            yield from (Closed.of_sympy(e) for e in solve_candidates(sym, mid))
+            yield from _representable(exp_candidates(sym, mid))
+            yield from _representable(solve_candidates(sym, mid))
 
     for cand in stream():
         if not _inside(cand, lo, hi):
@@ -414,6 +426,8 @@ def harmonic_candidates(sym, b: arb) -> list:
     for v, k in mult.items():
         a = expanded.coeff(sympy.cos(v * t))
         bb = expanded.coeff(sympy.sin(v * t))
+        if a.has(t) or bb.has(t):
+            return []  # t cos(vt) (a repeated pair): not a polynomial in cos t
         rest = rest - a * sympy.cos(v * t) - bb * sympy.sin(v * t)
         P += a * sympy.chebyshevt(k, x)
         Q += bb * (sympy.chebyshevu(k - 1, x) if k >= 1 else 0)
@@ -433,7 +447,13 @@ def harmonic_candidates(sym, b: arb) -> list:
             if fp.degree() > 4:
                 continue
             for r in sympy.roots(fp, multiple=True):
-                if not r.is_real or abs(float(r)) > 1:
+                # numerically: a real root may be written with I (casus irreducibilis), and
+                # float() of an expression SymPy cannot decide is real raises
+                try:
+                    rv = complex(sympy.N(r, 30))
+                except TypeError:  # not a number SymPy can evaluate
+                    continue
+                if abs(rv.imag) > 1e-20 or abs(rv.real) > 1:
                     continue
                 for branch in (sympy.acos(r), -sympy.acos(r)):
                     val = mpf(str(sympy.N(branch, 30))) / wv

@@ -544,7 +544,7 @@ def laplace_closed_form(M: fmpq_mat, row: fmpq_mat, z: fmpq_mat):
 
 def _quadratic_extension(den):
     """None when every irreducible factor of den over Q has degree <= 2; d (a rational) when the
-    others are biquadratic a s^4 + b s^2 + c splitting over one Q(sqrt(d)), d = b^2 - 4ac (the two
+    others are biquadratic a s^4 + b s^2 + c splitting over one real Q(sqrt(d)), d = b^2 - 4ac > 0 (the two
     carts' free mode: s^4 + 3s^2 + 1 over Q(sqrt 5)); False otherwise.  Decided in Q: two such
     factors share their field when the product of their d is a rational square."""
     ext = None
@@ -555,6 +555,8 @@ def _quadratic_extension(den):
         if p.degree() != 4 or c[1] != 0 or c[3] != 0:
             return False
         d = c[2] * c[2] - 4 * c[4] * c[0]
+        if d < 0:
+            return False  # s^2 = (-b +- sqrt d) / 2a complex: no real quadratic factors over Q(sqrt d)
         if ext is not None and not _rational_square(d * ext):
             return False  # two different quadratic fields
         ext = ext if ext is not None else d

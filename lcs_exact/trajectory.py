@@ -170,7 +170,15 @@ class Trajectory:
                          + (" (the trajectory is partial)" if self.partial else ""))
 
     def _phase_at(self, t: Real) -> PhaseRecord:
-        i, _ = self._locate(t)
+        """The phase holding t, for u and y; at the end T* of an accumulation window, the phase
+        after it (the scaled cycles have no value at T* itself: there u and y are the right
+        limits, as the state is)."""
+        i, at_end = self._locate(t)
+        if at_end and hasattr(self.phases[i].phase, "output"):
+            if i + 1 == len(self.phases):
+                raise InvalidArgument(f"u and y at the accumulation time {t.label()} itself: the trajectory "
+                                      "ends there, and the inputs have no limit from the left (the state does)")
+            return self.phases[i + 1]
         return self.phases[i]
 
     def state(self, t: Any) -> ExactVector:

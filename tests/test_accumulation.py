@@ -109,3 +109,23 @@ def test_scaled_cycle_reproduces_the_hand_derived_motion():
     x = cyc.state(t10 - t9).rational()
     # event 10 is the second of a cycle (quadrant IV lands on x1 = 0) at 5/3^10 from the origin
     assert list(x.entries()) == [0, -fmpq(5, 3 ** 10), 1]
+
+
+def test_inputs_at_a_crossed_accumulation_time_are_right_limits():
+    """u and y at the accumulation time T* itself, as the state there: right limits, from the
+    phase after the scaled cycles (they raised "internal inconsistency" at T*).  Bouncing ball
+    (g = 10, e = 1/2) dropped from 5 at rest: impacts at 1, 2, 5/2, ..., T* = 3; after it the
+    ball rests: x = (0, 0, 1), the contact force u = m g = 10, the gap y = 0.  Filippov's spiral
+    from (1, 2): T* = 3/2, at rest at the origin after it, u = (1, 0, 1, 0) and y = (0, 1, 0, 1)
+    as at t = 7/4."""
+    ball = L.examples.bouncing_ball(g=10, e="1/2")
+    tr = L.simulate(ball, ball.embed([5, 0]), 4)
+    assert tr.accumulations[0].time.known_rational() == 3
+    assert list(tr.u(3).known_rational().entries()) == [10]
+    assert list(tr.y(3).known_rational().entries()) == [0]
+    assert tr.to_numpy([0, 3, 4], u=True)[1].tolist() == [0.0, 0.0, 1.0, 10.0]
+    spiral = L.examples.filippov_spiral()
+    tr = L.simulate(spiral, [1, 2, 1], 2)
+    assert tr.accumulations[0].time.known_rational() == fmpq(3, 2)
+    assert list(tr.u("3/2").known_rational().entries()) == [1, 0, 1, 0] == list(tr.u("7/4").known_rational().entries())
+    assert list(tr.y("3/2").known_rational().entries()) == [0, 1, 0, 1]

@@ -144,3 +144,37 @@ def test_state_of_a_ten_dimensional_chain_at_a_rational_time_has_no_rational_for
     assert len(tr.events) == 0
     x = tr.state(3)
     assert x.rational() is None and x[0].closed_form is None
+
+
+def test_repeated_complex_pair_has_no_closed_form_and_no_crash():
+    """A = companion of (s^2 + 1)^2 (a repeated pair +-i: t cos t, t sin t terms), D = 1: the
+    event times are certified roots; their closed forms are None, not a bare TypeError of the
+    harmonic candidates (t cos t is no polynomial in cos t), and the run writes a fixture.
+    Checked against mpmath: mode {} is x' = A x, y = x1, the first event where x1 = 0."""
+    A = [[0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [-1, 0, -2, 0]]
+    lcs = L.LCS(A, [[0], [0], [0], [1]], [[1, 0, 0, 0]], [[1]])
+    tr = L.simulate(lcs, [1, 0, 0, 0], 10, digits=30, closed_forms=True)
+    t1 = tr.events[0].time
+    assert t1.closed_form is None
+    with mp.workdps(50):
+        f = lambda t: (mp.expm(mp.matrix(A) * t) * mp.matrix([1, 0, 0, 0]))[0]
+        assert close(num(t1), mp.findroot(f, 2.46))
+    assert tr.to_fixture(15)["schema"].startswith("lcs-exact/trajectory")
+
+
+def test_mode_with_chi_s4_plus_1_has_no_closed_form_and_no_crash():
+    """A chain of four integrators, y = x1 + u (D = 1), x0 = (99/100, -2, 2, 0): in mode {} x1 =
+    (t - 1)^2 - 1/100 reaches 0 at 9/10 (rational, proven); mode {0} (u = -x1: x1'''' = -x1,
+    chi = s^4 + 1) ends where x1 turns positive again, 1.09999822227865721654277... (mpmath
+    below).  s^4 + 1 is biquadratic over Q(sqrt -4): no real quadratic factors there, so no
+    closed form is tried (it raised a bare TypeError comparing I)."""
+    A = [[0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]]
+    lcs = L.LCS(A, [[0], [0], [0], [1]], [[1, 0, 0, 0]], [[1]])
+    tr = L.simulate(lcs, ["99/100", "-2", "2", "0"], 3, digits=30)
+    first, second = tr.events[0].time, tr.events[1].time
+    assert first.closed_form == sp.Rational(9, 10) and second.closed_form is None
+    with mp.workdps(50):
+        AI = mp.matrix([[0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [-1, 0, 0, 0]])
+        x = mp.matrix([0, mp.mpf(-1) / 5, 2, 0])
+        want = mp.findroot(lambda t: (mp.expm(AI * (t - mp.mpf(9) / 10)) * x)[0], 1.1)
+        assert close(num(second), want)
