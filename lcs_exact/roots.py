@@ -69,7 +69,7 @@ class ExpSum:
         self._shifted: dict[int, "ExpSum"] = {}
         # every eigenvalue semisimple (one coefficient: the usual case): values by the powers of
         # lambda, {d: [(lambda, w lambda^d c)]} (w = 2 exact in a ball)
-        self._powers: dict[int, list] | None = {} if all(len(cs) == 1 for _, _, cs in terms) else None
+        self._powers: dict[int, list] | None = {} if all([len(cs) == 1 for _, _, cs in terms]) else None
 
     def _deriv_terms(self, d: int) -> list:
         """Terms of f^{(d)}: (e^{lambda t} P)' = e^{lambda t} (lambda P + P')."""
@@ -114,8 +114,8 @@ class ExpSum:
         e^{lambda t}), one exponential and one product a term and order (the caller holds the
         precision)."""
         d0, k = orders.start, len(orders)
-        if d0 not in self._powers:
-            self._powers[d0] = [(lam, cs[0] * w) for lam, w, cs in self._deriv_terms(d0)]
+        if d0 not in self._powers:  # w lambda^d0 c directly (no chain of derivative terms)
+            self._powers[d0] = [(lam, cs[0] * (lam ** d0 * w) if d0 else cs[0] * w) for lam, w, cs in self.terms]
         out = [arb(0)] * k
         for lam, c in self._powers[d0]:
             p = (lam * tc).exp() * c
