@@ -345,12 +345,12 @@ class EventState(ExpVector):
             if s.contains(0):
                 return plain
             J = E - v * ((arb_mat(self.g) * E) * (1 / s))
+            # J (Z - z_c) with Z - z_c = [0 +- rad Z_j]: each product is [0 +- |J_ij| rad Z_j]
+            # or wider, so the radii of this one product bound sum_j |J_ij| rad Z_j
+            JD = J * arb_mat([[arb(0, Z[j, 0].rad())] for j in range(n)])
         out = []
         for i in range(n):
-            r = arb(0)
-            for j in range(n):
-                r += abs(J[i, j]) * Z[j, 0].rad()
-            c = xc[i, 0] + arb(0, r.upper())
+            c = xc[i, 0] + arb(0, JD[i, 0].rad() + abs(JD[i, 0].mid()))
             p = plain[i, 0]
             out.append([c.intersection(p) if c.overlaps(p) else p])
         return arb_mat(out)
