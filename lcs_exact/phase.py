@@ -320,31 +320,23 @@ class EventState(ExpVector):
             return plain  # an exact start: no correlation to keep
         sp = self.spectrum
         zc = arb_mat([[Z[i, 0].mid()] for i in range(n)])
-        # Theta must hold theta(z) for EVERY z in Z (the mean value form integrates J over the
-        # segment from z_c to z): certified here on the root's rational bracket with the
-        # function's ball over Z: f(lo) > 0 > f(hi) and f' < 0 on [lo, hi]
-        self.t.arb(prec)
-        lo, hi = self.t.interval() if hasattr(self.t, "interval") else (None, None)
-        if lo is None:
-            return plain
-        fZ = self.t.function.at(prec)
-        if lo == hi:  # an exact rational root (a polynomial phase with a rational start)
-            return plain
-        if not (fZ.value(lo) > 0 and fZ.value(hi) < 0 and fZ.sign_enclose(lo, hi, 1) < 0):
-            return plain
-        Theta = arb(lo).union(arb(hi))
+        old = self.__dict__.get("_jacobian")  # (Z', Theta', J') of an earlier precision
+        if old is not None and all(old[0][i, 0].contains(Z[i, 0]) for i in range(n)):
+            # Z inside Z': Theta' holds theta(z) and J' the Jacobian for every z in Z (both were
+            # certified over Z'); the 64-bit propagator and its check are not redone
+            _, Theta, J = old
+        else:
+            got = self._jacobian_over(Z, prec)
+            if got is None:
+                return plain
+            Theta, J = got
+            self._jacobian = (Z, Theta, J)
         # the root for the center z_c, inside Theta (which holds theta(z) for every z in Z)
         fc = ExpSum([(lam, w, [(acb_mat(self.g) * v)[0, 0] for v in ws])
                      for lam, w, ws in sp.modal(zc, prec)], prec)
         tc = newton_ball(fc, Theta)
         xc = sp.apply(tc, zc, prec)
-        with workprec(RADIUS_PREC):  # J only bounds the radius: 64-bit balls suffice
-            E = sp.matrix(Theta, RADIUS_PREC)
-            v = arb_mat(sp.M) * (E * Z)
-            s = (arb_mat(self.g) * v)[0, 0]
-            if s.contains(0):
-                return plain
-            J = E - v * ((arb_mat(self.g) * E) * (1 / s))
+        with workprec(RADIUS_PREC):
             # J (Z - z_c) with Z - z_c = [0 +- rad Z_j]: each product is [0 +- |J_ij| rad Z_j]
             # or wider, so the radii of this one product bound sum_j |J_ij| rad Z_j
             JD = J * arb_mat([[arb(0, Z[j, 0].rad())] for j in range(n)])
@@ -354,4 +346,31 @@ class EventState(ExpVector):
             p = plain[i, 0]
             out.append([c.intersection(p) if c.overlaps(p) else p])
         return arb_mat(out)
+
+    def __getstate__(self):
+        state = super().__getstate__()
+        state.pop("_jacobian", None)  # a cache of the centered form (n x n): rebuilt on demand
+        return state
+
+    def _jacobian_over(self, Z: arb_mat, prec: int) -> tuple[arb, arb_mat] | None:
+        """(Theta, J): a ball Theta that holds theta(z) for EVERY z in Z (the mean value form
+        integrates J over the segment from z_c to z), certified on the root's rational bracket
+        with the function's ball over Z (f(lo) > 0 > f(hi), f' < 0 on [lo, hi]), and the
+        Jacobian enclosed over Theta and Z at RADIUS_PREC; None when either cannot be shown."""
+        self.t.arb(prec)
+        lo, hi = self.t.interval() if hasattr(self.t, "interval") else (None, None)
+        if lo is None or lo == hi:  # lo == hi: an exact rational root (polynomial phase)
+            return None
+        fZ = self.t.function.at(prec)
+        if not (fZ.value(lo) > 0 and fZ.value(hi) < 0 and fZ.sign_enclose(lo, hi, 1) < 0):
+            return None
+        Theta = arb(lo).union(arb(hi))
+        sp = self.spectrum
+        with workprec(RADIUS_PREC):  # J only bounds the radius: 64-bit balls suffice
+            E = sp.matrix(Theta, RADIUS_PREC)
+            v = arb_mat(sp.M) * (E * Z)
+            s = (arb_mat(self.g) * v)[0, 0]
+            if s.contains(0):
+                return None
+            return Theta, E - v * ((arb_mat(self.g) * E) * (1 / s))
 

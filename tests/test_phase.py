@@ -55,3 +55,20 @@ def test_simultaneous_roots_proven_by_proportionality():
     e = tr.events[0]
     assert set(e.triggers) == {"y_0", "y_1"} and tr.certified
     assert sp.simplify(e.time.closed_form - sp.pi / 2) == 0
+
+
+def test_event_state_refined_after_a_first_ball_reuses_a_valid_jacobian():
+    """The two carts from x0 = e^{-A} (0, -1, -1, 0) (an exact start that is not rational: the
+    phase start is a ball): x(1-) = (0, -1, -1, 0) exactly.  Asked at 30 and then at 200 digits,
+    the centered form of the second request reuses the Jacobian certified over the first, wider
+    ball of the start (valid: the new ball lies inside it) - and the result still holds the exact
+    state, 200 digits tight."""
+    from lcs_exact.models import two_carts
+    lcs = two_carts()
+    tr = L.simulate(lcs, L.expm_action(lcs.A, -1, [0, -1, -1, 0]), 3, digits=30)
+    x = tr.events[0].state_before
+    first = [c.ball(30) for c in x]
+    second = [c.ball(200) for c in x]
+    for b1, b2, want in zip(first, second, (0, -1, -1, 0)):
+        assert b1.contains(want) and b2.contains(want)
+        assert b2.rad() < arb(10) ** -200
