@@ -453,7 +453,7 @@ def harmonic_candidates(sym, b: arb) -> list:
                     rv = complex(sympy.N(r, 30))
                 except TypeError:  # not a number SymPy can evaluate
                     continue
-                if abs(rv.imag) > 1e-20 or abs(rv.real) > 1:
+                if r.is_real is not True or abs(rv.imag) > 1e-20 or abs(rv.real) > 1:  # (a form with I)
                     continue
                 for branch in (sympy.acos(r), -sympy.acos(r)):
                     val = mpf(str(sympy.N(branch, 30))) / wv

@@ -178,3 +178,15 @@ def test_mode_with_chi_s4_plus_1_has_no_closed_form_and_no_crash():
         x = mp.matrix([0, mp.mpf(-1) / 5, 2, 0])
         want = mp.findroot(lambda t: (mp.expm(AI * (t - mp.mpf(9) / 10)) * x)[0], 1.1)
         assert close(num(second), want)
+
+
+def test_harmonic_candidate_written_with_i_is_skipped():
+    """Two masses, restitution 1, x0 = (3, 6, -1, -4): the first impact at 0.5610619451868779...
+    has a harmonic candidate whose root SymPy writes with I (casus irreducibilis); it is not
+    tried, so the closed form is None and the fixture is written (a review found InvalidArgument)."""
+    lcs = L.models.mechanical([[1, 0], [0, 2]], [[1, -1], [-1, 3]], [[1, 0], [-1, 1]], restitution="1")
+    tr = L.simulate(lcs, ["3", "6", "-1", "-4"], "3/5", digits=30)
+    t1 = tr.events[0].time
+    assert abs(num(t1) - mp.mpf("0.561061945186877943438982369807")) < mp.mpf(10) ** -29
+    assert t1.closed_form is None
+    assert tr.to_fixture(20)["schema"].startswith("lcs-exact/trajectory")
