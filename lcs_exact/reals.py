@@ -289,9 +289,11 @@ class _Linear(Real):
             return
         cas = [x.known_ca() for x in parts]
         if all(c is not None for c in cas):
-            self._kca = combine(*cas)
+            self._kca = combine(*cas).compact()
 
     def rational(self):
+        if self._q is None and self._kca is not None:
+            self._q = self._kca.to_fmpq()
         if self._q is None and self.policy.closed_forms != "off":
             const, terms = linear_terms(self)
             qs = [x.rational() for _, x in terms]
@@ -310,6 +312,8 @@ class _Linear(Real):
         return out
 
     def to_ca(self):
+        if self._kca is not None:
+            return self._kca
         if not calcium.available():
             return None
         const, terms = linear_terms(self)
@@ -319,7 +323,7 @@ class _Linear(Real):
             if cx is None:
                 return None
             out = out + cx * calcium.Ca(c)
-        return out
+        return out.compact()
 
 
 class SumReal(_Linear):
@@ -498,7 +502,7 @@ class AlgebraicReal(Real):
 
     def __init__(self, ca: Any, policy: Policy | None = None):
         super().__init__(policy)
-        self.ca = ca
+        self.ca = ca.compact()  # a long run's times would otherwise grow in Calcium's field form
         self._q = ca.to_fmpq()
         self._bounds = None
         if self._q is not None and self._q.q == 1:

@@ -508,7 +508,7 @@ class AlgebraicVector(ExactVector):
 
     def __init__(self, comps: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None):
         super().__init__(len(comps), zero_forms, policy)
-        self.comps = list(comps)
+        self.comps = [c.compact() for c in comps]  # (see Ca.compact: expressions outgrow numbers)
         qs = [c.to_fmpq() for c in self.comps]
         self._q = fmpq_mat(self.n, 1, qs) if all(q is not None for q in qs) else None
 

@@ -133,3 +133,56 @@ def test_full_wave_bridge_with_a_floating_sine_source():
     # the bridge rectifies both half-waves: v(C1) = |sin t| while a pair conducts, so the first
     # turn-off is where the current cos t + sin t of the load and C vanishes, at 3 pi / 4
     assert ta.events[0].time.closed_form == 3 * sympy.pi / 4
+
+
+def _elastic_column_reference(q, v, T, g=10):
+    """Event times of beads 1..3 above bead 0 resting on the floor (its top at 0.15: bead 1
+    reflects there), equal masses and e = 1 (a collision exchanges the two velocities), in
+    mpmath at the working precision: free fall between events, so a gap between neighbours
+    changes linearly (same acceleration) and bead 1's height above 0.15 quadratically."""
+    times, t = [], mpmath.mpf(0)
+    floor, gap = mpmath.mpf(3) / 20, mpmath.mpf(1) / 10
+    while True:
+        cands = []
+        h, w = q[0] - floor, v[0]  # bead 1 over bead 0: h + w s - g s^2 / 2 = 0
+        s = (w + mpmath.sqrt(w * w + 2 * g * h)) / g
+        cands.append((s, "floor"))
+        for i in range(2):
+            dgap, dv = q[i + 1] - q[i] - gap, v[i + 1] - v[i]
+            if dv < 0:
+                cands.append((-dgap / dv, i))
+        s, who = min(cands, key=lambda c: c[0])
+        if t + s > T + mpmath.mpf(10) ** -40:
+            return times
+        q = [x + y * s - g * s * s / 2 for x, y in zip(q, v)]
+        v = [y - g * s for y in v]
+        t += s
+        times.append(t)
+        if who == "floor":
+            v[0] = -v[0]
+        else:
+            v[who], v[who + 1] = v[who + 1], v[who]
+
+
+def test_elastic_column_of_four_beads_reaches_an_event_exactly_at_the_horizon():
+    """Beads evenly spaced by 4/10 above a bead resting on the floor, e = 1: bead 1 lands on bead
+    0 at sqrt(2/25) = sqrt(2)/5, the beads exchange speeds in turn, and after 21 more impacts
+    bead 1 lands on bead 0 again exactly at t = 2, at speed 4.
+    Every time against an independent mpmath event loop at 60 digits; the event at the
+    horizon is proven to lie on it (the state at 2 is x(2+)), and the energy 32 is kept exactly.
+    (The times' exact forms stay of degree <= 4 over Q: Ca.compact keeps them small.)"""
+    col = ball_column(4, e="1")
+    q0 = [fmpq(1, 20) + fmpq(i, 10) + fmpq(4 * i, 10) for i in range(4)]
+    tr = simulate(col, col.embed(q0 + [0] * 4), 2, digits=40)
+    assert tr.certified and tr.status.name == "COMPLETE"
+    with mpmath.workdps(60):
+        ref = _elastic_column_reference([mpmath.mpf(int(x.p)) / int(x.q) for x in q0[1:]], [mpmath.mpf(0)] * 3, 2)
+        assert len(tr.events) == len(ref) == 22
+        for ev, t in zip(tr.events, ref):
+            assert abs(mp(ev.time) - t) < mpmath.mpf(10) ** -38
+    last = tr.events[-1]
+    assert last.time.rational() == 2 and last.modes == (frozenset({0, 1}),)
+    assert last.state_before.known_ca()[5].to_fmpq() == -4 and last.state_after.known_ca()[5].to_fmpq() == 4
+    x = tr.state(2).known_ca()
+    energy = sum(((x[4 + i] * x[4 + i]) / 2 + x[i] * 10 for i in range(4)), x[8] * 0)
+    assert (energy - 32).is_zero() is True
