@@ -82,7 +82,7 @@ WHERE_THE_TIME_GOES = (
     'selection and their sign decisions (near a cluster of impacts the state is evaluated at 2-4 '
     'times the working precision); and the centered form of the event state (one n x n propagator at '
     '64 bits). Small systems (the two carts, the long run) spend their time in Python overhead spread '
-    'over root isolation (about 12 certified evaluations of an exponential sum per event), mode '
+    'over root isolation (about 20 certified evaluations of an exponential sum per event), mode '
     'selection and re-initialization, no single item above a fifth. The remaining gaps to the SciPy '
     'float baseline are the cost of certified ball arithmetic driven from Python: closing them needs '
     'compiled kernels (the exponential-sum evaluation and the LCP stages), not a different algorithm.\n'

@@ -67,14 +67,18 @@ class ExpSum:
         self.prec = prec
         self._d: dict[int, list] = {0: terms}
         self._shifted: dict[int, "ExpSum"] = {}
-        # every eigenvalue semisimple (one coefficient: the usual case): values by the powers of
-        # lambda, {d: [(lambda, w lambda^d c)]} (w = 2 exact in a ball)
-        self._powers: dict[int, list] | None = {} if all([len(cs) == 1 for _, _, cs in terms]) else None
+        # the semisimple eigenvalues (one coefficient: all of them, usually) take their values
+        # by the powers of lambda, {d: [(lambda, w lambda^d c)]} (w = 2 exact in a ball); the
+        # others (a rigid-body mode of a chain of carts: 0 twice) by their derivative terms
+        self._powers: dict[int, list] = {}
+        self._poly: dict[int, list] = {0: [t for t in terms if len(t[2]) > 1]}
 
-    def _deriv_terms(self, d: int) -> list:
-        """Terms of f^{(d)}: (e^{lambda t} P)' = e^{lambda t} (lambda P + P')."""
-        if d not in self._d:
-            prev = self._deriv_terms(d - 1)
+    def _deriv_terms(self, d: int, cache: dict | None = None) -> list:
+        """Terms of f^{(d)}: (e^{lambda t} P)' = e^{lambda t} (lambda P + P') (``cache``: the
+        derivatives of a subset of the terms, {0: subset})."""
+        cache = self._d if cache is None else cache
+        if d not in cache:
+            prev = self._deriv_terms(d - 1, cache)
             with workprec(self.prec):
                 out = []
                 for lam, w, cs in prev:
@@ -82,8 +86,8 @@ class ExpSum:
                     for j in range(1, len(cs)):
                         new[j - 1] += cs[j] * j
                     out.append((lam, w, new))
-            self._d[d] = out
-        return self._d[d]
+            cache[d] = out
+        return cache[d]
 
     def values(self, t: arb | fmpq, orders: range) -> list[arb]:
         """[f^{(d)}(t) for d in orders] (t a rational point, or a ball: an interval), sharing
@@ -91,31 +95,27 @@ class ExpSum:
         53 bits."""
         with workprec(self.prec):
             tc = acb(arb(t) if isinstance(t, fmpq) else t)
-            if self._powers is not None:
-                return self._semisimple_values(tc, orders)
-            exps = [(lam * tc).exp() for lam, _, _ in self.terms]
-            out = []
-            for d in orders:
-                acc = arb(0)
-                for (lam, w, cs), e in zip(self._deriv_terms(d), exps):
-                    if len(cs) == 1:  # a semisimple eigenvalue: no polynomial (the usual case)
-                        v = (e * cs[0]).real
-                    else:
-                        p = cs[-1]
-                        for c in reversed(cs[:-1]):
-                            p = p * tc + c
-                        v = (e * p).real
-                    acc += v * w if w != 1 else v
-                out.append(acc)
+            out = self._semisimple_values(tc, orders)
+            if not self._poly[0]:
+                return out
+            exps = [(lam * tc).exp() for lam, _, _ in self._poly[0]]
+            for j, d in enumerate(orders):
+                for (_, w, cs), e in zip(self._deriv_terms(d, self._poly), exps):
+                    p = cs[-1]
+                    for c in reversed(cs[:-1]):
+                        p = p * tc + c
+                    v = (e * p).real
+                    out[j] += v * w if w != 1 else v
             return out
 
     def _semisimple_values(self, tc: acb, orders: range) -> list[arb]:
-        """values() when every term is w Re(c e^{lambda t}): f^{(d)}(t) = sum w Re(lambda^d c
-        e^{lambda t}), one exponential and one product a term and order (the caller holds the
+        """The part of values() of the terms w Re(c e^{lambda t}): f^{(d)}(t) = sum w Re(lambda^d
+        c e^{lambda t}), one exponential and one product a term and order (the caller holds the
         precision)."""
         d0, k = orders.start, len(orders)
         if d0 not in self._powers:  # w lambda^d0 c directly (no chain of derivative terms)
-            self._powers[d0] = [(lam, cs[0] * (lam ** d0 * w) if d0 else cs[0] * w) for lam, w, cs in self.terms]
+            self._powers[d0] = [(lam, cs[0] * (lam ** d0 * w) if d0 else cs[0] * w)
+                                for lam, w, cs in self.terms if len(cs) == 1]
         out = [arb(0)] * k
         for lam, c in self._powers[d0]:
             p = (lam * tc).exp() * c
