@@ -73,11 +73,15 @@ from flint import acb, arb, fmpq, fmpz
 
 from .errors import NotRational, UnresolvedSign
 from .flintlib import (CA_UNDEFINED, CA_UNKNOWN, CA_WORDS, AcbStruct, FmpqStruct, QqbarStruct, acb_from_address,
-                       available, backend, c_ulong, fmpz_to_int, qqbar_distinct_roots, select_qqbar_root, take_str,
-                       truth)
+                       available, backend, c_ulong, fmpz_to_int, qqbar_degree_limit, qqbar_distinct_roots,
+                       select_qqbar_root, take_str, truth)
 from .rational import to_fmpq
 
-__all__ = ["available", "Ca", "real_roots"]
+__all__ = ["available", "Ca", "real_roots", "COMPACT_DEGREE_LIMIT"]
+
+#: Calcium's degree limit in :meth:`Ca.compact` (120 elsewhere): intermediate degrees exceed the
+#: final one (a degree-8 event time of five elastic beads needs 360 from four generators)
+COMPACT_DEGREE_LIMIT = 480
 
 # ---------------------------------------------------------------------------------------------
 # the number
@@ -467,14 +471,26 @@ class Ca:
         """
         return self._predicate("ca_check_is_real")
 
-    def sign(self) -> int | None:
+    def sign(self, real: bool = False) -> int | None:
         """-1, 0 or 1 for a number proven real; None when Calcium cannot decide.
 
         Raises ``ValueError`` for a number proven non-real.
 
+        ``real=True``: the caller knows the number is real (built from reals by field operations
+        and square roots of positive numbers, as event times and states are); its sign is read
+        off an enclosure (128, 512, 2048 bits) whose real part excludes 0 before Calcium proves it
+        real and nonzero (ms in a field of many generators, as a column of five beads, vs µs).
+
         >>> (Ca.pi() - Fraction(22, 7)).sign(), Ca(0).sign(), (Ca(2).sqrt() - 2).sign()
         (-1, 0, -1)
+        >>> (Ca(2).sqrt() - Fraction(140, 99)).sign(real=True)
+        1
         """
+        if real:
+            for wp in (128, 512, 2048):  # long expressions cancel hundreds of bits
+                e = self._enclosure("ca_get_acb_raw", wp).real
+                if not e.contains(0):
+                    return 1 if e > 0 else -1
         z = self.is_zero()
         if z is not False:
             return None if z is None else 0
@@ -525,13 +541,18 @@ class Ca:
         prec = int(prec)
         if prec < 2:
             raise ValueError(f"prec must be >= 2, not {prec}")
+        return self._enclosure("ca_get_acb", prec)
+
+    def _enclosure(self, fname: str, prec: int) -> acb:
+        """``ca_get_acb`` (refined to ``prec`` accurate bits) or ``ca_get_acb_raw`` (one
+        evaluation at ``prec`` bits of working precision), transferred exactly."""
         b = self._b
         with b.lock:
             buf = (c_ulong * (2 * ctypes.sizeof(AcbStruct) // 8))()
             at = ctypes.addressof(buf)
             b.lib.acb_init(at)
             try:
-                b.lib.ca_get_acb(at, self._ptr, prec, b.ctx)
+                getattr(b.lib, fname)(at, self._ptr, prec, b.ctx)
                 return acb_from_address(b.lib, at)
             finally:
                 b.lib.acb_clear(at)
@@ -586,7 +607,9 @@ class Ca:
             at = ctypes.addressof(buf)
             lib.qqbar_init(at)
             try:
-                if not lib.ca_get_qqbar(at, self._ptr, b.ctx):
+                with qqbar_degree_limit(b, COMPACT_DEGREE_LIMIT):
+                    found = lib.ca_get_qqbar(at, self._ptr, b.ctx)
+                if not found:
                     return self
                 r = Ca._new()
                 lib.ca_set_qqbar(r._ptr, at, b.ctx)

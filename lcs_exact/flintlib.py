@@ -135,7 +135,9 @@ _SIGNATURES: dict[str, tuple[Any, list[Any]]] = {
     "ca_check_is_zero": (_I, [_P, _P]), "ca_check_is_rational": (_I, [_P, _P]),
     "ca_check_is_real": (_I, [_P, _P]), "ca_check_gt": (_I, [_P, _P, _P]),
     "ca_get_fmpq": (_I, [_P, _P, _P]), "ca_get_acb": (None, [_P, _P, _S, _P]),
+    "ca_get_acb_raw": (None, [_P, _P, _S, _P]),
     "ca_get_str": (_P, [_P, _P]), "ca_ctx_get_option": (_S, [_P, _S]),
+    "ca_ctx_set_option": (None, [_P, _S, _S]),
     "qqbar_init": (None, [_P]), "qqbar_clear": (None, [_P]),
     "_qqbar_vec_init": (_P, [_S]), "_qqbar_vec_clear": (None, [_P, _S]),
     "qqbar_roots_fmpz_poly": (None, [_P, _P, _I]), "qqbar_equal": (_I, [_P, _P]),
@@ -244,6 +246,18 @@ def self_check(b: Backend) -> None:
             ok = all(w[i] == 0 for i in acb_words)
         if not ok or any(x != _SENTINEL for x in w[k:]):
             raise RuntimeError(f"{init} does not write {size} bytes as expected")
+
+
+@contextlib.contextmanager
+def qqbar_degree_limit(b: Backend, limit: int):
+    """Calcium's degree limit of algebraic numbers (``CA_OPT_QQBAR_DEG_LIMIT``, 120 by default)
+    set to ``limit`` inside the ``with`` block (the caller holds the lock), restored on exit."""
+    old = b.lib.ca_ctx_get_option(b.ctx, _CA_OPT_QQBAR_DEG_LIMIT)
+    b.lib.ca_ctx_set_option(b.ctx, _CA_OPT_QQBAR_DEG_LIMIT, limit)
+    try:
+        yield
+    finally:
+        b.lib.ca_ctx_set_option(b.ctx, _CA_OPT_QQBAR_DEG_LIMIT, old)
 
 
 def backend() -> Backend:

@@ -156,7 +156,7 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
         return 0
     xa, xb = a.known_ca(), b.known_ca()
     if xa is not None and xb is not None:  # exact roots (polynomial phases): decided exactly
-        s = (xa - xb).sign()
+        s = (xa - xb).sign(real=True)
         if s is not None:
             return s
     policy: Policy = phase.policy

@@ -264,7 +264,7 @@ class Phase:
         acc = None
         for P in reversed(nil):  # Horner in t: ((N^2/2 z) t + N z) t + z
             term = ca_matvec(P, zc)
-            acc = term if acc is None else [a * tc + b for a, b in zip(acc, term)]
+            acc = term if acc is None else [((a * tc).compact() + b).compact() for a, b in zip(acc, term)]
         return algebraic_vector(acc, zero_forms, self.policy)
 
     def event_state(self, theta: RootReal, zero_forms: fmpq_mat | None = None) -> ExactVector:

@@ -66,12 +66,12 @@ def _strip(cs: list, is_zero) -> list | None:
 
 def _in_window(r, horizon: fmpq) -> bool | None:
     """0 < r <= horizon, exactly (None: undecided)."""
-    s = r.sign()
+    s = r.sign(real=True)
     if s is None:
         return None
     if s <= 0:
         return False
-    d = (r - calcium.Ca(horizon)).sign()
+    d = (r - calcium.Ca(horizon)).sign(real=True)
     return None if d is None else d <= 0
 
 
@@ -82,7 +82,7 @@ def _smallest(roots: list):
         if best is None:
             best = r
             continue
-        d = (r - best).sign()
+        d = (r - best).sign(real=True)
         if d is None:
             return None
         if d < 0:
@@ -131,20 +131,24 @@ MAX_EXACT_SIZE = 600
 def _algebraic_crossing(cs: list, horizon: fmpq) -> list | None:
     """Crossings of a polynomial with Calcium coefficients of degree <= 2 (else None: the
     degree is higher, or a coefficient is past :data:`MAX_EXACT_SIZE`)."""
+    cs = [c.compact() for c in cs]
     if any(len(str(c)) > MAX_EXACT_SIZE for c in cs):
         return None
     if len(cs) == 2:
         roots = [-cs[0] / cs[1]]
     elif len(cs) == 3:
+        # each step compacted: an expression in the generators of c0, c1, c2 and sqrt(disc) at
+        # once is past the degree Calcium's minimal polynomials reach, two at a time is not
         c0, c1, c2 = cs
-        disc = c1 * c1 - 4 * c2 * c0
-        s = disc.sign()
+        disc = ((c1 * c1).compact() - (4 * c2 * c0).compact()).compact()
+        s = disc.sign(real=True)
         if s is None:
             return None
         if s <= 0:
             return []  # no real root, or a double root (a touch)
-        sq = disc.sqrt()
-        roots = [(-c1 - sq) / (2 * c2), (-c1 + sq) / (2 * c2)]
+        sq = disc.sqrt().compact()
+        den = 2 * c2
+        roots = [((-c1 - sq).compact() / den).compact(), ((-c1 + sq).compact() / den).compact()]
     else:
         return None
     return _window(roots, horizon)

@@ -139,7 +139,7 @@ class Real(Node):
             return (q > 0) - (q < 0)
         c = self.known_ca()
         if c is not None:  # an algebraic number: Calcium decides its sign exactly
-            s = c.sign()
+            s = c.sign(real=True)
             if s is not None:
                 return s
         with self.policy.deadline.query():
@@ -191,13 +191,18 @@ class Real(Node):
 
     # --- display ------------------------------------------------------------------------------
     def label(self) -> str:
-        """Short text: the known closed form or rational, else 15 digits (never derives one)."""
+        """Short text: the known closed form or rational, else 15 digits (never derives one), or
+        ``[+/- e]`` when the ball contains 0 (a number that may be 0: its digits would mean
+        nothing)."""
         q = self.known_rational()
         if q is not None:
             return str(q)
         if self._cf_done and self._cf is not None:
             return str(self._cf)
-        return self.decimal(15).split(" +/-")[0]
+        mid, _, err = self.decimal(15).partition(" +/- ")
+        if err and self.ball(17).contains(0):  # the ball decimal(15) printed
+            return f"[+/- {err}]"
+        return mid
 
     def __repr__(self):
         # a repr never derives a closed form (that may run a proof): a known one, else digits
@@ -503,7 +508,7 @@ class AlgebraicReal(Real):
     def __init__(self, ca: Any, policy: Policy | None = None):
         super().__init__(policy)
         self.ca = ca.compact()  # a long run's times would otherwise grow in Calcium's field form
-        self._q = ca.to_fmpq()
+        self._q = self.ca.to_fmpq()
         self._bounds = None
         if self._q is not None and self._q.q == 1:
             ball = arb(self._q)
@@ -527,7 +532,7 @@ class AlgebraicReal(Real):
     def sign(self) -> int:
         if self._q is not None:
             return (self._q > 0) - (self._q < 0)
-        s = self.ca.sign()
+        s = self.ca.sign(real=True)
         return s if s is not None else super().sign()
 
     def interval(self) -> tuple[fmpq, fmpq]:

@@ -488,7 +488,7 @@ def ca_matvec(P: fmpq_mat, xs: list | None) -> list | None:
         acc = calcium.Ca(0)
         for j in range(P.ncols()):
             if P[i, j] != 0:
-                acc = acc + xs[j] * calcium.Ca(P[i, j])
+                acc = (acc + xs[j] * calcium.Ca(P[i, j])).compact()  # (see Ca.compact)
         out.append(acc)
     return out
 
@@ -506,10 +506,13 @@ class AlgebraicVector(ExactVector):
     (-1, sqrt(2))
     """
 
-    def __init__(self, comps: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None):
+    def __init__(self, comps: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None,
+                 rationals: list | None = None):
         super().__init__(len(comps), zero_forms, policy)
-        self.comps = [c.compact() for c in comps]  # (see Ca.compact: expressions outgrow numbers)
-        qs = [c.to_fmpq() for c in self.comps]
+        # (see Ca.compact: expressions outgrow numbers); ``rationals``: [c.to_fmpq()] of the
+        # compacted components when the caller has them (a proof of rationality can take ms)
+        self.comps = [c.compact() for c in comps] if rationals is None else list(comps)
+        qs = [c.to_fmpq() for c in self.comps] if rationals is None else rationals
         self._q = fmpq_mat(self.n, 1, qs) if all(q is not None for q in qs) else None
 
     def _compute(self, prec):
@@ -531,7 +534,7 @@ class AlgebraicVector(ExactVector):
         for j in range(self.n):
             if form[0, j] != 0:
                 acc = acc + self.comps[j] * calcium.Ca(form[0, j])
-        return acc.sign()
+        return acc.sign(real=True)
 
     def proven_zero(self, i: int) -> bool:
         return self.comps[i].is_zero() is True or super().proven_zero(i)
@@ -562,10 +565,11 @@ class AlgebraicVector(ExactVector):
 
 def algebraic_vector(xs: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None) -> ExactVector:
     """A RationalVector when every Calcium number of xs is rational, else an AlgebraicVector."""
-    qs = [c.to_fmpq() for c in xs]
+    cs = [c.compact() for c in xs]
+    qs = [c.to_fmpq() for c in cs]
     if all(q is not None for q in qs):
         return RationalVector(fmpq_mat(len(xs), 1, qs), policy)
-    return AlgebraicVector(xs, zero_forms, policy)
+    return AlgebraicVector(cs, zero_forms, policy, rationals=qs)
 
 
 def _tidy(e):

@@ -87,3 +87,19 @@ def test_sum_of_roots_is_cheap_to_test_for_rationality():
     assert s.known_rational() == fmpq(3, 2) and s.sign() == 1 and (s - fmpq(3, 2)).sign() == 0
     with pytest.raises(ZeroDivisionError):
         s / 0
+
+
+def test_a_label_of_a_ball_around_zero_shows_only_its_bound():
+    """sin²(π/7) + cos²(π/7) − 1 is 0 but not known to be: its ball straddles 0, and a label
+    that printed the ball's midpoint would show digits of noise. A nonzero number as small
+    relative to its parts, e^(π√163) − 640320³ − 744 ≈ −7.5e−13, keeps its digits."""
+    from lcs_exact.reals import ClosedFormReal
+    s, c = sp.sin(sp.pi / 7), sp.cos(sp.pi / 7)
+    z = ClosedFormReal(s**2) + ClosedFormReal(c**2) - 1
+    lab = z.label()
+    assert lab.startswith("[+/- ") and lab.endswith("]")
+    assert 0 < mp.mpf(lab[5:-1]) < mp.mpf("1e-15")
+    r = ClosedFormReal(sp.exp(sp.pi * sp.sqrt(163))) - (640320**3 + 744)
+    with mp.workdps(60):
+        want = mp.exp(mp.pi * mp.sqrt(163)) - 640320**3 - 744
+    assert mp.almosteq(mp.mpf(r.label()), want, rel_eps=mp.mpf("1e-13"))
