@@ -130,6 +130,10 @@ class Deadline:
     def disarm(self) -> None:
         self._end = None
 
+    def remaining(self) -> float | None:
+        """Seconds left (None: no limit armed)."""
+        return None if self._end is None else max(0.0, self._end - time.monotonic())
+
     @contextlib.contextmanager
     def query(self) -> Iterator[None]:
         """Inside the block, the limit counts from its start (when no run or outer query has

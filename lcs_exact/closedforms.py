@@ -28,12 +28,12 @@ from . import calcium
 from .balls import closed_form_arb, workprec
 from .errors import InvalidArgument, LCSError, UnresolvedSign
 from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
-from .forms import Closed
+from .forms import Closed, sympy_proves_zero
 from .rational import matrix_to_sympy
 from .vectors import RationalVector, orbit_start
 from .subspaces import in_row_span
 
-__all__ = ["candidates", "prove_root", "prove_zero_at", "function_closed_form", "prove_touch",
+__all__ = ["prove_root_is", "candidates", "prove_root", "prove_zero_at", "function_closed_form", "prove_touch",
            "exp_candidates", "solve_candidates"]
 
 _MAX_SIMPLIFY_OPS = 400
@@ -189,7 +189,7 @@ def _sympy_vanishes(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadline) -> 
         return None  # SymPy's simplify can take minutes on large expressions
     if deadline is not None:
         deadline.check(" while proving a closed form")
-    return True if sympy.simplify(expr) == 0 else None
+    return sympy_proves_zero(expr, deadline)
 
 
 def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
@@ -239,6 +239,16 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
             if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
                 return cand, cand.to_ca()
     return None
+
+
+def prove_root_is(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, cand: Closed, deadline=None) -> bool:
+    """True when the root (a :class:`~lcs_exact.roots.RootReal` of f = g e^{Mt} v) is proven to
+    be the closed form ``cand``, a candidate the caller knows of (the horizon of the run): its
+    bracket holds one root, ``cand`` lies in it and f(cand) = 0."""
+    if not root.simple:
+        return False
+    lo, hi = root.interval()
+    return _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True
 
 
 def _representable(exprs):

@@ -18,7 +18,8 @@ from typing import Any
 from flint import arb, fmpq
 
 from .balls import Deadline, Policy, ball_sign, dyadic_lower, dyadic_upper, workprec
-from .closedforms import prove_root, prove_touch
+from .closedforms import prove_root, prove_root_is, prove_touch
+from .forms import sympy_proves_zero
 from .errors import LCSError, UnresolvedSign
 from .interfaces import SystemLike
 from .modes import format_mode
@@ -191,8 +192,7 @@ def _equal_closed(a: RootReal, b: RootReal) -> bool | None:
     xa, xb = a.to_ca(), b.to_ca()
     if xa is not None and xb is not None:
         return (xa - xb).is_zero()
-    import sympy
-    return True if sympy.simplify(a.closed_form - b.closed_form) == 0 else None
+    return sympy_proves_zero(a.closed_form - b.closed_form, a.policy.deadline)
 
 
 def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]] | None:
@@ -221,13 +221,30 @@ def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]
             first_c, first = c, r
     if phase.policy.closed_forms == "eager":
         first.closed
-    with workprec(64):
-        h_low = dyadic_lower(H.arb(64))
-    if not (isinstance(first, RootReal) and first.hi < h_low) and (first - H).sign() > 0:
-        return None  # (the bracket settles the usual case without a sign decision)
+    if _after_horizon(phase, first, first_c, H):
+        return None
     simultaneous = [first_c] + [c for c, r in found if r is not first and
                                 compare_roots(phase, r, c, first, first_c) == 0]
     return first, simultaneous
+
+
+def _after_horizon(phase: Phase, first: Real, c: Constraint, H: Real) -> bool:
+    """first > H, decided exactly.  The bracket settles the usual case without a sign decision;
+    a root that balls cannot tell from H is proven equal to it when H has a closed form that is a
+    zero of c's function inside the root's bracket (a run to t_end = atan(2/3) or 2 pi that ends
+    on an impact or a switch: no ball separates them, and none ever will)."""
+    with workprec(64):
+        h_low = dyadic_lower(H.arb(64))
+    if isinstance(first, RootReal) and first.hi < h_low:
+        return False
+    if isinstance(first, RootReal) and first.known_rational() is None and phase.policy.closed_forms != "off":
+        with workprec(256):
+            near = first.arb(256).overlaps(H.arb(256))
+        hc = H.closed if near else None
+        if hc is not None and prove_root_is(first, phase.spectrum, c.g, phase.base, hc, phase.policy.deadline):
+            first.set_proven(hc, None)
+            return False
+    return (first - H).sign() > 0
 
 
 def _by_estimate(phase: Phase, horizon: fmpq, prec: int) -> list[tuple[float | None, Constraint]]:

@@ -17,15 +17,22 @@ and compare structurally (equal forms are equal numbers; the converse needs a pr
 """
 from __future__ import annotations
 
+import contextlib
+import signal
+import threading
 from typing import Any
 
 from flint import arb, fmpq
 
 from . import calcium
-from .balls import closed_form_arb
+from .balls import closed_form_arb, workprec
 from .errors import InvalidArgument
 
-__all__ = ["Closed", "ca_of_sympy"]
+__all__ = ["Closed", "ca_of_sympy", "sympy_proves_zero", "SYMPY_BUDGET"]
+
+#: seconds SymPy's ``simplify`` may take as the last-resort prover of a zero (it has no limit of
+#: its own: on a trigonometric expression of nested radicals it ran for minutes)
+SYMPY_BUDGET = 5.0
 
 
 def _squarefree(m: int) -> tuple[int, int]:
@@ -292,12 +299,14 @@ def _sympy_node(e: Any, rec) -> Any:
         if getattr(ex, "is_Integer", False):
             return args[0] ** int(ex)
         if getattr(ex, "is_Rational", False) and int(ex.q) == 2:
-            return args[0].sqrt() ** int(ex.p)
+            return args[0].compact().sqrt() ** int(ex.p)  # (compact: see below)
         return (args[0].log() * args[1]).exp()
     unary = {"exp": calcium.Ca.exp, "log": calcium.Ca.log, "sin": calcium.Ca.sin, "cos": calcium.Ca.cos, "atan": calcium.Ca.atan,
              "acos": calcium.Ca.acos, "asin": calcium.Ca.asin}
     if name in unary and len(args) == 1:
-        return unary[name](args[0])
+        # an algebraic argument by its minimal polynomial (Ca.compact): acos of a root of a
+        # quartic written in nested radicals leaves a field of 8 generators where zero tests fail
+        return unary[name](args[0].compact())
     if name == "tan" and len(args) == 1:
         return args[0].sin() / args[0].cos()
     if name in ("sinh", "cosh") and len(args) == 1:
@@ -330,3 +339,58 @@ def ca_of_sympy(expr: Any) -> Any:
         stack.append((node, True))
         stack.extend((a, False) for a in node.args if id(a) not in done)
     return done[id(expr)]
+
+
+class _OutOfTime(BaseException):
+    """Raised by the alarm inside SymPy (a BaseException: SymPy's own ``except Exception``
+    clauses must not swallow it)."""
+
+
+@contextlib.contextmanager
+def _alarm(seconds: float):
+    """SIGALRM after ``seconds`` raises :class:`_OutOfTime` in the block; a no-op off the main
+    thread, where signals are unavailable, or when a timer of the caller is already running."""
+    usable = (hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+              and signal.getitimer(signal.ITIMER_REAL)[0] == 0)
+    if not usable:
+        yield
+        return
+
+    def on_alarm(signum, frame):
+        raise _OutOfTime
+
+    old = signal.signal(signal.SIGALRM, on_alarm)
+    signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def sympy_proves_zero(expr: Any, deadline=None) -> bool | None:
+    """True when SymPy simplifies the real closed form ``expr`` to 0, False when its certified
+    ball excludes 0, None when neither is shown within :data:`SYMPY_BUDGET` seconds (or what is
+    left of ``deadline``, a :class:`~lcs_exact.balls.Deadline`).
+
+    >>> import sympy
+    >>> sympy_proves_zero(sympy.sin(sympy.pi / 7)**2 + sympy.cos(sympy.pi / 7)**2 - 1)
+    True
+    >>> sympy_proves_zero(sympy.sqrt(2) - sympy.Rational(140, 99))
+    False
+    """
+    import sympy
+    try:
+        with workprec(128):
+            b = closed_form_arb(expr)
+        if not b.contains(0):
+            return False
+    except InvalidArgument:
+        pass  # no ball for this form: only SymPy can say
+    left = None if deadline is None else deadline.remaining()
+    budget = SYMPY_BUDGET if left is None else min(SYMPY_BUDGET, left)
+    try:
+        with _alarm(budget):
+            return True if sympy.simplify(expr) == 0 else None
+    except _OutOfTime:
+        return None

@@ -173,7 +173,9 @@ class ExactVector(Node):
     def __len__(self):
         return self.n
 
-    def __getitem__(self, i: int) -> Real:
+    def __getitem__(self, i: int | slice) -> Real | list[Real]:
+        if isinstance(i, slice):  # x[:2]: the components, as a list of exact reals
+            return [ComponentReal(self, j) for j in range(*i.indices(self.n))]
         if not -self.n <= i < self.n:
             raise IndexError(f"component {i} of a vector of length {self.n}")
         return ComponentReal(self, i % self.n)

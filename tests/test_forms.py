@@ -85,3 +85,25 @@ def test_main_job_prints_closed_forms_without_sympy():
     assert loaded == "False"
     assert events.endswith("'event t = 2.57079632679489661923132169164 +/- 2.51e-31 = 1 + pi/2']")
     assert "'event t = 1'" in events
+
+
+def test_sympys_simplify_as_a_last_resort_prover_is_cut_off_by_its_budget(monkeypatch):
+    """f = 2/3 sin t - 1/3 sin 2t + 1/2 at t* = 2 pi - acos(a), a the root of 16a^4 - 32a^3 +
+    32a - 7 near -0.92 written by SymPy in nested radicals: f(t*) = 0 (the graze of a forced
+    impact oscillator), and SymPy's simplify of it ran for minutes.  Under a budget the prover
+    answers "unknown"; the ball alone answers a nonzero value."""
+    import sympy as sp
+    from lcs_exact import forms
+    a = sp.Rational(3, 64) * sp.sqrt(6) + sp.Rational(9, 64)
+    c = a ** sp.Rational(1, 3)
+    r = sp.sqrt(3 / (8 * c) + 1 + 2 * c)
+    root = -r / 2 - sp.sqrt(-2 * c - 3 / (8 * c) + 2 / r + 2) / 2 + sp.Rational(1, 2)
+    x = sympy.lambdify([], root, "mpmath")()
+    assert abs(16 * x**4 - 32 * x**3 + 32 * x - 7) < 1e-12 and abs(x + 0.920601826) < 1e-9
+    t = 2 * sp.pi - sp.acos(root)
+    expr = sp.expand_trig(2 * sp.sin(t) / 3 - sp.sin(2 * t) / 3 + sp.Rational(1, 2))
+    monkeypatch.setattr(forms, "SYMPY_BUDGET", 0.2)
+    assert forms.sympy_proves_zero(expr) is None
+    assert forms.sympy_proves_zero(expr + sp.Rational(1, 10**30)) is False
+    # Calcium decides the same number: 0 (the radicals by their minimal polynomials)
+    assert forms.ca_of_sympy(expr).is_zero() is True

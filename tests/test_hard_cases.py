@@ -183,3 +183,43 @@ def test_integers_beyond_the_working_precision_are_not_rounded():
     assert RationalReal(big).arb(200).is_exact() and RationalReal(big).arb(200) == big
     v = RationalVector(fmpq_mat([[big], [-big]]))
     assert v.arb(200)[0, 0] == big and v.arb(200)[1, 0] == -big
+
+
+def test_an_impact_exactly_at_a_transcendental_horizon_is_proven_there():
+    """q'' + q' + 5/4 q = 0 from (1, -2) against a stop q >= 0 with e = 1/2: q = e^{-t/2}(cos t -
+    3/2 sin t) reaches 0 at t* = atan(2/3) exactly (tan t* = 2/3), with q'(t*-) = -(√13/2)
+    e^{-t*/2}.  With t_end = t* no ball separates the impact from the horizon: it is proven at
+    t_end (was UnresolvedSign), and x(t_end) is the state after it."""
+    import sympy as sp
+    lcs = L.models.mechanical([[1]], [["5/4"]], [[1]], damping=[[1]], restitution="1/2")
+    T = sp.atan(sp.Rational(2, 3))
+    tr = L.simulate(lcs, lcs.embed([1, -2]), T, digits=30)
+    assert tr.certified and len(tr.events) == 1
+    assert sp.simplify(tr.events[0].time.closed_form - T) == 0
+    with mp.workdps(40):
+        ts = mp.atan(mp.mpf(2) / 3)
+        v_minus = -mp.sqrt(13) / 2 * mp.exp(-ts / 2)
+        q, v = tr.state(T)
+        assert q.rational() == 0
+        assert close(num(v), -v_minus / 2)
+        assert close(num(tr.events[0].state_before[1]), v_minus)
+
+
+def test_a_forced_impact_oscillator_grazing_on_a_nested_radical_critical_point_ends():
+    """q'' + q = sin 2t from rest, stop q >= -1/2, inelastic: q = 2/3 sin t - 1/3 sin 2t hits
+    the stop at t1 ~ 3.5428 and leaves it at once; the free motion q = A cos(t - t1) + B sin(t -
+    t1) - 1/3 sin 2t returns tangentially to the stop at t1 + 2 pi, a graze whose critical point
+    SymPy writes as acos of a root of 16a^4 - 32a^3 + 32a - 7 in nested radicals.  The proof of
+    the touch used to run SymPy's simplify for minutes, past ``time_limit``; Calcium now decides it
+    with the root re-expressed by its minimal polynomial."""
+    lcs = L.models.mechanical([[1]], [[1]], [[1]], force=[L.sources.sine(2, 1)], gap=["1/2"])
+    tr = L.simulate(lcs, lcs.embed([0, 0]), 12, digits=30, time_limit=60)
+    with mp.workdps(50):
+        t1 = mp.findroot(lambda t: 2 * mp.sin(t) / 3 - mp.sin(2 * t) / 3 + mp.mpf(1) / 2, 3.54)
+        A, B = -mp.mpf(1) / 2 + mp.sin(2 * t1) / 3, 2 * mp.cos(2 * t1) / 3
+        q12 = A * mp.cos(12 - t1) + B * mp.sin(12 - t1) - mp.sin(24) / 3
+        v12 = -A * mp.sin(12 - t1) + B * mp.cos(12 - t1) - 2 * mp.cos(24) / 3
+        assert tr.certified and len(tr.events) == 1
+        assert close(num(tr.events[0].time), t1)
+        q, v = tr.state(12)[:2]  # (then the source's states)
+        assert close(num(q), q12) and close(num(v), v12)
