@@ -33,7 +33,7 @@ from .rational import matrix_to_sympy
 from .vectors import RationalVector, orbit_start
 from .subspaces import in_row_span
 
-__all__ = ["prove_root_is", "candidates", "prove_root", "prove_zero_at", "function_closed_form", "prove_touch",
+__all__ = ["candidates", "prove_root", "prove_root_is", "prove_zero_at", "function_closed_form", "prove_touch",
            "exp_candidates", "solve_candidates"]
 
 _MAX_SIMPLIFY_OPS = 400
