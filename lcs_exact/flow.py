@@ -13,11 +13,12 @@ For a phase (:mod:`lcs_exact.phase`) every monitored function f = g e^{A_I t} z 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
 from flint import arb, fmpq
 
 from .balls import Deadline, Policy, ball_sign, dyadic_lower, dyadic_upper, workprec
+from .clock import PhaseClock
 from .closedforms import prove_root, prove_root_is, prove_touch
 from .forms import sympy_proves_zero
 from .errors import LCSError, UnresolvedSign
@@ -30,7 +31,7 @@ from .polyroots import exact_first_crossing
 from .guesses import float_crossing
 from .roots import RootReal, first_crossing, positive_step
 
-__all__ = ["first_root", "next_event", "compare_roots", "theta", "horizon_bound", "IMMEDIATE", "Immediate"]
+__all__ = ["Hit", "first_root", "next_event", "compare_roots", "theta", "horizon_bound", "IMMEDIATE", "Immediate"]
 
 #: precision at which roots are searched for (escalated when a decision needs more); the
 #: bracket found is then refined to the run's working precision by interval Newton alone
@@ -195,11 +196,22 @@ def _equal_closed(a: RootReal, b: RootReal) -> bool | None:
     return sympy_proves_zero(a.closed_form - b.closed_form, a.policy.deadline)
 
 
-def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]] | None:
-    """(theta, constraints reaching zero at theta) for the first event in (0, H], or None.
+class Hit(NamedTuple):
+    """The next event of a phase: ``theta`` its time from the phase start, ``constraints`` those
+    reaching zero there, ``at_horizon`` True when theta is proven equal to the horizon H."""
+
+    theta: Real
+    constraints: list
+    at_horizon: bool = False
+
+
+def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None) -> Hit | None:
+    """The first event in (0, H] (:class:`Hit`), or None.
 
     Roots are searched for at SEARCH_PREC bits (or less, when ``prec`` is less), escalating only
-    where a decision needs it.  An event exactly at H is reported (the state there is x(H+))."""
+    where a decision needs it.  An event exactly at H is reported (the state there is x(H+));
+    ``clock`` (the sources' clock of a driven LCS seen from the phase, :mod:`lcs_exact.clock`,
+    with H = clock.t_end - clock.t_s) proves an event at t_end when t_s has no closed form."""
     hb = horizon_bound(H)
     found: list = []
     limit = hb
@@ -221,30 +233,36 @@ def next_event(phase: Phase, H: Real, prec: int) -> tuple[Real, list[Constraint]
             first_c, first = c, r
     if phase.policy.closed_forms == "eager":
         first.closed
-    if _after_horizon(phase, first, first_c, H):
+    at = _at_horizon(phase, first, first_c, H, clock)
+    if not at and (first - H).sign() > 0:
         return None
     simultaneous = [first_c] + [c for c, r in found if r is not first and
                                 compare_roots(phase, r, c, first, first_c) == 0]
-    return first, simultaneous
+    return Hit(first, simultaneous, at)
 
 
-def _after_horizon(phase: Phase, first: Real, c: Constraint, H: Real) -> bool:
-    """first > H, decided exactly.  The bracket settles the usual case without a sign decision;
-    a root that balls cannot tell from H is proven equal to it when H has a closed form that is a
-    zero of c's function inside the root's bracket (a run to t_end = atan(2/3) or 2 pi that ends
-    on an impact or a switch: no ball separates them, and none ever will)."""
-    with workprec(64):
-        h_low = dyadic_lower(H.arb(64))
-    if isinstance(first, RootReal) and first.hi < h_low:
+def _at_horizon(phase: Phase, first: Real, c: Constraint, H: Real, clock: PhaseClock | None) -> bool:
+    """first == H, proven (False: not proven; the caller compares them).  A root that balls cannot
+    tell from H is proven equal to it when H has a closed form that is a zero of c's function
+    inside the root's bracket (a run to t_end = atan(2/3) or 2 pi that ends on an impact or a
+    switch: no ball separates them, and none ever will), or, through the sources' clock, when
+    t_end is a closed-form zero of a source's function (a phase started at an event with no
+    closed form)."""
+    if not isinstance(first, RootReal) or first.known_rational() is not None or \
+            phase.policy.closed_forms == "off":
         return False
-    if isinstance(first, RootReal) and first.known_rational() is None and phase.policy.closed_forms != "off":
-        with workprec(256):
-            near = first.arb(256).overlaps(H.arb(256))
-        hc = H.closed if near else None
-        if hc is not None and prove_root_is(first, phase.spectrum, c.g, phase.base, hc, phase.policy.deadline):
-            first.set_proven(hc, None)
+    with workprec(64):
+        if first.hi < dyadic_lower(H.arb(64)):
             return False
-    return (first - H).sign() > 0
+    with workprec(256):
+        if not first.arb(256).overlaps(H.arb(256)):
+            return False
+    hc = H.closed
+    if hc is not None and prove_root_is(first, phase.spectrum, c.g, phase.base, hc, phase.policy.deadline):
+        first.set_proven(hc, None)
+        return True
+    ec = clock.t_end.closed if clock is not None else None  # H = t_end - t_s
+    return ec is not None and clock.proves_root_at(phase, c.g, first, ec)
 
 
 def _by_estimate(phase: Phase, horizon: fmpq, prec: int) -> list[tuple[float | None, Constraint]]:
@@ -291,4 +309,4 @@ def theta(lcs: SystemLike, x0: Any, I, horizon: Any, *, time_limit: float | None
         return RationalReal(0)
     H = as_real(horizon, policy)
     hit = next_event(phase, H, phase.policy.working_prec())
-    return None if hit is None else hit[0]
+    return None if hit is None else hit.theta

@@ -35,6 +35,7 @@ from .errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSEr
                      ShapeError, TimeLimitExceeded, UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
 from .cascade import cascade_bound
+from .clock import SourceClock
 from .flow import next_event
 from .impacts import newton_impact
 from .phase import Phase, PhaseFunction
@@ -271,6 +272,7 @@ class _Run:
         self.undetermined: frozenset = frozenset()  # inputs the state leaves free on the next phase
         self.bar = None  # a progress bar (simulate(..., progress=True))
         self.cascade_tried: set = set()  # starts of cascade proofs tried (cascade.cascade_bound)
+        self.clock = None  # the sources' clock (absolute time of a driven LCS), set by execute
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
         return Trajectory(self.lcs, z0, self.T, digits, events=self.events, phases=self.phases,
@@ -280,6 +282,7 @@ class _Run:
 
     def execute(self, z: ExactVector) -> None:
         policy = self.policy
+        self.clock = SourceClock.of(self.lcs, z)
         t = RationalReal(0, policy)
         mode_before = None
         triggers: tuple = ()
@@ -311,7 +314,7 @@ class _Run:
                 return
             H_search, cap = _phase_horizon(phase, H)
             try:
-                hit = next_event(phase, H_search, prec)
+                hit = next_event(phase, H_search, prec, self.clock.started(t, self.T) if self.clock and cap is None else None)
             except (UnresolvedSign, LCSError) as e:
                 self.cascade_or_raise(e, t)
             if hit is None:
@@ -324,8 +327,8 @@ class _Run:
                                           f"up to there: simulate on from traj.state({end.label()})")
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase, self.undetermined))
                 return
-            theta, cons = hit
-            t_new = t + theta
+            theta, cons = hit.theta, hit.constraints  # t + theta: in absolute time when the sources' clock proves it
+            t_new = self.T if hit.at_horizon else self.clock.event_time(phase, t, theta, cons) if self.clock else t + theta
             z = phase.event_state(theta, vstack(*[c.g for c in cons]))
             self.anchor(theta, z, prec)
             self.phases.append(PhaseRecord(t, t_new, mode.index_set, phase, self.undetermined))

@@ -1,0 +1,185 @@
+"""The sources' clock: event times in absolute time, proven through the exosystem's states.
+
+A driven LCS (docs/extensions.md) carries its sources as states z with z' = S z in every mode:
+the rows J of A have no entries outside J and B has none in J, so no mode changes them and no
+re-initialization moves them (x+ = P_I x- only adds im B).  Hence z(t) = e^{S t} z(0) in
+*absolute* time, whatever happened before.  A monitored function f(tau) = g e^{A_I tau} x_s of a
+phase that starts at t_s with no closed form (an event at 3.9407..., a root of a transcendental
+equation) may still vanish at a closed-form absolute time T* (the source crossing 0 at 2 pi):
+
+    when g - (0, h) vanishes on the whole phase (it lies in the span of the phase's zero forms,
+    which are invariant under A_I), f(tau) = h e^{S tau} z(t_s) = h e^{S (t_s + tau)} z(0),
+
+so f(T* - t_s) = h e^{S T*} z(0), a closed form decided exactly by Calcium.  With the root's
+bracket holding one simple root and T* - t_s inside it, the root *is* T* - t_s: the event is at
+T* exactly (section 4: theta(x_s, I) = T* - t_s), and a run to t_end = T* ends on it.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+from flint import arb, fmpq_mat
+
+from . import calcium
+from .balls import dyadic_lower, dyadic_upper, workprec
+from .errors import UnresolvedSign
+from .expm import spectrum_of
+from .forms import Closed
+from .closedforms import candidates
+from .rational import is_zero, mat_equal, submatrix
+from .reals import FormReal
+from .roots import RootReal
+from .subspaces import RowSpan, solve_any
+
+__all__ = ["SourceClock", "autonomous_block"]
+
+
+def autonomous_block(A: fmpq_mat, B: fmpq_mat) -> list[int]:
+    """The largest set J of states with B[J, :] = 0 and A[J, not J] = 0: states that evolve by
+    z' = A[J, J] z alone in every mode (the sources' exosystem, a constant 1)."""
+    n = A.nrows()
+    J = {i for i in range(n) if all(B[i, j] == 0 for j in range(B.ncols()))}
+    changed = True
+    while changed:
+        changed = False
+        for i in sorted(J):
+            if any(A[i, j] != 0 for j in range(n) if j not in J):
+                J.discard(i)
+                changed = True
+    return sorted(J)
+
+
+class SourceClock:
+    """z(t) = e^{S t} z(0) for the autonomous block J of a run's states (z(0) rational).
+
+    >>> from flint import arb, fmpq_mat
+    >>> from lcs_exact import LCS
+    >>> lcs = LCS([[-1, 1, 0], [0, 0, 1], [0, -1, 0]], [[1], [0], [0]], [[1, 0, 0]], [[1]])
+    >>> SourceClock.of(lcs, fmpq_mat([[0], [0], [1]])).J
+    [1, 2]
+    """
+
+    def __init__(self, J: list[int], S: fmpq_mat, z0: fmpq_mat):
+        self.J, self.S, self.z0 = J, S, z0
+        self.spectrum = spectrum_of(S)
+
+    @classmethod
+    def of(cls, lcs: Any, x0: Any) -> "SourceClock | None":
+        """The clock of a run of ``lcs`` from x0 (an exact vector or a rational matrix), or None
+        when the states have no autonomous block or its start is not rational."""
+        A, B = getattr(lcs, "A", None), getattr(lcs, "B", None)
+        if not isinstance(A, fmpq_mat) or not isinstance(B, fmpq_mat):
+            return None
+        J = autonomous_block(A, B)
+        if not J:
+            return None
+        if isinstance(x0, fmpq_mat):
+            z0 = [x0[j, 0] for j in J]
+        else:
+            z0 = [x0[j].known_rational() for j in J]
+            if any(q is None for q in z0):
+                return None
+        return cls(J, submatrix(A, J, J), fmpq_mat(len(J), 1, z0))
+
+    def source_form(self, zero_forms: fmpq_mat, g: fmpq_mat) -> fmpq_mat | None:
+        """h (a row over J) with g - (0, h) in the span of ``zero_forms`` (forms vanishing on a
+        whole phase), or None: then g e^{A_I tau} x_s = h e^{S tau} z(t_s) on that phase."""
+        span = RowSpan(zero_forms)
+        n = g.ncols()
+        units = [span.reduce(fmpq_mat(1, n, [int(i == j) for i in range(n)])) for j in self.J]
+        R = fmpq_mat(n, len(self.J), [units[k][i] for i in range(n) for k in range(len(self.J))])
+        h = solve_any(R, fmpq_mat(n, 1, span.reduce(g)))
+        return None if h is None else h.transpose()
+
+    def value_is_zero(self, h: fmpq_mat, t: Closed) -> bool | None:
+        """h e^{S t} z(0) == 0 at the closed-form absolute time t (Calcium): True, False, or None
+        (undecided or no Calcium)."""
+        if not calcium.available():
+            return None
+        try:
+            tc = t.to_ca()
+            if tc is None:
+                return None
+            z = self.spectrum.ca_apply(tc, [calcium.Ca(self.z0[i, 0]) for i in range(len(self.J))], calcium)
+            if z is None:
+                return None
+            acc = calcium.Ca(0)
+            for k, x in enumerate(z):
+                if h[0, k] != 0:
+                    acc = acc + x * calcium.Ca(h[0, k])
+            return acc.is_zero()
+        except (ValueError, ZeroDivisionError, UnresolvedSign):
+            return None
+
+    def event_time(self, phase: Any, t_s: Any, theta: Any, constraints: list) -> Any:
+        """The event time t_s + theta, as a proven closed form in absolute time when there is one
+        (a source's zero at 2 pi after a phase that started at 3.9407..., whose sum t_s + theta
+        has no closed form): candidates from S's frequencies and rationals near the time, each
+        proven by :meth:`PhaseClock.proves_root_at` for a constraint that ends the phase."""
+        proven = None
+        if not is_zero(self.S) and isinstance(theta, RootReal) and theta.known_rational() is None and \
+                theta.policy.closed_forms != "off":
+            proven = self._proven_time(phase, t_s, theta, constraints)
+        return t_s + theta if proven is None else proven
+
+    def _proven_time(self, phase: Any, t_s: Any, theta: Any, constraints: list) -> FormReal | None:
+        forms = [c.g for c in constraints if self.source_form(phase.zero_forms, c.g) is not None]
+        if not forms:
+            return None
+        with workprec(200):
+            b = t_s.arb(200) + theta.arb(200)
+            near = [cand for cand in candidates(b, self.S)
+                    if abs(cand.arb() - b) < arb(2) ** -60 * max(arb(1), abs(b))]
+        seen = self.started(t_s, None)
+        for cand in near:
+            if seen.proves_root_at(phase, forms[0], theta, cand):
+                return FormReal(cand, theta.policy)
+        return None
+
+    def started(self, t_s: Any, t_end: Any) -> "PhaseClock":
+        """The clock seen from a phase that runs from the absolute time t_s towards t_end (exact
+        reals)."""
+        return PhaseClock(self, t_s, t_end)
+
+
+class PhaseClock:
+    """A :class:`SourceClock` seen from a phase running from absolute time ``t_s`` towards
+    ``t_end``."""
+
+    def __init__(self, clock: SourceClock, t_s: Any, t_end: Any):
+        self.clock, self.t_s, self.t_end = clock, t_s, t_end
+
+    def proves_root_at(self, phase: Any, g: fmpq_mat, root: Any, t_abs: Closed) -> bool:
+        """True when the root (a :class:`~lcs_exact.roots.RootReal` of g e^{A_I tau} x_s on
+        ``phase``) is proven to be t_abs - t_s: the phase keeps the sources' block (A_I[J, not J]
+        = 0, A_I[J, J] = S), g's function is a source's, h e^{S t_abs} z(0) = 0, and f has no
+        other zero between t_abs - t_s and the root's bracket."""
+        c = self.clock
+        J, M = c.J, phase.M
+        out = [j for j in range(M.nrows()) if j not in set(J)]
+        if out and any(e != 0 for e in submatrix(M, J, out).entries()):
+            return False
+        if not mat_equal(submatrix(M, J, J), c.S) or not root.simple:
+            return False
+        h = c.source_form(phase.zero_forms, g)
+        if h is None or all(h[0, k] == 0 for k in range(h.ncols())):
+            return False
+        if not self._alone_with(root, t_abs):
+            return False
+        return c.value_is_zero(h, t_abs) is True
+
+    def _alone_with(self, root: Any, t_abs: Closed) -> bool:
+        """t_abs - t_s and the root lie in one interval where f' < 0 (certified): f has one zero
+        there, so once f(t_abs - t_s) = 0 is proven the two are equal.  (t_s is known only as
+        well as the phase start, the root's bracket no better: containment in the bracket itself
+        cannot be shown, monotonicity on a slightly wider interval can.)"""
+        lo, hi = root.interval()
+        w = hi - lo
+        bits = max(64, int(w.q.bit_length() - w.p.bit_length()) + 64) if w > 0 else 64
+        bits = min(bits, root.policy.max_prec)
+        with workprec(bits):
+            d = t_abs.arb() - self.t_s.arb(bits)
+            a, b = min(lo, dyadic_lower(d)), max(hi, dyadic_upper(d))
+            if a <= 0:
+                return False
+            return root.function.at(bits).sign_enclose(a, b, 1) < 0

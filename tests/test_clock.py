@@ -1,0 +1,95 @@
+"""Event times in absolute time through the sources' clock (lcs_exact.clock).
+
+Hand solutions derived here, independently of the engine:
+
+* RL half-wave rectifier (V = sin t, ideal diode, R = L = 1, i(0) = 0): while the diode conducts
+  i' = sin t - i, so i = (sin t - cos t + e^{-t}) / 2; it turns off at t1, the first t > 0 with
+  sin t - cos t + e^{-t} = 0 (found here by mpmath), and stays off (i = 0) until the source turns
+  positive again at 2 pi; from there i = (sin s - cos s + e^{-s}) / 2 with s = t - 2 pi, off again
+  at 2 pi + t1, on at 4 pi.
+* RC half-wave rectifier (R = C = 1, v(0) = 0): v = sin t while the diode conducts, off where the
+  diode current cos t + sin t vanishes (3 pi / 4), then v = sin(3pi/4) e^{3pi/4 - t} until
+  sin t = v (t2, mpmath), v = sin t again until cos t + sin t = 0 at 11 pi / 4.
+* Full-wave bridge (R = C = 1): v = |sin t| while conducting, off at 3pi/4 + k pi, then
+  v = (sqrt 2 / 2) e^{3pi/4 + k pi - t}: at t = 3 pi (all diodes blocking since 11 pi / 4),
+  v = (sqrt 2 / 2) e^{-pi/4}, sin = 0, cos = -1.
+"""
+from __future__ import annotations
+
+import mpmath
+import sympy
+from flint import fmpq_mat
+
+from lcs_exact import simulate
+from lcs_exact.clock import SourceClock, autonomous_block
+from lcs_exact.examples import sine_rectifier
+from lcs_exact.models import circuit
+
+mpmath.mp.dps = 40
+
+
+def rl_rectifier():
+    return circuit("V1 1 0 sine(1,1)\nD1 1 2\nR1 2 3 1\nL1 3 0 1")
+
+
+def t1_rl():
+    return mpmath.findroot(lambda t: mpmath.sin(t) - mpmath.cos(t) + mpmath.exp(-t), 3.94)
+
+
+def agrees(real, value, digits=30):
+    """The certified ball of ``real`` at ``digits`` digits contains the mpmath value."""
+    b = real.ball(digits)
+    return abs(mpmath.mpf(b.mid().str(45, radius=False)) - value) < mpmath.mpf(10) ** (-digits + 1) * max(1, abs(value))
+
+
+def test_the_autonomous_block_is_the_sources_states():
+    lcs = rl_rectifier()
+    assert lcs.state_names[1:] == ("sin(t)", "cos(t)")
+    assert autonomous_block(lcs.A, lcs.B) == [1, 2]
+    clock = SourceClock.of(lcs, lcs.embed([0]))
+    assert [[clock.S[i, j] for j in range(2)] for i in range(2)] == [[0, 1], [-1, 0]]
+    assert [clock.z0[i, 0] for i in range(2)] == [0, 1]
+    # a block that feeds the rest but is fed by it is not autonomous
+    assert autonomous_block(fmpq_mat([[0, 1], [1, 0]]), fmpq_mat([[1], [0]])) == []
+
+
+def test_an_rl_rectifier_switching_on_exactly_at_the_horizon_2pi_ends_there():
+    lcs = rl_rectifier()
+    tr = simulate(lcs, lcs.embed([0]), 2 * sympy.pi)  # was UnresolvedSign: no ball separates 2 pi
+    assert len(tr.events) == 2
+    assert agrees(tr.events[0].time, t1_rl())
+    assert tr.events[0].time.closed_form is None
+    assert tr.events[1].time.closed_form == 2 * sympy.pi
+    x = tr.state(2 * sympy.pi)
+    assert [x[i].ball(30).contains(v) for i, v in enumerate((0, 0, 1))] == [True] * 3
+
+
+def test_source_driven_events_get_closed_forms_in_absolute_time():
+    lcs = rl_rectifier()
+    tr = simulate(lcs, lcs.embed([0]), 15)
+    times = [e.time for e in tr.events]
+    assert [t.closed_form for t in times] == [None, 2 * sympy.pi, None, 4 * sympy.pi]
+    assert agrees(times[2], 2 * mpmath.pi + t1_rl())
+
+
+def test_a_half_wave_rc_rectifier_turning_off_at_the_horizon_11pi_over_4():
+    rect = sine_rectifier()
+    T = sympy.Rational(11, 4) * sympy.pi
+    tr = simulate(rect, rect.embed([0]), T)
+    t2 = mpmath.findroot(lambda t: mpmath.sin(t) - mpmath.sqrt(2) / 2 * mpmath.exp(3 * mpmath.pi / 4 - t), 6.3)
+    assert [e.time.closed_form for e in tr.events] == [3 * sympy.pi / 4, None, T]
+    assert agrees(tr.events[1].time, t2)
+    x = tr.state(T)
+    r = mpmath.sqrt(2) / 2
+    assert agrees(x[0], r) and agrees(x[1], r) and agrees(x[2], -r)
+
+
+def test_a_full_wave_bridge_at_odd_multiples_of_pi():
+    rect = sine_rectifier(full_wave=True)
+    want = mpmath.sqrt(2) / 2 * mpmath.exp(-mpmath.pi / 4)
+    for k in (3, 5):  # an event (the floating source's sign) exactly at t_end = k pi
+        tr = simulate(rect, rect.embed([0]), k * sympy.pi)
+        x = tr.state(k * sympy.pi)
+        assert agrees(x[0], want)
+        assert x[1].ball(30).contains(0) and agrees(x[2], -1)
+        assert tr.events[-1].time.closed_form == k * sympy.pi
