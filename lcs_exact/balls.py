@@ -353,6 +353,8 @@ def decimal_of_ball(b: arb, digits: int) -> str:
 def _decimal_of_ball(b: arb, digits: int) -> str:
     from mpmath import mp, mpf, nstr
     mid = b.mid()
+    if mid.is_zero() and b.rad() == 0:
+        return "0"  # an exact zero (a component proven to vanish): no digits to bound
     with mp.workdps(digits + 20):
         m = mpf(mid.str(digits + 15, radius=False)) if not mid.is_zero() else mpf(0)
         s = nstr(m, digits, strip_zeros=False, min_fixed=-5, max_fixed=digits + 1)

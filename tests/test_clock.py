@@ -62,6 +62,7 @@ def test_an_rl_rectifier_switching_on_exactly_at_the_horizon_2pi_ends_there():
     assert tr.events[1].time.closed_form == 2 * sympy.pi
     x = tr.state(2 * sympy.pi)
     assert [x[i].ball(30).contains(v) for i, v in enumerate((0, 0, 1))] == [True] * 3
+    assert x[0].decimal(20) == "0"  # i = 0 on the blocking phase, proven: an exact zero prints as one
 
 
 def test_source_driven_events_get_closed_forms_in_absolute_time():
