@@ -33,7 +33,7 @@ from lcs_exact.models import mechanical
 from reference.linalg import (F, eye, fmat, inverse, is_P, madd, mm, mv, nullspace, pinv_rows, rank, rows,
                               subsets, tr, zeros)
 from reference.mechanics import moreau
-from reference.polynomials import padd, pmul, ptrim
+from reference.polynomials import padd, pdet, pmul, ptrim
 from reference.rcp import RCP, faddeev_leverrier, leading_matrices
 
 # =============================================================================================
@@ -392,6 +392,22 @@ def test_theorem_5_2_random_well_posed(data):
     wp = checked_verdict(lcs, A, B, C, D)
     assume(bool(wp))
     check_theorem_5_2(lcs, A, B, C, D, data.draw(special_states(A, C)))
+
+
+@settings(max_examples=120, **SETTINGS)
+@given(random_systems())
+def test_lemma_3_3_geometric_autonomy_is_det_G_II_nonzero(system):
+    """Lemma 3.3: a mode is autonomous (V_I + T_I = Q^n, V_I n T_I = 0, Ker[B_I; D_II] = 0, the
+    library's geometric test) exactly when det G_II(s) != 0, the determinant taken here of the
+    reference's polynomial matrix Gn = C adj(sI - A) B + D chi(s) (G = Gn / chi)."""
+    A, B, C, D, _ = system
+    lcs = build(A, B, C, D)
+    ref = RCP(A, B, C, D)
+    for I in subsets(range(len(C))):
+        I = sorted(I)
+        det = pdet([[ref.Gn[i][j] for j in I] for i in I]) if I else [1]
+        event("autonomous" if det else "not autonomous")
+        assert lcs.mode(I).is_autonomous == bool(ptrim(det)), I
 
 
 def test_independent_rcp_helpers():
