@@ -572,10 +572,10 @@ def check_accumulation(durations: list, t_now, t_end) -> None:
         return
     tail = balls[-1] * rho / (1 - rho)
     limit = t_now.arb(64) + tail
-    if limit < t_end.arb(64):
-        raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically "
-                           f"(ratio <= {float(rho.mid()):.3g}); accumulation point near t = "
-                           f"{float(limit.mid()):.15g} < t_end (Remark 4.11)")
+    if limit < t_end.arb(64):  # suspected, not proven: lower = the last event (certified), upper None
+        raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically (ratio <= "
+                           f"{float(rho.mid()):.3g}); accumulation point near t = {float(limit.mid()):.15g} < t_end "
+                           "(Remark 4.11)", lower=dyadic_lower(t_now.arb(64)), upper=None, estimate=float(limit.mid()))
 
 
 class _ReferenceStates:
