@@ -50,17 +50,17 @@ def autonomous_block(A: fmpq_mat, B: fmpq_mat) -> list[int]:
 
 
 class SourceClock:
-    """z(t) = e^{S t} z(0) for the autonomous block J of a run's states (z(0) rational).
+    """z(t) = e^{S t} z(0) for the autonomous block J of a run's n states (z(0) rational).
 
-    >>> from flint import arb, fmpq_mat
+    >>> from flint import fmpq_mat
     >>> from lcs_exact import LCS
     >>> lcs = LCS([[-1, 1, 0], [0, 0, 1], [0, -1, 0]], [[1], [0], [0]], [[1, 0, 0]], [[1]])
     >>> SourceClock.of(lcs, fmpq_mat([[0], [0], [1]])).J
     [1, 2]
     """
 
-    def __init__(self, J: list[int], S: fmpq_mat, z0: fmpq_mat):
-        self.J, self.S, self.z0 = J, S, z0
+    def __init__(self, J: list[int], S: fmpq_mat, z0: fmpq_mat, n: int):
+        self.J, self.S, self.z0, self.n = J, S, z0, n
         self.spectrum = spectrum_of(S)
 
     @classmethod
@@ -79,7 +79,7 @@ class SourceClock:
             z0 = [x0[j].known_rational() for j in J]
             if any(q is None for q in z0):
                 return None
-        return cls(J, submatrix(A, J, J), fmpq_mat(len(J), 1, z0))
+        return cls(J, submatrix(A, J, J), fmpq_mat(len(J), 1, z0), A.nrows())
 
     def source_form(self, zero_forms: fmpq_mat, g: fmpq_mat) -> fmpq_mat | None:
         """h (a row over J) with g - (0, h) in the span of ``zero_forms`` (forms vanishing on a
@@ -123,16 +123,15 @@ class SourceClock:
         return t_s + theta if proven is None else proven
 
     def _proven_time(self, phase: Any, t_s: Any, theta: Any, constraints: list) -> FormReal | None:
-        forms = [c.g for c in constraints if self.source_form(phase.zero_forms, c.g) is not None]
-        if not forms:
-            return None
+        if self.source_form(phase.zero_forms, theta.function.g) is None:
+            return None  # the function of the root is not a source's
         with workprec(200):
             b = t_s.arb(200) + theta.arb(200)
             near = [cand for cand in candidates(b, self.S)
                     if abs(cand.arb() - b) < arb(2) ** -60 * max(arb(1), abs(b))]
         seen = self.started(t_s, None)
         for cand in near:
-            if seen.proves_root_at(phase, forms[0], theta, cand):
+            if seen.proves_root_at(phase, theta, cand):
                 return FormReal(cand, theta.policy)
         return None
 
@@ -149,13 +148,15 @@ class PhaseClock:
     def __init__(self, clock: SourceClock, t_s: Any, t_end: Any):
         self.clock, self.t_s, self.t_end = clock, t_s, t_end
 
-    def proves_root_at(self, phase: Any, g: fmpq_mat, root: Any, t_abs: Closed) -> bool:
-        """True when the root (a :class:`~lcs_exact.roots.RootReal` of g e^{A_I tau} x_s on
+    def proves_root_at(self, phase: Any, root: Any, t_abs: Closed) -> bool:
+        """True when the root (a :class:`~lcs_exact.roots.RootReal` of f = g e^{A_I tau} x_s on
         ``phase``) is proven to be t_abs - t_s: the phase keeps the sources' block (A_I[J, not J]
-        = 0, A_I[J, J] = S), g's function is a source's, h e^{S t_abs} z(0) = 0, and f has no
-        other zero between t_abs - t_s and the root's bracket."""
-        c = self.clock
+        = 0, A_I[J, J] = S), f is a source's h z, h e^{S t_abs} z(0) = 0, and f has no other zero
+        between t_abs - t_s and the root's bracket."""
+        c, g = self.clock, root.function.g
         J, M = c.J, phase.M
+        if M.nrows() != c.n:
+            return False
         out = [j for j in range(M.nrows()) if j not in set(J)]
         if out and any(e != 0 for e in submatrix(M, J, out).entries()):
             return False

@@ -262,7 +262,7 @@ def _at_horizon(phase: Phase, first: Real, c: Constraint, H: Real, clock: PhaseC
         first.set_proven(hc, None)
         return True
     ec = clock.t_end.closed if clock is not None else None  # H = t_end - t_s
-    return ec is not None and clock.proves_root_at(phase, c.g, first, ec)
+    return ec is not None and clock.proves_root_at(phase, first, ec)
 
 
 def _by_estimate(phase: Phase, horizon: fmpq, prec: int) -> list[tuple[float | None, Constraint]]:
