@@ -27,11 +27,11 @@ from .expm import spectrum_of
 from .forms import Closed
 from .closedforms import candidates
 from .rational import is_zero, mat_equal, submatrix
-from .reals import FormReal
+from .reals import Real
 from .roots import RootReal
 from .subspaces import RowSpan, solve_any
 
-__all__ = ["SourceClock", "autonomous_block"]
+__all__ = ["EventTime", "SourceClock", "autonomous_block"]
 
 
 def autonomous_block(A: fmpq_mat, B: fmpq_mat) -> list[int]:
@@ -111,34 +111,64 @@ class SourceClock:
         except (ValueError, ZeroDivisionError, UnresolvedSign):
             return None
 
-    def event_time(self, phase: Any, t_s: Any, theta: Any, constraints: list) -> Any:
-        """The event time t_s + theta, as a proven closed form in absolute time when there is one
-        (a source's zero at 2 pi after a phase that started at 3.9407..., whose sum t_s + theta
-        has no closed form): candidates from S's frequencies and rationals near the time, each
-        proven by :meth:`PhaseClock.proves_root_at` for a constraint that ends the phase."""
-        proven = None
-        if not is_zero(self.S) and isinstance(theta, RootReal) and theta.known_rational() is None and \
-                theta.policy.closed_forms != "off":
-            proven = self._proven_time(phase, t_s, theta, constraints)
-        return t_s + theta if proven is None else proven
+    def event_time(self, phase: Any, t_s: Any, theta: Any) -> Real:
+        """The event time t_s + theta (theta a root on ``phase``): an :class:`EventTime`, whose
+        closed form is also sought in absolute time, when theta's function may be a source's;
+        else the plain sum."""
+        if is_zero(self.S) or not isinstance(theta, RootReal) or theta.known_rational() is not None:
+            return t_s + theta
+        return EventTime(t_s, theta, phase, self)
 
-    def _proven_time(self, phase: Any, t_s: Any, theta: Any, constraints: list) -> FormReal | None:
+    def proven_time(self, phase: Any, t_s: Any, theta: Any, b: arb) -> Closed | None:
+        """The closed form of the absolute time t_s + theta (its ball ``b``), proven, or None:
+        candidates from S's frequencies and rationals near b, each proven by
+        :meth:`PhaseClock.proves_root_at` (theta's function must be a source's h z)."""
         if self.source_form(phase.zero_forms, theta.function.g) is None:
-            return None  # the function of the root is not a source's
-        with workprec(200):
-            b = t_s.arb(200) + theta.arb(200)
+            return None
+        with workprec(128):
             near = [cand for cand in candidates(b, self.S)
                     if abs(cand.arb() - b) < arb(2) ** -60 * max(arb(1), abs(b))]
         seen = self.started(t_s, None)
-        for cand in near:
-            if seen.proves_root_at(phase, theta, cand):
-                return FormReal(cand, theta.policy)
-        return None
+        return next((cand for cand in near if seen.proves_root_at(phase, theta, cand)), None)
 
     def started(self, t_s: Any, t_end: Any) -> "PhaseClock":
         """The clock seen from a phase that runs from the absolute time t_s towards t_end (exact
         reals)."""
         return PhaseClock(self, t_s, t_end)
+
+
+class EventTime(Real):
+    """t_s + theta, an event time of a run whose sources keep absolute time: its closed form
+    (derived on first access, like every exact real's) is sought in absolute time first (2 pi
+    after a phase started at 3.9407...: :meth:`SourceClock.proven_time`), then as the sum of the
+    parts' forms."""
+
+    def __init__(self, t_s: Real, theta: Any, phase: Any, clock: SourceClock):
+        super().__init__(theta.policy)
+        self.t_s, self.theta, self.phase, self.clock = t_s, theta, phase, clock
+
+    def _deps(self):
+        return (self.t_s, self.theta)
+
+    def _compute(self, prec):
+        return self.t_s.arb(prec) + self.theta.arb(prec)
+
+    def _closed(self) -> Closed | None:
+        down, x = [], self.t_s  # the earlier event times first, in a loop (a long run: no recursion)
+        while isinstance(x, EventTime) and not x._cf_done:
+            down.append(x)
+            x = x.t_s
+        for x in reversed(down):
+            x.closed
+        form = self.clock.proven_time(self.phase, self.t_s, self.theta, self.arb(max(128, self._prec)))
+        if form is None:
+            a, b = self.t_s.closed, self.theta.closed
+            form = a + b if a is not None and b is not None else None
+        return form
+
+    def to_ca(self):
+        form = self.closed
+        return None if form is None else form.to_ca()
 
 
 class PhaseClock:

@@ -27,7 +27,7 @@ from .forms import Closed, ca_of_sympy
 from .nodes import Node
 from .rational import to_fmpq, to_int
 
-__all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "FormReal", "ComponentReal",
+__all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
            "AlgebraicReal", "radical_form", "as_real", "is_sympy", "ca_state", "ca_from_state", "rational_ca"]
 
 
@@ -395,25 +395,6 @@ class ClosedFormReal(Real):
 
     def to_ca(self):
         return ca_of_sympy(self.expr)
-
-
-class FormReal(Real):
-    """A real given by a proven light closed form (:class:`~lcs_exact.forms.Closed`): an event
-    time proven in absolute time (:mod:`lcs_exact.clock`), without SymPy."""
-
-    def __init__(self, form: Closed, policy: Policy | None = None):
-        super().__init__(policy)
-        self._cf, self._cf_done = form, True
-
-    def _compute(self, prec):
-        with workprec(prec):
-            return self._cf.arb()
-
-    def known_rational(self):
-        return self._cf.to_fmpq()
-
-    def to_ca(self):
-        return self._cf.to_ca()
 
 
 class ComponentReal(Real):

@@ -328,7 +328,7 @@ class _Run:
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase, self.undetermined))
                 return
             theta, cons = hit.theta, hit.constraints  # t + theta: in absolute time when the sources' clock proves it
-            t_new = self.T if hit.at_horizon else self.clock.event_time(phase, t, theta, cons) if self.clock else t + theta
+            t_new = self.T if hit.at_horizon else self.clock.event_time(phase, t, theta) if self.clock else t + theta
             z = phase.event_state(theta, vstack(*[c.g for c in cons]))
             self.anchor(theta, z, prec)
             self.phases.append(PhaseRecord(t, t_new, mode.index_set, phase, self.undetermined))

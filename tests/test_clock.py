@@ -17,10 +17,11 @@ Hand solutions derived here, independently of the engine:
 from __future__ import annotations
 
 import mpmath
+import pytest
 import sympy
 from flint import fmpq_mat
 
-from lcs_exact import simulate
+from lcs_exact import LimitExceeded, simulate
 from lcs_exact.clock import SourceClock, autonomous_block
 from lcs_exact.examples import sine_rectifier
 from lcs_exact.models import circuit
@@ -94,3 +95,17 @@ def test_a_full_wave_bridge_at_odd_multiples_of_pi():
         assert agrees(x[0], want)
         assert x[1].ball(30).contains(0) and agrees(x[2], -1)
         assert tr.events[-1].time.closed_form == k * sympy.pi
+
+
+@pytest.mark.slow
+def test_closed_forms_of_a_long_driven_run_are_derived_without_recursion():
+    """760 events of the RL rectifier: the off-events at 2k pi + t1 and the on-events at 2k pi
+    (k = 1..380); the last on-event's closed form 760 pi is derived through the chain of the 759
+    earlier event times in a loop (a recursion would pass Python's limit of 1000 frames)."""
+    lcs = rl_rectifier()
+    with pytest.raises(LimitExceeded) as info:
+        simulate(lcs, lcs.embed([0]), 2400, max_events=760)
+    events = info.value.trajectory.events
+    assert len(events) == 760
+    assert events[-1].time.closed_form == 760 * sympy.pi
+    assert events[-2].time.closed_form is None and agrees(events[-2].time, 758 * mpmath.pi + t1_rl(), 15)
