@@ -233,12 +233,22 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
             first_c, first = c, r
     if phase.policy.closed_forms == "eager":
         first.closed
-    at = _at_horizon(phase, first, first_c, H, clock)
-    if not at and (first - H).sign() > 0:
-        return None
+    at = False
+    if not _before(first, H):  # the bracket settles the usual case without a sign decision
+        at = _at_horizon(phase, first, first_c, H, clock)
+        if not at and (first - H).sign() > 0:
+            return None
     simultaneous = [first_c] + [c for c, r in found if r is not first and
                                 compare_roots(phase, r, c, first, first_c) == 0]
     return Hit(first, simultaneous, at)
+
+
+def _before(first: Real, H: Real) -> bool:
+    """first < H, shown by the root's bracket alone (False: not shown)."""
+    if not isinstance(first, RootReal):
+        return False
+    with workprec(64):
+        return first.hi < dyadic_lower(H.arb(64))
 
 
 def _at_horizon(phase: Phase, first: Real, c: Constraint, H: Real, clock: PhaseClock | None) -> bool:
@@ -251,9 +261,6 @@ def _at_horizon(phase: Phase, first: Real, c: Constraint, H: Real, clock: PhaseC
     if not isinstance(first, RootReal) or first.known_rational() is not None or \
             phase.policy.closed_forms == "off":
         return False
-    with workprec(64):
-        if first.hi < dyadic_lower(H.arb(64)):
-            return False
     with workprec(256):
         if not first.arb(256).overlaps(H.arb(256)):
             return False
