@@ -22,14 +22,15 @@ from flint import arb, fmpq_mat
 
 from . import calcium
 from .balls import dyadic_lower, dyadic_upper, workprec
-from .errors import UnresolvedSign
+from .errors import InvalidArgument, UnresolvedSign
 from .expm import spectrum_of
 from .forms import Closed
-from .closedforms import candidates
+from .closedforms import candidates, exp_candidates, function_closed_form, harmonic_candidates, solve_candidates
 from .rational import is_zero, mat_equal, submatrix
 from .reals import Real
 from .roots import RootReal
 from .subspaces import RowSpan, solve_any
+from .vectors import RationalVector
 
 __all__ = ["EventTime", "SourceClock", "autonomous_block"]
 
@@ -123,13 +124,32 @@ class SourceClock:
         """The closed form of the absolute time t_s + theta (its ball ``b``), proven, or None:
         candidates from S's frequencies and rationals near b, each proven by
         :meth:`PhaseClock.proves_root_at` (theta's function must be a source's h z)."""
-        if self.source_form(phase.zero_forms, theta.function.g) is None:
+        h = self.source_form(phase.zero_forms, theta.function.g)
+        if h is None:
             return None
-        with workprec(128):
-            near = [cand for cand in candidates(b, self.S)
-                    if abs(cand.arb() - b) < arb(2) ** -60 * max(arb(1), abs(b))]
         seen = self.started(t_s, None)
-        return next((cand for cand in near if seen.proves_root_at(phase, theta, cand)), None)
+        for stream in (candidates(b, self.S), self._zeros_near(h, b)):  # cheap ones first
+            for cand in stream:
+                with workprec(128):
+                    if not abs(cand.arb() - b) < arb(2) ** -60 * max(arb(1), abs(b)):
+                        continue
+                if seen.proves_root_at(phase, theta, cand):
+                    return cand
+        return None
+
+    def _zeros_near(self, h: fmpq_mat, b: arb):
+        """Closed-form zeros near b of the source's function h e^{St} z(0) of absolute time (its
+        symbolic form: atan 2 + 2 pi, sqrt 2 ...), as candidates; SymPy, on first access of a
+        closed form only."""
+        sym = function_closed_form(self.spectrum, h, RationalVector(self.z0))
+        if sym is None:
+            return
+        for more in (exp_candidates, solve_candidates, harmonic_candidates):
+            for expr in more(sym, b):
+                try:
+                    yield Closed.of_sympy(expr)
+                except InvalidArgument:  # a root written with I or as a RootOf: not a candidate
+                    continue
 
     def started(self, t_s: Any, t_end: Any) -> "PhaseClock":
         """The clock seen from a phase that runs from the absolute time t_s towards t_end (exact
@@ -160,7 +180,9 @@ class EventTime(Real):
             x = x.t_s
         for x in reversed(down):
             x.closed
-        form = self.clock.proven_time(self.phase, self.t_s, self.theta, self.arb(max(128, self._prec)))
+        # a ball to 40 digits (the candidates are sifted at 2^-60: a fresh event time's ball
+        # from its anchors can be wider than that)
+        form = self.clock.proven_time(self.phase, self.t_s, self.theta, self.ball(40))
         if form is None:
             a, b = self.t_s.closed, self.theta.closed
             form = a + b if a is not None and b is not None else None

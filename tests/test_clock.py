@@ -109,3 +109,40 @@ def test_closed_forms_of_a_long_driven_run_are_derived_without_recursion():
     assert len(events) == 760
     assert events[-1].time.closed_form == 760 * sympy.pi
     assert events[-2].time.closed_form is None and agrees(events[-2].time, 758 * mpmath.pi + t1_rl(), 15)
+
+
+def test_the_closed_form_of_an_event_time_does_not_depend_on_what_was_read_before():
+    """A driven 3-state system (source 2 sin 2t) whose last event before 71/10 is u_1 switching at
+    2 pi (checked independently by a fuzzer with mpmath's expm of the mode's dynamics from the
+    event state before it, to 1e-28): on a fresh run its closed form was None, and 2 pi only once
+    its digits had been asked for (the candidates were sifted against an unrefined ball)."""
+    from lcs_exact import sources
+    from lcs_exact.models import driven
+    A = [[-1, 0, 0], [0, -1, -2], [0, 0, -1]]
+    B = [[0, 0], [-1, 2], [0, 0]]
+    C = [[-1, -1, -1], [0, 0, 0]]
+    D = [["1/2", -1], [1, 2]]
+    lcs = driven(A, B, C, D, [[-1], [-1], [-1]], [[1], [1]], w=[sources.sine(2, 2)])
+    x0, T = lcs.embed([0, 2, "-1/2"]), sympy.Rational(71, 10)
+    fresh = simulate(lcs, x0, T).events[-1].time
+    assert fresh.closed_form == 2 * sympy.pi
+    again = simulate(lcs, x0, T).events[-1].time
+    assert agrees(again, 2 * mpmath.pi) and again.closed_form == 2 * sympy.pi
+
+
+def test_a_source_zero_with_no_rational_multiple_of_pi_gets_its_closed_form_in_absolute_time():
+    """V = sin t - 2 cos t = sqrt5 sin(t - a), a = atan 2, into the RL load: blocked from i(0) = 0
+    until a; then i = (sqrt5 / 2)(sin s - cos s + e^{-s}), s = t - a, off at a + t1 (t1 the RL
+    rectifier's root), blocked until V turns positive at a + 2 pi exactly, off at a + 2 pi + t1.
+    The zero a + 2 pi comes from the source's own function of absolute time (SymPy's candidates,
+    proven by Calcium), not from the phase that starts at a + t1; a run to that t_end ends on it."""
+    lcs = circuit("V1 1 0 sine(1,1) + cosine(1,-2)\nD1 1 2\nR1 2 3 1\nL1 3 0 1")
+    a, t1 = mpmath.atan(2), t1_rl()
+    tr = simulate(lcs, lcs.embed([0]), 12)
+    times = [e.time for e in tr.events]
+    assert [t.closed_form for t in times] == [sympy.atan(2), None, sympy.atan(2) + 2 * sympy.pi, None]
+    assert all(agrees(t, v) for t, v in zip(times, (a, a + t1, a + 2 * mpmath.pi, a + 2 * mpmath.pi + t1)))
+    T = sympy.atan(2) + 2 * sympy.pi
+    end = simulate(lcs, lcs.embed([0]), T)
+    assert len(end.events) == 3 and end.events[-1].time.closed_form == T
+    assert end.state(T)[0].decimal(20) == "0"
