@@ -22,10 +22,10 @@ from flint import arb, fmpq_mat
 
 from . import calcium
 from .balls import dyadic_lower, dyadic_upper, workprec
-from .errors import InvalidArgument, UnresolvedSign
+from .errors import UnresolvedSign
 from .expm import spectrum_of
 from .forms import Closed
-from .closedforms import candidates, exp_candidates, function_closed_form, harmonic_candidates, solve_candidates
+from .closedforms import candidates, symbolic_candidates
 from .rational import is_zero, mat_equal, submatrix
 from .reals import Real
 from .roots import RootReal
@@ -128,7 +128,7 @@ class SourceClock:
         if h is None:
             return None
         seen = self.started(t_s, None)
-        for stream in (candidates(b, self.S), self._zeros_near(h, b)):  # cheap ones first
+        for stream in (candidates(b, self.S), self._zeros_near(h, b, theta.policy.deadline)):  # cheap ones first
             for cand in stream:
                 with workprec(128):
                     if not abs(cand.arb() - b) < arb(2) ** -60 * max(arb(1), abs(b)):
@@ -137,19 +137,11 @@ class SourceClock:
                     return cand
         return None
 
-    def _zeros_near(self, h: fmpq_mat, b: arb):
+    def _zeros_near(self, h: fmpq_mat, b: arb, deadline):
         """Closed-form zeros near b of the source's function h e^{St} z(0) of absolute time (its
         symbolic form: atan 2 + 2 pi, sqrt 2 ...), as candidates; SymPy, on first access of a
-        closed form only."""
-        sym = function_closed_form(self.spectrum, h, RationalVector(self.z0))
-        if sym is None:
-            return
-        for more in (exp_candidates, solve_candidates, harmonic_candidates):
-            for expr in more(sym, b):
-                try:
-                    yield Closed.of_sympy(expr)
-                except InvalidArgument:  # a root written with I or as a RootOf: not a candidate
-                    continue
+        closed form only, under the run's deadline."""
+        return symbolic_candidates(self.spectrum, h, RationalVector(self.z0), b, deadline)
 
     def started(self, t_s: Any, t_end: Any) -> "PhaseClock":
         """The clock seen from a phase that runs from the absolute time t_s towards t_end (exact

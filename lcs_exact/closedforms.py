@@ -28,13 +28,13 @@ from . import calcium
 from .balls import closed_form_arb, workprec
 from .errors import InvalidArgument, LCSError, UnresolvedSign
 from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
-from .forms import Closed, sympy_proves_zero
+from .forms import Closed, SympyOutOfTime, sympy_budget, sympy_proves_zero
 from .rational import matrix_to_sympy
 from .vectors import RationalVector, orbit_start
 from .subspaces import in_row_span
 
 __all__ = ["candidates", "prove_root", "prove_root_is", "prove_zero_at", "function_closed_form", "prove_touch",
-           "exp_candidates", "solve_candidates"]
+           "exp_candidates", "solve_candidates", "harmonic_candidates", "symbolic_candidates"]
 
 _MAX_SIMPLIFY_OPS = 400
 
@@ -181,12 +181,16 @@ def _rational_propagator_zero(spectrum: Spectrum, g: fmpq_mat, v: Any, cand) -> 
 
 def _sympy_vanishes(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadline) -> bool | None:
     import sympy
-    sym = function_closed_form(spectrum, g, v)
-    if sym is None:
+    try:
+        with sympy_budget(deadline):
+            sym = function_closed_form(spectrum, g, v)
+            if sym is None:
+                return None
+            expr = sympy.expand_trig(sym.subs(t_symbol(), cand.to_sympy()))
+            if sympy.count_ops(expr) > _MAX_SIMPLIFY_OPS:
+                return None  # SymPy's simplify can take minutes on large expressions
+    except SympyOutOfTime:
         return None
-    expr = sympy.expand_trig(sym.subs(t_symbol(), cand.to_sympy()))
-    if sympy.count_ops(expr) > _MAX_SIMPLIFY_OPS:
-        return None  # SymPy's simplify can take minutes on large expressions
     if deadline is not None:
         deadline.check(" while proving a closed form")
     return sympy_proves_zero(expr, deadline)
@@ -231,14 +235,32 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
     for cand in _shifted_candidates(b, spectrum, v):
         if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
             return cand, cand.to_ca()
-    sym = function_closed_form(spectrum, g, v)
-    if sym is None:
-        return None
-    for more in (exp_candidates, solve_candidates, harmonic_candidates):  # cheap ones first
-        for cand in _representable(more(sym, b)):
-            if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
-                return cand, cand.to_ca()
+    for cand in symbolic_candidates(spectrum, g, v, b, deadline):
+        if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
+            return cand, cand.to_ca()
     return None
+
+
+def symbolic_candidates(spectrum: Spectrum, g: fmpq_mat, v: Any, b: arb, deadline=None,
+                        generators: tuple = ()):
+    """Candidates (:class:`Closed`) near the ball b from the symbolic form of f = g e^{Mt} v:
+    ``generators`` (default: exp_candidates, solve_candidates, harmonic_candidates, cheap ones
+    first).  Each SymPy step runs under :func:`~lcs_exact.forms.sympy_budget` (a simplification
+    of a harmonic sum took 25 s past a run's ``time_limit``); a step out of time gives none."""
+    try:
+        with sympy_budget(deadline):
+            sym = function_closed_form(spectrum, g, v)
+    except SympyOutOfTime:
+        return
+    if sym is None:
+        return
+    for more in generators or (exp_candidates, solve_candidates, harmonic_candidates):
+        try:
+            with sympy_budget(deadline):
+                exprs = list(_representable(more(sym, b)))
+        except SympyOutOfTime:
+            continue
+        yield from exprs
 
 
 def prove_root_is(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, cand: Closed, deadline=None) -> bool:
@@ -270,10 +292,8 @@ def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, dea
 
     def stream():
         yield from _shifted_candidates(mid, spectrum, v)
-        sym = function_closed_form(spectrum, g * spectrum.M, v)  # f': t* is one of its roots
-        if sym is not None:
-            yield from _representable(exp_candidates(sym, mid))
-            yield from _representable(solve_candidates(sym, mid))
+        # t* is a root of f'
+        yield from symbolic_candidates(spectrum, g * spectrum.M, v, mid, deadline, (exp_candidates, solve_candidates))
 
     for cand in stream():
         if not _inside(cand, lo, hi):

@@ -28,7 +28,7 @@ from . import calcium
 from .balls import closed_form_arb, workprec
 from .errors import InvalidArgument
 
-__all__ = ["Closed", "ca_of_sympy", "sympy_proves_zero", "SYMPY_BUDGET"]
+__all__ = ["Closed", "ca_of_sympy", "sympy_proves_zero", "sympy_budget", "SympyOutOfTime", "SYMPY_BUDGET"]
 
 #: seconds SymPy's ``simplify`` may take as the last-resort prover of a zero (it has no limit of
 #: its own: on a trigonometric expression of nested radicals it ran for minutes)
@@ -341,14 +341,14 @@ def ca_of_sympy(expr: Any) -> Any:
     return done[id(expr)]
 
 
-class _OutOfTime(BaseException):
-    """Raised by the alarm inside SymPy (a BaseException: SymPy's own ``except Exception``
-    clauses must not swallow it)."""
+class SympyOutOfTime(BaseException):
+    """Raised by the alarm of :func:`sympy_budget` inside SymPy (a BaseException: SymPy's own
+    ``except Exception`` clauses must not swallow it)."""
 
 
 @contextlib.contextmanager
 def _alarm(seconds: float):
-    """SIGALRM after ``seconds`` raises :class:`_OutOfTime` in the block; a no-op off the main
+    """SIGALRM after ``seconds`` raises :class:`SympyOutOfTime` in the block; a no-op off the main
     thread, where signals are unavailable, or when a timer of the caller is already running."""
     usable = (hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
               and signal.getitimer(signal.ITIMER_REAL)[0] == 0)
@@ -357,7 +357,7 @@ def _alarm(seconds: float):
         return
 
     def on_alarm(signum, frame):
-        raise _OutOfTime
+        raise SympyOutOfTime
 
     old = signal.signal(signal.SIGALRM, on_alarm)
     signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
@@ -387,10 +387,20 @@ def sympy_proves_zero(expr: Any, deadline=None) -> bool | None:
             return False
     except InvalidArgument:
         pass  # no ball for this form: only SymPy can say
-    left = None if deadline is None else deadline.remaining()
-    budget = SYMPY_BUDGET if left is None else min(SYMPY_BUDGET, left)
     try:
-        with _alarm(budget):
+        with sympy_budget(deadline):
             return True if sympy.simplify(expr) == 0 else None
-    except _OutOfTime:
+    except SympyOutOfTime:
         return None
+
+
+@contextlib.contextmanager
+def sympy_budget(deadline=None):
+    """Bound the SymPy work of the block (pure SymPy: a simplification, a symbolic inversion, a
+    search for candidates) by :data:`SYMPY_BUDGET` seconds or what is left of ``deadline`` (a
+    :class:`~lcs_exact.balls.Deadline`): past it, :class:`SympyOutOfTime` is raised inside the
+    block.  SymPy is the last resort of the closed forms; a closed form it cannot find in time
+    is reported as not found, and a run's ``time_limit`` holds."""
+    left = None if deadline is None else deadline.remaining()
+    with _alarm(SYMPY_BUDGET if left is None else min(SYMPY_BUDGET, left)):
+        yield

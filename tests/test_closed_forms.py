@@ -190,3 +190,29 @@ def test_harmonic_candidate_written_with_i_is_skipped():
     assert abs(num(t1) - mp.mpf("0.561061945186877943438982369807")) < mp.mpf(10) ** -29
     assert t1.closed_form is None
     assert tr.to_fixture(20)["schema"].startswith("lcs-exact/trajectory")
+
+
+def test_a_slow_symbolic_candidate_search_is_cut_off_by_the_sympy_budget(monkeypatch):
+    """SymPy steps of the closed-form search run under forms.SYMPY_BUDGET (a harmonic
+    simplification once ran 25 s past a run's time_limit).  A search step that would sleep 30 s
+    is interrupted after the budget; the event (the RL rectifier's turn-off at the first root of
+    sin t - cos t + e^{-t}, transcendental) keeps its certified digits and has no closed form."""
+    import time
+    from lcs_exact import closedforms, forms
+    from lcs_exact.models import circuit
+    calls = []
+
+    def slow(sym, b):
+        calls.append("start")
+        time.sleep(30)
+        calls.append("end")
+        return []
+
+    monkeypatch.setattr(closedforms, "harmonic_candidates", slow)
+    monkeypatch.setattr(forms, "SYMPY_BUDGET", 0.2)
+    lcs = circuit("V1 1 0 sine(1,1)\nD1 1 2\nR1 2 3 1\nL1 3 0 1")
+    tr = L.simulate(lcs, lcs.embed([0]), 5, closed_forms=True)
+    assert calls == ["start"]
+    t1 = mp.findroot(lambda t: mp.sin(t) - mp.cos(t) + mp.exp(-t), 3.94)
+    assert len(tr.events) == 1 and close(num(tr.events[0].time), t1)
+    assert tr.events[0].time.closed_form is None
