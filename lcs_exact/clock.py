@@ -2,7 +2,8 @@
 
 A driven LCS (docs/extensions.md) carries its sources as states z with z' = S z in every mode:
 the rows J of A have no entries outside J and B has none in J, so no mode changes them and no
-re-initialization moves them (x+ = P_I x- only adds im B).  Hence z(t) = e^{S t} z(0) in
+re-initialization moves them (a jump x+ - x- lies in the span of B, AB, A^2 B, ..., which has no
+component in J).  Hence z(t) = e^{S t} z(0) in
 *absolute* time, whatever happened before.  A monitored function f(tau) = g e^{A_I tau} x_s of a
 phase that starts at t_s with no closed form (an event at 3.9407..., a root of a transcendental
 equation) may still vanish at a closed-form absolute time T* (the source crossing 0 at 2 pi):
@@ -10,9 +11,10 @@ equation) may still vanish at a closed-form absolute time T* (the source crossin
     when g - (0, h) vanishes on the whole phase (it lies in the span of the phase's zero forms,
     which are invariant under A_I), f(tau) = h e^{S tau} z(t_s) = h e^{S (t_s + tau)} z(0),
 
-so f(T* - t_s) = h e^{S T*} z(0), a closed form decided exactly by Calcium.  With the root's
-bracket holding one simple root and T* - t_s inside it, the root *is* T* - t_s: the event is at
-T* exactly (section 4: theta(x_s, I) = T* - t_s), and a run to t_end = T* ends on it.
+so f(T* - t_s) = h e^{S T*} z(0), a closed form decided exactly by Calcium.  With f' < 0
+certified on an interval holding both T* - t_s and the root's bracket, the root *is* T* - t_s:
+the event is at T* exactly (Definition 4.3: theta(x_s, I) = T* - t_s), and a run to t_end = T*
+ends on it.
 """
 from __future__ import annotations
 
