@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from flint import arb, fmpq_mat
+from flint import arb, fmpq, fmpq_mat
 
 from . import calcium
 from .balls import dyadic_lower, dyadic_upper, workprec
@@ -199,21 +199,54 @@ class PhaseClock:
         ``phase``) is proven to be t_abs - t_s: the phase keeps the sources' block (A_I[J, not J]
         = 0, A_I[J, J] = S), f is a source's h z, h e^{S t_abs} z(0) = 0, and f has no other zero
         between t_abs - t_s and the root's bracket."""
-        c, g = self.clock, root.function.g
-        J, M = c.J, phase.M
-        if M.nrows() != c.n:
-            return False
-        out = [j for j in range(M.nrows()) if j not in set(J)]
-        if out and any(e != 0 for e in submatrix(M, J, out).entries()):
-            return False
-        if not mat_equal(submatrix(M, J, J), c.S) or not root.simple:
-            return False
-        h = c.source_form(phase.zero_forms, g)
-        if h is None or all(h[0, k] == 0 for k in range(h.ncols())):
-            return False
-        if not self._alone_with(root, t_abs):
+        c = self.clock
+        h = self._source_form(phase, root.function.g)
+        if h is None or not root.simple or not self._alone_with(root, t_abs):
             return False
         return c.value_is_zero(h, t_abs) is True
+
+    def proves_touch(self, phase: Any, g: fmpq_mat, clo: fmpq, chi: fmpq, lo: fmpq, hi: fmpq) -> bool:
+        """True when f = g e^{A_I tau} x_s, convex on [lo, hi] with its critical point in
+        [clo, chi], touches 0 there: f is a source's h z, and a closed-form absolute time t*
+        with t* - t_s in [lo, hi] has f'(t*) = h S e^{S t*} z(0) = 0 (so t* - t_s is the critical
+        point: f' increases on [lo, hi]) and f(t*) = h e^{S t*} z(0) = 0 (Calcium)."""
+        c = self.clock
+        h = self._source_form(phase, g)
+        if h is None:
+            return False
+        hd = h * c.S
+        with workprec(128):
+            b = self.t_s.arb(128) + arb(clo).union(arb(chi))
+        deadline = phase.policy.deadline
+        for stream in (candidates(b, c.S), symbolic_candidates(c.spectrum, hd, RationalVector(c.z0), b, deadline)):
+            for cand in stream:
+                if self._within(cand, lo, hi) and c.value_is_zero(hd, cand) is True and \
+                        c.value_is_zero(h, cand) is True:
+                    return True
+        return False
+
+    def _source_form(self, phase: Any, g: fmpq_mat) -> fmpq_mat | None:
+        """h with g e^{A_I tau} x_s = h e^{S tau} z(t_s) on the phase (h != 0), when the phase
+        keeps the sources' block (A_I[J, not J] = 0, A_I[J, J] = S); else None."""
+        c = self.clock
+        J, M = c.J, phase.M
+        if M.nrows() != c.n:
+            return None
+        out = [j for j in range(M.nrows()) if j not in set(J)]
+        if out and any(e != 0 for e in submatrix(M, J, out).entries()):
+            return None
+        if not mat_equal(submatrix(M, J, J), c.S):
+            return None
+        h = c.source_form(phase.zero_forms, g)
+        return None if h is None or all(h[0, k] == 0 for k in range(h.ncols())) else h
+
+    def _within(self, t_abs: Closed, lo: fmpq, hi: fmpq) -> bool:
+        """t_abs - t_s in [lo, hi], certified at a precision well above the interval's width."""
+        w = hi - lo
+        bits = max(128, int(w.q.bit_length() - w.p.bit_length()) + 64) if w > 0 else 128
+        with workprec(bits):
+            d = t_abs.arb() - self.t_s.arb(bits)
+            return bool(d >= arb(lo) and d <= arb(hi))
 
     def _alone_with(self, root: Any, t_abs: Closed) -> bool:
         """t_abs - t_s and the root lie in one interval where f' < 0 (certified): f has one zero

@@ -52,13 +52,24 @@ class _Finder:
 
 
 class _Toucher(_Finder):
-    """Proves a tangential touch of constraint c at a critical point in [lo, hi]."""
+    """Proves a tangential touch of constraint c at a critical point in [lo, hi]: a closed form
+    of the phase's time, or through the sources' clock one of absolute time (the contact force
+    1 - sin t of a forced mass held at a stop touches 0 at pi/2, after an impact at a time with
+    no closed form)."""
 
-    def __call__(self, lo: fmpq, hi: fmpq):
+    def __init__(self, phase: Phase, c: Constraint, clock: PhaseClock | None = None):
+        super().__init__(phase, c)
+        self.clock = clock
+
+    def __call__(self, lo: fmpq, hi: fmpq, convex_lo: fmpq, convex_hi: fmpq):
         ph = self.phase
         if ph.policy.closed_forms == "off":
             return None
-        return prove_touch(ph.spectrum, self.c.g, ph.base, lo, hi, ph.policy.deadline)
+        if prove_touch(ph.spectrum, self.c.g, ph.base, lo, hi, ph.policy.deadline):
+            return True
+        if self.clock is not None and self.clock.proves_touch(ph, self.c.g, lo, hi, convex_lo, convex_hi):
+            return True
+        return None
 
 
 class Immediate:
@@ -75,8 +86,8 @@ class Immediate:
 IMMEDIATE = Immediate()
 
 
-def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: float | None = None
-               ) -> Real | Immediate | None:
+def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: float | None = None,
+               clock: PhaseClock | None = None) -> Real | Immediate | None:
     """The first t in (0, horizon] where f = g x(t) turns negative: a :class:`RootReal` (or an
     exact :class:`~lcs_exact.reals.AlgebraicReal` on a polynomial phase from an exact start,
     :mod:`lcs_exact.polyroots`), None (no event in (0, horizon]) or :data:`IMMEDIATE` (f is
@@ -99,7 +110,7 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: 
     a, prec = _start(phase, c, fn, order, horizon, prec)
     if a >= horizon:
         return None
-    touch = _Toucher(phase, c)
+    touch = _Toucher(phase, c, clock)
     br = None
     if estimate is not None:
         with workprec(64):
@@ -210,14 +221,15 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
 
     Roots are searched for at SEARCH_PREC bits (or less, when ``prec`` is less), escalating only
     where a decision needs it.  An event exactly at H is reported (the state there is x(H+));
-    ``clock`` (the sources' clock of a driven LCS seen from the phase, :mod:`lcs_exact.clock`,
-    with H = clock.t_end - clock.t_s) proves an event at t_end when t_s has no closed form."""
+    ``clock`` (the sources' clock of a driven LCS seen from the phase, :mod:`lcs_exact.clock`)
+    proves touches in absolute time and, when H = clock.t_end - clock.t_s (t_end not None), an
+    event at t_end when t_s has no closed form."""
     hb = horizon_bound(H)
     found: list = []
     limit = hb
     search = min(prec, SEARCH_PREC)
     for est, c in _by_estimate(phase, hb, search):
-        r = first_root(phase, c, limit, search, est)
+        r = first_root(phase, c, limit, search, est, clock)
         if r is None:
             continue
         if r is IMMEDIATE:
@@ -268,7 +280,7 @@ def _at_horizon(phase: Phase, first: Real, c: Constraint, H: Real, clock: PhaseC
     if hc is not None and prove_root_is(first, phase.spectrum, c.g, phase.base, hc, phase.policy.deadline):
         first.set_proven(hc, None)
         return True
-    ec = clock.t_end.closed if clock is not None else None  # H = t_end - t_s
+    ec = clock.t_end.closed if clock is not None and clock.t_end is not None else None  # H = t_end - t_s
     return ec is not None and clock.proves_root_at(phase, first, ec)
 
 

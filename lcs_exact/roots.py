@@ -231,7 +231,7 @@ def _split_point(f: ExpSum, lo: fmpq, hi: fmpq) -> tuple[fmpq, int] | None:
     return None
 
 
-TouchProver = Callable[[fmpq, fmpq], "bool | None"]
+TouchProver = Callable[[fmpq, fmpq, fmpq, fmpq], "bool | None"]
 
 
 def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: TouchProver | None = None
@@ -239,8 +239,10 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
     """The first crossing theta = inf{t in (a, b] : f(t) < 0} as a :class:`Bracket`, or None when
     f >= 0 on (a, b].  Precondition: no crossing in (start, a] (f > 0 just after a).
 
-    ``touch(lo, hi)``, called when the minimum of f at the critical point t* in [lo, hi] cannot be
-    separated from 0, proves a tangential touch (True), refutes it (False) or cannot tell (None).
+    ``touch(clo, chi, lo, hi)``, called when the minimum of f at the critical point t* in
+    [clo, chi] cannot be separated from 0 (f convex on [lo, hi], which holds [clo, chi]: t* is the
+    only critical point there), proves a tangential touch (True), refutes it (False) or cannot
+    tell (None).
     """
     policy = fn.policy
     stack: list = [(a, b, False)]
@@ -426,7 +428,7 @@ def _convex_minimum(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, tou
         if chi - clo < fmpq(1, 2 ** (prec // 2)) * max(1, abs(chi)):
             break
     if touch is not None and not neg:
-        proven = touch(clo, chi)
+        proven = touch(clo, chi, lo, hi)
         if proven is True:
             return "none"  # f >= 0: convex with f(t*) = f'(t*) = 0
     # f(t*) cannot be separated from 0 at this precision: splitting cannot help, more bits can

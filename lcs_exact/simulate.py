@@ -314,7 +314,7 @@ class _Run:
                 return
             H_search, cap = _phase_horizon(phase, H)
             try:
-                hit = next_event(phase, H_search, prec, self.clock.started(t, self.T) if self.clock and cap is None else None)
+                hit = next_event(phase, H_search, prec, self.clock.started(t, self.T if cap is None else None) if self.clock else None)
             except (UnresolvedSign, LCSError) as e:
                 self.cascade_or_raise(e, t)
             if hit is None:

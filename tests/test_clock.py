@@ -146,3 +146,22 @@ def test_a_source_zero_with_no_rational_multiple_of_pi_gets_its_closed_form_in_a
     end = simulate(lcs, lcs.embed([0]), T)
     assert len(end.events) == 3 and end.events[-1].time.closed_form == T
     assert end.state(T)[0].decimal(20) == "0"
+
+
+def test_a_contact_force_driven_by_a_source_touches_zero_at_pi_over_2_after_an_impact():
+    """q'' + q = -2 + sin t + u against the stop q >= -1 (inelastic), from q = 1/2 at rest:
+    q = -2 + (5/2) cos t + (1/2) sin t - (t/2) cos t (resonance) until it hits q = -1 at t_i
+    (mpmath); then it rests on the stop with the contact force u = 1 - sin t >= 0, which touches 0
+    at pi/2 and 5 pi/2 without leaving it.  The touches are at closed-form *absolute* times after
+    an impact at a time with no closed form: proven through the sources' clock (was
+    UnresolvedSign: 'a tangential touch?' at 4096 bits)."""
+    from lcs_exact import sources
+    from lcs_exact.models import mechanical
+    lcs = mechanical([[1]], [[1]], [[1]], damping=[[0]], force=[sources.constant(-2) + sources.sine(1, 1)], gap=[1])
+    tr = simulate(lcs, lcs.embed(["1/2", 0]), 10)
+    t_i = mpmath.findroot(lambda t: -1 + mpmath.cos(t) * (mpmath.mpf(5) / 2 - t / 2) + mpmath.sin(t) / 2, 1.29)
+    assert len(tr.events) == 1 and agrees(tr.events[0].time, t_i)
+    q, v = tr.state(10)[:2]
+    assert agrees(q, -1) and v.ball(30).contains(0)
+    u = tr.u(3)[0]  # 1 - sin 3 on the stop
+    assert agrees(u, 1 - mpmath.sin(3))

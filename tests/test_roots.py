@@ -120,8 +120,9 @@ def test_touch_with_proof_is_not_an_event():
     """The same touch with a prover that certifies it: no crossing, nothing assumed."""
     calls = []
 
-    def touch(lo, hi):
+    def touch(lo, hi, convex_lo, convex_hi):
         calls.append((lo, hi))
+        assert convex_lo <= lo <= hi <= convex_hi
         return lo <= 1 <= hi  # the test knows the touch is at exactly 1
 
     fn = poly(1, -2, 1)
