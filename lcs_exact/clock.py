@@ -168,19 +168,21 @@ class EventTime(Real):
         return self.t_s.arb(prec) + self.theta.arb(prec)
 
     def _closed(self) -> Closed | None:
+        # a ball to 40 digits (the candidates are sifted at 2^-60: a fresh event time's ball
+        # from its anchors can be wider than that)
+        form = self.clock.proven_time(self.phase, self.t_s, self.theta, self.ball(40))
+        if form is not None:
+            return form
         down, x = [], self.t_s  # the earlier event times first, in a loop (a long run: no recursion)
         while isinstance(x, EventTime) and not x._cf_done:
             down.append(x)
             x = x.t_s
         for x in reversed(down):
+            self.policy.check_deadline(" while deriving the closed forms of the earlier event times")
             x.closed
-        # a ball to 40 digits (the candidates are sifted at 2^-60: a fresh event time's ball
-        # from its anchors can be wider than that)
-        form = self.clock.proven_time(self.phase, self.t_s, self.theta, self.ball(40))
-        if form is None:
-            a, b = self.t_s.closed, self.theta.closed
-            form = a + b if a is not None and b is not None else None
-        return form
+        a = self.t_s.closed
+        b = self.theta.closed if a is not None else None
+        return a + b if a is not None and b is not None else None
 
     def to_ca(self):
         form = self.closed

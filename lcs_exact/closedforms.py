@@ -19,6 +19,7 @@ grazing test.  SymPy is imported lazily.
 """
 from __future__ import annotations
 
+import functools
 from fractions import Fraction
 from typing import Any
 
@@ -202,6 +203,9 @@ def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
     false proof)."""
     q = v.exact_rational()
     if q is not None:
+        key = (spectrum.M.nrows(), tuple(spectrum.M.entries()), tuple(g.entries()), tuple(q.entries()))
+        if key in _SYMBOLIC:
+            return _SYMBOLIC[key]
         sym = laplace_closed_form(spectrum.M, g, q)
     else:
         vc = v.closed_form()
@@ -219,7 +223,15 @@ def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
             if not want.overlaps(got):
                 raise LCSError(f"internal error: the symbolic form {sym} of g e^(Mt) v disagrees "
                                f"with its certified value at t = {tq}")
+    if q is not None:  # the same function recurs (a source's, event after event): keep it
+        if len(_SYMBOLIC) > 256:
+            _SYMBOLIC.clear()
+        _SYMBOLIC[key] = sym
     return sym
+
+
+#: symbolic forms g e^{Mt} q of rational starts, by (M, g, q) (bounded)
+_SYMBOLIC: dict = {}
 
 
 def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None):
@@ -348,6 +360,54 @@ def exp_candidates(sym, b: arb | None = None) -> list:
     return out
 
 
+@functools.lru_cache(maxsize=256)
+def _one_frequency_solutions(sym):
+    """(times, angles, step, w) of :func:`solve_candidates`: the solutions t of f = 0 are
+    times[i] + k step / w and angles[j] / w + k step / w; None when f is not of that form.
+    Cached: a source's function recurs event after event."""
+    import sympy
+    t = t_symbol()
+    trig = sym.atoms(sympy.sin, sympy.cos)
+    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig:
+        return None
+    freqs = {sympy.simplify(sympy.diff(f.args[0], t)) for f in trig}
+    if len(freqs) != 1:
+        return None
+    (w,) = freqs
+    if w.has(t) or not all(sympy.diff(f.args[0], t, 2) == 0 or f.args[0] == w * t for f in trig):
+        return None
+    if any(sympy.simplify(f.args[0] - w * t) != 0 for f in trig):
+        return None  # a phase shift inside the argument: not of the form handled here
+    expanded = sympy.expand(sym)
+    A = expanded.coeff(sympy.cos(w * t))
+    B = expanded.coeff(sympy.sin(w * t))
+    c = sympy.simplify(expanded - A * sympy.cos(w * t) - B * sympy.sin(w * t))
+    if c.has(t) or A.has(t) or B.has(t) or (A == 0 and B == 0):
+        return None
+    times: list = []  # candidate times t, each repeating with period ``step`` / w
+    if c == 0 and B != 0:  # tan(wt) = -A/B: wt = atan(-A/B) + pi k
+        angles, step = [sympy.atan(-A / B)], sympy.pi
+    else:
+        R = sympy.sqrt(sympy.nsimplify(A ** 2 + B ** 2))
+        if A == 0:
+            phi = sympy.pi / 2 if B > 0 else -sympy.pi / 2
+        else:
+            phi = sympy.atan(B / A) + (sympy.pi if A < 0 else 0)
+        ratio = sympy.radsimp(-c / R)
+        try:
+            if abs(float(ratio)) > 1:
+                return None  # R cos(.) = -c has no real solution
+        except TypeError:
+            return None
+        psi = sympy.pi / 2 if ratio == 0 else sympy.acos(ratio)
+        angles, step = [phi - psi, phi + psi], 2 * sympy.pi
+        try:  # SymPy's own forms first (half-angle atan): often simpler, and proven the same way
+            times = [sol for sol in sympy.solve(sym, t) if sol.is_number]
+        except Exception:  # noqa: BLE001 - SymPy could not solve: the explicit branches remain
+            times = []
+    return tuple(times), tuple(angles), step, w
+
+
 def solve_candidates(sym, b: arb) -> list:
     """Exact solutions of a one-frequency f = a cos(wt) + b sin(wt) + c near the root ball b:
     with R = sqrt(a^2 + b^2) and phi the angle of (a, b), f = R cos(wt - phi) + c vanishes at
@@ -365,55 +425,80 @@ def solve_candidates(sym, b: arb) -> list:
     """
     import sympy
     from mpmath import mp, mpf
-    t = t_symbol()
-    trig = sym.atoms(sympy.sin, sympy.cos)
-    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig:
+    family = _one_frequency_solutions(sym)
+    if family is None:
         return []
-    freqs = {sympy.simplify(sympy.diff(f.args[0], t)) for f in trig}
-    if len(freqs) != 1:
-        return []
-    (w,) = freqs
-    if w.has(t) or not all(sympy.diff(f.args[0], t, 2) == 0 or f.args[0] == w * t for f in trig):
-        return []
-    if any(sympy.simplify(f.args[0] - w * t) != 0 for f in trig):
-        return []  # a phase shift inside the argument: not of the form handled here
-    expanded = sympy.expand(sym)
-    A = expanded.coeff(sympy.cos(w * t))
-    B = expanded.coeff(sympy.sin(w * t))
-    c = sympy.simplify(expanded - A * sympy.cos(w * t) - B * sympy.sin(w * t))
-    if c.has(t) or A.has(t) or B.has(t) or (A == 0 and B == 0):
-        return []
-    times: list = []  # candidate times t, each repeating with period ``step`` / w
-    if c == 0 and B != 0:  # tan(wt) = -A/B: wt = atan(-A/B) + pi k
-        angles, step = [sympy.atan(-A / B)], sympy.pi
-    else:
-        R = sympy.sqrt(sympy.nsimplify(A ** 2 + B ** 2))
-        if A == 0:
-            phi = sympy.pi / 2 if B > 0 else -sympy.pi / 2
-        else:
-            phi = sympy.atan(B / A) + (sympy.pi if A < 0 else 0)
-        ratio = sympy.radsimp(-c / R)
-        try:
-            if abs(float(ratio)) > 1:
-                return []  # R cos(.) = -c has no real solution
-        except TypeError:
-            return []
-        psi = sympy.pi / 2 if ratio == 0 else sympy.acos(ratio)
-        angles, step = [phi - psi, phi + psi], 2 * sympy.pi
-        try:  # SymPy's own forms first (half-angle atan): often simpler, and proven the same way
-            times = [sol for sol in sympy.solve(sym, t) if sol.is_number]
-        except Exception:  # noqa: BLE001 - SymPy could not solve: the explicit branches remain
-            times = []
+    times, angles, step, w = family
     out = []
     with mp.workdps(30):
         target = mpf(b.mid().str(30, radius=False))
         period = mpf(str(sympy.N(step / w, 30)))
-        for tb in times + [a / w for a in angles]:
+        for tb in list(times) + [a / w for a in angles]:
             k = int(mp.nint((target - mpf(str(sympy.N(tb, 30)))) / period))
             cand = sympy.expand(tb + step * k / w)
             if cand not in out:
                 out.append(cand)
     return sorted(out, key=lambda e: abs(float(e) - float(target)))
+
+
+@functools.lru_cache(maxsize=256)
+def _harmonic_roots(sym):
+    """(w, the real roots r in [-1, 1] of the factors of degree <= 4 in x = cos(wt)) of
+    :func:`harmonic_candidates`, or None when f is not a polynomial in cos(wt), sin(wt) of one
+    base frequency.  Cached (a source's function recurs event after event)."""
+    import sympy
+    t = t_symbol()
+    trig = sym.atoms(sympy.sin, sympy.cos)
+    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or len(trig) < 2:
+        return None
+    freqs = set()
+    for f in trig:
+        k = sympy.simplify(sympy.diff(f.args[0], t))
+        if k.has(t) or sympy.simplify(f.args[0] - k * t) != 0:
+            return None
+        freqs.add(k)
+    base = min(freqs, key=lambda v: float(v))
+    mult = {}
+    for v in freqs:
+        r = sympy.nsimplify(sympy.simplify(v / base))
+        if not r.is_Integer or r > 8:
+            return None
+        mult[v] = int(r)
+    x = sympy.Symbol("x")
+    expanded = sympy.expand(sym)
+    P, Q = sympy.Integer(0), sympy.Integer(0)
+    rest = expanded
+    for v, k in mult.items():
+        a = expanded.coeff(sympy.cos(v * t))
+        bb = expanded.coeff(sympy.sin(v * t))
+        if a.has(t) or bb.has(t):
+            return None  # t cos(vt) (a repeated pair): not a polynomial in cos t
+        rest = rest - a * sympy.cos(v * t) - bb * sympy.sin(v * t)
+        P += a * sympy.chebyshevt(k, x)
+        Q += bb * (sympy.chebyshevu(k - 1, x) if k >= 1 else 0)
+    rest = sympy.simplify(rest)
+    if rest.has(t):
+        return None
+    P += rest
+    poly = sympy.Poly(sympy.expand(P ** 2 - (1 - x ** 2) * Q ** 2) if Q != 0 else sympy.expand(P), x)
+    if poly.degree() < 1 or poly.degree() > 16:
+        return None
+    roots = []
+    for factor, _ in sympy.factor_list(poly)[1]:
+        fp = sympy.Poly(factor, x)
+        if fp.degree() > 4:
+            continue
+        for r in sympy.roots(fp, multiple=True):
+            # numerically: a real root may be written with I (casus irreducibilis), and
+            # float() of an expression SymPy cannot decide is real raises
+            try:
+                rv = complex(sympy.N(r, 30))
+            except TypeError:  # not a number SymPy can evaluate
+                continue
+            if r.is_real is not True or abs(rv.imag) > 1e-20 or abs(rv.real) > 1:  # (a form with I)
+                continue
+            roots.append(r)
+    return base, tuple(roots)
 
 
 def harmonic_candidates(sym, b: arb) -> list:
@@ -432,63 +517,19 @@ def harmonic_candidates(sym, b: arb) -> list:
     """
     import sympy
     from mpmath import mp, mpf
-    t = t_symbol()
-    trig = sym.atoms(sympy.sin, sympy.cos)
-    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or len(trig) < 2:
+    family = _harmonic_roots(sym)
+    if family is None:
         return []
-    freqs = set()
-    for f in trig:
-        k = sympy.simplify(sympy.diff(f.args[0], t))
-        if k.has(t) or sympy.simplify(f.args[0] - k * t) != 0:
-            return []
-        freqs.add(k)
-    base = min(freqs, key=lambda v: float(v))
-    mult = {}
-    for v in freqs:
-        r = sympy.nsimplify(sympy.simplify(v / base))
-        if not r.is_Integer or r > 8:
-            return []
-        mult[v] = int(r)
-    x = sympy.Symbol("x")
-    expanded = sympy.expand(sym)
-    P, Q = sympy.Integer(0), sympy.Integer(0)
-    rest = expanded
-    for v, k in mult.items():
-        a = expanded.coeff(sympy.cos(v * t))
-        bb = expanded.coeff(sympy.sin(v * t))
-        if a.has(t) or bb.has(t):
-            return []  # t cos(vt) (a repeated pair): not a polynomial in cos t
-        rest = rest - a * sympy.cos(v * t) - bb * sympy.sin(v * t)
-        P += a * sympy.chebyshevt(k, x)
-        Q += bb * (sympy.chebyshevu(k - 1, x) if k >= 1 else 0)
-    rest = sympy.simplify(rest)
-    if rest.has(t):
-        return []
-    P += rest
-    poly = sympy.Poly(sympy.expand(P ** 2 - (1 - x ** 2) * Q ** 2) if Q != 0 else sympy.expand(P), x)
-    if poly.degree() < 1 or poly.degree() > 16:
-        return []
+    base, roots = family
     out = []
     with mp.workdps(30):
         target = mpf(b.mid().str(30, radius=False))
         wv = mpf(str(sympy.N(base, 30)))
-        for factor, _ in sympy.factor_list(poly)[1]:
-            fp = sympy.Poly(factor, x)
-            if fp.degree() > 4:
-                continue
-            for r in sympy.roots(fp, multiple=True):
-                # numerically: a real root may be written with I (casus irreducibilis), and
-                # float() of an expression SymPy cannot decide is real raises
-                try:
-                    rv = complex(sympy.N(r, 30))
-                except TypeError:  # not a number SymPy can evaluate
-                    continue
-                if r.is_real is not True or abs(rv.imag) > 1e-20 or abs(rv.real) > 1:  # (a form with I)
-                    continue
-                for branch in (sympy.acos(r), -sympy.acos(r)):
-                    val = mpf(str(sympy.N(branch, 30))) / wv
-                    m = int(mp.nint((target - val) / (2 * mp.pi / wv)))
-                    cand = (branch + 2 * sympy.pi * m) / base
-                    if cand not in out:
-                        out.append(cand)
+        for r in roots:
+            for branch in (sympy.acos(r), -sympy.acos(r)):
+                val = mpf(str(sympy.N(branch, 30))) / wv
+                m = int(mp.nint((target - val) / (2 * mp.pi / wv)))
+                cand = (branch + 2 * sympy.pi * m) / base
+                if cand not in out:
+                    out.append(cand)
     return sorted(out, key=lambda e: abs(float(e) - float(target)))

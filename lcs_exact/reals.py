@@ -58,7 +58,11 @@ class Real(Node):
         """The proven closed form as a light :class:`~lcs_exact.forms.Closed` (derived on first
         access, without SymPy for the common forms), else None."""
         if not self._cf_done:
-            self._cf = None if self.policy.closed_forms == "off" else self._closed()
+            if self.policy.closed_forms == "off":
+                self._cf = None
+            else:
+                with self.policy.deadline.query():  # a query after the run: its time_limit holds
+                    self._cf = self._closed()
             self._cf_done = True
         return self._cf
 

@@ -265,6 +265,7 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
             if sp is not None:
                 verdict = "split"
                 break
+            policy.check_deadline(lambda: f" while isolating the roots of {fn.describe()} at {2 * prec} bits")
             if prec >= policy.max_prec:  # undecidable: raise, or assume f >= 0 here (recorded)
                 policy.unresolved(lambda: f"{fn.describe()} on [{float(lo):.17g}, {float(hi):.17g}] "
                                   "(phase time; a tangential touch?)")
@@ -409,7 +410,9 @@ def positive_step(f: ExpSum, lo: fmpq, hi: fmpq, *, zero_below: int = 0,
 def _convex_minimum(fn, f: ExpSum, lo: fmpq, hi: fmpq, neg: bool, prec: int, touch):
     """f convex on [lo, hi] with f'(lo) < 0 < f'(hi): decide by the value at the critical point."""
     clo, chi = lo, hi
-    for _ in range(3 * prec):  # bisection of f' (increasing) down to the precision's resolution
+    for k in range(3 * prec):  # bisection of f' (increasing) down to the precision's resolution
+        if k % 64 == 63:
+            fn.policy.check_deadline(lambda: f" at the minimum of {fn.describe()} (a tangential touch?)")
         m = (clo + chi) / 2
         s = ball_sign(f.value(m, 1))
         if s == 0:
