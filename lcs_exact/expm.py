@@ -171,7 +171,8 @@ class Spectrum:
             self._roots = (prec, out)
         return self._roots[1]
 
-    def _krylov_columns(self, T: fmpq_mat, Cm: fmpq_mat, eig: list, work: int) -> list[acb_mat]:
+    def _krylov_columns(self, T: fmpq_mat, Cm: fmpq_mat, eig: list, work: int,
+                        check: Callable[[], None] | None = None) -> list[acb_mat]:
         """[K_lambda(T) C_lambda for each eigenvalue], C_lambda the first m_lambda columns of Cm
         (n x m_lambda balls), K_lambda(T) = q_lambda(T) / r'(lambda), T = S or S^T.  The first
         column for every eigenvalue at once is one product (Horner vectors) x (Vandermonde);
@@ -192,6 +193,8 @@ class Spectrum:
             Tb, Y = arb_mat(T), arb_mat(Cm)
             vs = [Y]
             for i in range(1, d):
+                if check is not None and i % 16 == 0:
+                    check()  # n products of n x n balls: seconds at n = 300
                 vs.append(Tb * vs[-1] + Y * arb(c[d - i]))
             first = acb_mat([[v[row, 0] for v in vs] for row in range(n)]) * Lv
             out = []
@@ -205,10 +208,11 @@ class Spectrum:
                 out.append(acb_mat([[block[row, j] for j in range(m)] for row in range(n)]))
             return out
 
-    def factors(self, prec: int) -> list[tuple[acb, int, acb_mat, acb_mat]]:
+    def factors(self, prec: int, check: Callable[[], None] | None = None) -> list[tuple[acb, int, acb_mat, acb_mat]]:
         """[(lambda, weight, R_lambda, H_lambda)] with K_lambda = R_lambda H_lambda (n x m and
         m x n balls, H = G^{-1} L; see the class docstring), at least ``prec`` bits accurate;
-        cached at the highest precision asked, with headroom."""
+        cached at the highest precision asked, with headroom.  ``check`` (a run's deadline check)
+        is called between the steps of a long computation."""
         if self._factors[0] >= prec:
             return self._factors[1]
         # the cost is mostly fixed, not per bit, and the precision asked of a phase grows by
@@ -228,8 +232,8 @@ class Spectrum:
             eig = self._eigen(work)
             mmax = max(m for _, _, m in eig)
             C, Cl = _probe(n, mmax, 2 * attempt), _probe(n, mmax, 2 * attempt + 1)
-            right = self._krylov_columns(self.S, C, eig, work)
-            left = self._krylov_columns(self.S.transpose(), Cl, eig, work)
+            right = self._krylov_columns(self.S, C, eig, work, check)
+            left = self._krylov_columns(self.S.transpose(), Cl, eig, work, check)
             out = []
             with workprec(work):
                 try:
@@ -286,7 +290,8 @@ class Spectrum:
         bits = math.log2(max(2.0, rho))
         return 24 + int(self.n * (bits + 1.5))
 
-    def modal(self, z: arb_mat | Callable[[int], arb_mat], prec: int) -> list[tuple[acb, int, list[acb_mat]]]:
+    def modal(self, z: arb_mat | Callable[[int], arb_mat], prec: int,
+              check: Callable[[], None] | None = None) -> list[tuple[acb, int, list[acb_mat]]]:
         """[(lambda, weight, [w_0, w_1, ...])] with w_j = K_lambda N^j z / j! (z: n x 1 balls, or a
         function giving z at a precision), so that e^{Mt} z = sum weight * Re(e^{lambda t}
         sum_j t^j w_j).  O(n^2) per call once the factors are known.  The list of an eigenvalue
@@ -295,7 +300,7 @@ class Spectrum:
         tiny balls standing for its zeros)."""
         if self.n == 0:
             return []
-        fac = self.factors(prec)
+        fac = self.factors(prec, check)
         zb = z(prec) if callable(z) else z
         with workprec(prec):
             levels = [acb_mat(arb_mat(P) * zb) for P in self.nilpotent] if not self.semisimple else [acb_mat(zb)]

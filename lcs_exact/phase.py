@@ -171,7 +171,8 @@ class Phase:
     def modal(self, prec: int) -> list:
         """Modal vectors of the phase's base start at ``prec`` bits (cached at the highest)."""
         if self._modal_prec < prec:
-            modal = self.spectrum.modal(self.base.arb, prec)
+            modal = self.spectrum.modal(self.base.arb, prec, lambda: self.policy.check_deadline(
+                f" while computing the spectral data of mode {format_mode(self.mode.I)} at {prec} bits"))
             zero = self.zero_coordinates()
             if zero:  # x_i = 0 on the whole phase: every modal coefficient of x_i is 0 exactly
                 for _, _, ws in modal:

@@ -123,3 +123,27 @@ def test_modulus_bounds_of_a_rotation_beside_a_free_mass():
     sp = Spectrum(fmpq_mat([[0, 1, 0, 0], [0, 0, 0, 0], [0, 0, 0, 1], [0, 0, -4, 0]]))
     assert sp.modulus_bounds() == (5, 4)
     assert Spectrum(fmpq_mat([[0, 1], [0, 0]])).modulus_bounds() is None
+
+
+def test_spectral_factors_of_a_large_matrix_call_the_deadline_check_between_steps():
+    """The Krylov columns of a 40 x 40 matrix take 39 products of 40 x 40 balls: ``check`` (a
+    run's deadline check) is called between them, and a check that stops the work leaves no
+    factors cached (the next call computes them whole; e^{M t} of the chain's tridiagonal M
+    then agrees with its value at t = 0, the identity)."""
+    n = 40
+    M = fmpq_mat(n, n, [(-2 if i == j else 1 if abs(i - j) == 1 else 0) for i in range(n) for j in range(n)])
+    sp = Spectrum(M)
+    calls = []
+
+    class Stop(Exception):
+        pass
+
+    def check():
+        calls.append(1)
+        raise Stop
+
+    with pytest.raises(Stop):
+        sp.factors(64, check)
+    assert calls == [1]
+    E = sp.matrix(arb(0), 64)
+    assert all(E[i, j].contains(int(i == j)) and E[i, j].rad() < 1e-15 for i in range(n) for j in range(n))
