@@ -22,12 +22,10 @@ from typing import Any
 
 from flint import arb, fmpq, fmpq_mat
 
-from . import calcium
 from .balls import dyadic_lower, dyadic_upper, workprec
-from .errors import UnresolvedSign
 from .expm import spectrum_of
 from .forms import Closed
-from .closedforms import candidates, symbolic_candidates
+from .closedforms import candidates, prove_zero_at, symbolic_candidates
 from .rational import is_zero, mat_equal, submatrix
 from .reals import Real
 from .roots import RootReal
@@ -84,35 +82,19 @@ class SourceClock:
                 return None
         return cls(J, submatrix(A, J, J), fmpq_mat(len(J), 1, z0), A.nrows())
 
-    def source_form(self, zero_forms: fmpq_mat, g: fmpq_mat) -> fmpq_mat | None:
-        """h (a row over J) with g - (0, h) in the span of ``zero_forms`` (forms vanishing on a
-        whole phase), or None: then g e^{A_I tau} x_s = h e^{S tau} z(t_s) on that phase."""
-        span = RowSpan(zero_forms)
+    def source_form(self, span: RowSpan, g: fmpq_mat) -> fmpq_mat | None:
+        """h (a row over J) with g - (0, h) in ``span`` (the forms vanishing on a whole phase:
+        ``phase.zero_span``), or None: then g e^{A_I tau} x_s = h e^{S tau} z(t_s) there."""
         n = g.ncols()
         units = [span.reduce(fmpq_mat(1, n, [int(i == j) for i in range(n)])) for j in self.J]
         R = fmpq_mat(n, len(self.J), [units[k][i] for i in range(n) for k in range(len(self.J))])
         h = solve_any(R, fmpq_mat(n, 1, span.reduce(g)))
         return None if h is None else h.transpose()
 
-    def value_is_zero(self, h: fmpq_mat, t: Closed) -> bool | None:
-        """h e^{S t} z(0) == 0 at the closed-form absolute time t (Calcium): True, False, or None
-        (undecided or no Calcium)."""
-        if not calcium.available():
-            return None
-        try:
-            tc = t.to_ca()
-            if tc is None:
-                return None
-            z = self.spectrum.ca_apply(tc, [calcium.Ca(self.z0[i, 0]) for i in range(len(self.J))], calcium)
-            if z is None:
-                return None
-            acc = calcium.Ca(0)
-            for k, x in enumerate(z):
-                if h[0, k] != 0:
-                    acc = acc + x * calcium.Ca(h[0, k])
-            return acc.is_zero()
-        except (ValueError, ZeroDivisionError, UnresolvedSign):
-            return None
+    def value_is_zero(self, h: fmpq_mat, t: Closed, deadline=None) -> bool | None:
+        """h e^{S t} z(0) == 0 at the closed-form absolute time t: True, False, or None
+        (:func:`~lcs_exact.closedforms.prove_zero_at` on the sources' own system)."""
+        return prove_zero_at(self.spectrum, h, RationalVector(self.z0), t, deadline=deadline)
 
     def event_time(self, phase: Any, t_s: Any, theta: Any) -> Real:
         """The event time t_s + theta (theta a root on ``phase``): an :class:`EventTime`, whose
@@ -126,7 +108,7 @@ class SourceClock:
         """The closed form of the absolute time t_s + theta (its ball ``b``), proven, or None:
         candidates from S's frequencies and rationals near b, each proven by
         :meth:`PhaseClock.proves_root_at` (theta's function must be a source's h z)."""
-        h = self.source_form(phase.zero_forms, theta.function.g)
+        h = self.source_form(phase.zero_span, theta.function.g)
         if h is None:
             return None
         seen = self.started(t_s, None)
@@ -205,7 +187,7 @@ class PhaseClock:
         h = self._source_form(phase, root.function.g)
         if h is None or not root.simple or not self._alone_with(root, t_abs):
             return False
-        return c.value_is_zero(h, t_abs) is True
+        return c.value_is_zero(h, t_abs, phase.policy.deadline) is True
 
     def proves_touch(self, phase: Any, g: fmpq_mat, clo: fmpq, chi: fmpq, lo: fmpq, hi: fmpq) -> bool:
         """True when f = g e^{A_I tau} x_s, convex on [lo, hi] with its critical point in
@@ -222,8 +204,8 @@ class PhaseClock:
         deadline = phase.policy.deadline
         for stream in (candidates(b, c.S), symbolic_candidates(c.spectrum, hd, RationalVector(c.z0), b, deadline)):
             for cand in stream:
-                if self._within(cand, lo, hi) and c.value_is_zero(hd, cand) is True and \
-                        c.value_is_zero(h, cand) is True:
+                if self._within(cand, lo, hi) and c.value_is_zero(hd, cand, deadline) is True and \
+                        c.value_is_zero(h, cand, deadline) is True:
                     return True
         return False
 
@@ -239,7 +221,7 @@ class PhaseClock:
             return None
         if not mat_equal(submatrix(M, J, J), c.S):
             return None
-        h = c.source_form(phase.zero_forms, g)
+        h = c.source_form(phase.zero_span, g)
         return None if h is None or all(h[0, k] == 0 for k in range(h.ncols())) else h
 
     def _within(self, t_abs: Closed, lo: fmpq, hi: fmpq) -> bool:
