@@ -20,46 +20,11 @@ from typing import Any, Sequence
 from flint import fmpq_mat
 
 from .errors import InvalidArgument, ShapeError
-from .rational import hstack, to_matrix, to_vector, vector_entries, vstack, zeros
-from .reals import RationalReal
-from .vectors import ComponentsVector, ExactVector, as_exact_vector
-from .sources import Exosystem, as_source, exosystem
+from .rational import hstack, to_matrix, vstack, zeros
+from .sources import AppendedStates, Exosystem, as_source, exosystem
 from .system import LCS
 
 __all__ = ["AppendedStates", "driven", "extend"]
-
-
-class AppendedStates:
-    """x -> (x, tail): the full state of an LCS whose last states are appended by a builder
-    (an exosystem's initial state z0, a relay level 1).  ``n`` is the number of states of the
-    modelled system, ``names`` those of the appended states.
-
-    An exact vector x (e.g. ``traj.state(t)`` restricted to the model) is accepted too.
-
-    >>> AppendedStates(2, [1, 0], ("sin(t)", "cos(t)"))([3, "1/2"]).transpose()
-    [3, 1/2, 1, 0]
-    """
-
-    def __init__(self, n: int, tail: Any, names: Sequence[str] = ()):
-        self.n = n
-        self.tail = to_vector(tail, len(vector_entries(tail, None, "tail")), "tail") if not isinstance(tail, fmpq_mat) else tail
-        self.names = tuple(names)
-
-    def __call__(self, x: Any):
-        if isinstance(x, ExactVector) or (isinstance(x, (list, tuple)) and any(hasattr(e, "arb") for e in x)):
-            v = as_exact_vector(list(x) if not isinstance(x, ExactVector) else x, self.n, "x")
-            q = v.known_rational()
-            if q is None:
-                tail = [RationalReal(self.tail[i, 0]) for i in range(self.tail.nrows())]
-                return ComponentsVector(list(v) + tail)
-            x = q
-        v = to_vector(x, self.n, "x")
-        return fmpq_mat(self.n + self.tail.nrows(), 1,
-                        [v[i, 0] for i in range(self.n)] + [self.tail[i, 0] for i in range(self.tail.nrows())])
-
-    def __repr__(self):
-        tail = ", ".join(str(self.tail[i, 0]) for i in range(self.tail.nrows()))
-        return f"AppendedStates({self.n}, [{tail}], {self.names!r})"
 
 
 def extend(A: fmpq_mat, B: fmpq_mat, C: fmpq_mat, D: fmpq_mat, EW: fmpq_mat | None, FW: fmpq_mat | None,

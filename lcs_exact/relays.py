@@ -37,24 +37,22 @@ from flint import fmpq_mat
 
 from .errors import InvalidArgument, ShapeError
 from .rational import to_matrix, to_vector
+from .sources import AppendedStates
 from .system import LCS
 
 __all__ = ["relay", "LevelEmbedding"]
 
 
-class LevelEmbedding:
-    """x -> (x, 1): the full initial state of a relay LCS (the appended relay level c = 1).
+class LevelEmbedding(AppendedStates):
+    """x -> (x, 1): the full initial state of a relay LCS (the appended relay level c = 1, a
+    constant source).
 
     >>> LevelEmbedding(2)([3, "1/2"]).transpose()
     [3, 1/2, 1]
     """
 
     def __init__(self, n: int):
-        self.n = n
-
-    def __call__(self, x: Any) -> fmpq_mat:
-        v = to_vector(x, self.n, "x")
-        return fmpq_mat(self.n + 1, 1, [v[i, 0] for i in range(self.n)] + [1])
+        super().__init__(n, [1], ("c",))
 
     def __repr__(self):
         return f"LevelEmbedding({self.n})"

@@ -27,6 +27,7 @@ from .ratfunc import RationalFunction, RationalMatrix
 from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, adjugate_coefficients, eigenvalue_moduli, mat_rows,
                        matrix_to_sympy, submatrix, to_fmpq, to_int, to_matrix, to_short, to_vector)
 from .selection import initial_solution, is_regular, ldcp, rcp, select_modes
+from .sources import SourceBlock, source_block
 
 __all__ = ["LCS", "WellPosedness", "LATEX_MAX_CHARS"]
 
@@ -403,6 +404,44 @@ class LCS:
         if self.embedding is None:
             return to_vector(x, self.n, "x")
         return self.embedding(x)
+
+    @property
+    def plant(self) -> tuple:
+        """Indices of the modelled system's states (the builder's x, what :meth:`embed` takes):
+        all states but those a builder appended (an exosystem, a relay level).
+
+        >>> from lcs_exact import models, sources
+        >>> models.driven([[-1]], [[1]], [[1]], [[1]], F=[[-1]], w=[sources.sine(1)]).plant
+        (0,)
+        """
+        n = getattr(self.embedding, "n", None)
+        return tuple(range(self.n if n is None else n))
+
+    @property
+    def sources(self) -> SourceBlock | None:
+        """The exosystem a builder appended (:class:`~lcs_exact.sources.SourceBlock`: its states,
+        S, z0 = the tail of :meth:`embed`, the states' expressions), or None.  The appended states
+        form an autonomous block (no plant state and no u enters them), which is checked.
+
+        >>> from lcs_exact import models, sources
+        >>> sb = models.driven([[-1]], [[1]], [[1]], [[1]], F=[[-1]], w=[sources.sine(1)]).sources
+        >>> sb.states, sb.expressions
+        ((1, 2), ('sin(t)', 'cos(t)'))
+        """
+        if "sources" not in self._cache:
+            self._cache["sources"] = self._source_block()
+        return self._cache["sources"]
+
+    def _source_block(self) -> SourceBlock | None:
+        plant = self.plant
+        tail = getattr(self.embedding, "tail", None)
+        J = list(range(len(plant), self.n))
+        if not J or tail is None or tail.nrows() != len(J):
+            return None
+        if any(self.A[i, j] != 0 for i in J for j in plant) or any(self.B[i, c] != 0 for i in J for c in range(self.k)):
+            return None  # not an exosystem: something drives the appended states
+        S = fmpq_mat([[self.A[i, j] for j in J] for i in J])
+        return source_block(J, S, tail, [self.state_names[i] for i in J])
 
     # --- modes and selection (delegated) -----------------------------------------------------
     def _index_set(self, I: Iterable[int]) -> frozenset:
