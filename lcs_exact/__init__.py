@@ -1,11 +1,12 @@
 """lcs_exact: an exact engine for linear complementarity systems (Heemels, Schumacher, Weiland 2000)."""
 from __future__ import annotations
 
-from .compare import ComparisonReport, compare, convergence_order  # also hands the engine to the fixture reader
+from .compare import ComparisonReport, compare, convergence_order
 from .errors import (Deadlock, FixtureMismatch, FormatError, HorizonExceeded, IllPosed, InvalidArgument, LCSError,
                      LimitExceeded, NotAutonomous, NotRational, ShapeError, Undetermined, UnresolvedSign,
                      TimeLimitExceeded, Unsupported, WorkerDied, ZenoDetected)
-from .fixture import FixtureTrajectory, read_fixture, validate_fixture
+from .fixture import validate_fixture
+from .fixturereader import FixtureTrajectory, read_fixture
 from .lcp import all_solutions, is_p_matrix, solve_lcp
 from .modes import Mode
 from .ratfunc import RationalFunction, RationalMatrix

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 from flint import arb, fmpq, fmpq_mat
@@ -418,13 +418,51 @@ class Accumulation:
     """A right-accumulation point crossed (Remark 4.11): the event times accumulate at ``time``,
     the state tends to ``state`` (x(T*-)); ``events`` is the cycle length of the proven law,
     ``ratio`` the scale factor of one cycle, ``first_event`` the index of the first event of the
-    law's reference cycle in ``traj.events``."""
+    law's reference cycle in ``traj.events``.
+
+    The infinitely many events before ``time`` are not in ``traj.events`` (which ends with the
+    last event computed one by one, at :attr:`start`); :meth:`event_time` gives the k-th of them
+    exactly, from the law: cycle m repeats the reference cycle's events scaled by rho^(m+1).
+    """
 
     time: Real
     state: ExactVector
     events: int
     ratio: fmpq
     first_event: int
+    cycle: Any = field(default=None, repr=False, compare=False)  # the ScaledCycle of the window
+
+    @property
+    def start(self) -> Real | None:
+        """The time of the last event before the window of implied events (``traj.events[-1]``
+        when the accumulation was crossed)."""
+        return None if self.cycle is None else self.cycle.t_k
+
+    @property
+    def cycle_length(self) -> Real | None:
+        """T, the length of the reference cycle (cycle m after :attr:`start` lasts T rho^(m+1))."""
+        return None if self.cycle is None else self.cycle.law.cycle_length
+
+    @property
+    def offsets(self) -> tuple:
+        """The reference cycle's event times after its start (exact): event j of cycle m is at
+        start + T rho (1 - rho^m) / (1 - rho) + offsets[j] rho^(m+1)."""
+        return () if self.cycle is None else tuple(self.cycle.offsets)
+
+    def event_time(self, k: int) -> Real:
+        """The k-th event (k = 0, 1, ...) implied by the law after :attr:`start`, exactly.
+
+        >>> import lcs_exact as L
+        >>> ball = L.examples.bouncing_ball(g=10, e="1/2")     # dropped from 5: impacts 1, 2, 2.5, ...
+        >>> acc = L.simulate(ball, ball.embed([5, 0]), 4).accumulations[0]
+        >>> acc.time.known_rational(), [acc.event_time(k).known_rational() for k in range(3)]
+        (3, [11/4, 23/8, 47/16])
+        """
+        if self.cycle is None:
+            raise InvalidArgument("this accumulation carries no law for its implied events")
+        if isinstance(k, bool) or not isinstance(k, int) or k < 0:
+            raise InvalidArgument(f"k must be an int >= 0, got {k!r}")
+        return self.cycle.event_time(k)
 
     def __repr__(self):
         return (f"Accumulation(time={self.time.label()}, state={self.state!r}, cycle of {self.events} "
@@ -457,6 +495,13 @@ class ScaledCycle:
                     break
             start, scale = start + T * scale, scale * rho
         return out
+
+    def event_time(self, k: int) -> Real:
+        """The k-th event time inside the window (k = 0, 1, ...): event j = k mod p of cycle
+        m = k div p, at t_k + T rho (1 - rho^m) / (1 - rho) + offsets[j] rho^(m+1)."""
+        rho, T, p = self.law.ratio, self.law.cycle_length, len(self.offsets)
+        m, j = divmod(k, p)
+        return self.t_k + T * (rho * (1 - rho ** m) / (1 - rho)) + self.offsets[j] * rho ** (m + 1)
 
     def _map(self, dt: Any) -> tuple[Real, fmpq]:
         """(t_ref, scale) for a time t_k + dt of the window."""

@@ -41,7 +41,8 @@ from . import __version__
 from .balls import MAX_DIGITS
 from .compare import compare, convergence_order, read_solution_csv
 from .errors import FormatError, InvalidArgument, LCSError
-from .fixture import MAX_SAMPLES, ball_number, read_fixture, sample_grid
+from .fixture import MAX_SAMPLES, ball_number, sample_grid
+from .fixturereader import read_fixture
 from .interfaces import SystemLike
 from .modelfile import MODEL_KEYS, check_exponents, load_model, read_model
 from .models import two_carts

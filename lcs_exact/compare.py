@@ -1,11 +1,11 @@
 """Other solvers' solutions compared against certified trajectories.
 
 * :func:`compare` measures a numerical solution (times t, rows of states X) against a certified
-  trajectory (a fixture read back by :func:`lcs_exact.fixture.read_fixture`, or a live
+  trajectory (a fixture read back by :func:`lcs_exact.read_fixture`, or a live
   :class:`~lcs_exact.Trajectory`): the largest state error away from the events, and for each
   event the time at which the solver's data switches against the certified event time.
   :func:`convergence_order` is the least-squares slope of log error against log step over several
-  solutions; :func:`read_solution_csv` reads a solver's solution (t, x1..xn).
+  solutions; :func:`read_solution_csv` reads a solver's solution (t, x_0..x_{n-1}).
 
 Events in a solver's data.  At an event τ the exact solution has a first discontinuous derivative
 of some order j: j = 0 at a jump (an impact), j = 1 when x' jumps (u jumps), higher at a smooth
@@ -17,13 +17,17 @@ stencil.  The window around each event is |t - τ| <= w with w = ``event_tol``, 
 twice the largest step of the solution (a time-stepper resolves an event within one step; the
 state error there is O(1) and says nothing about the method's order).
 
-This module is high in the import order: it imports the fixture format and the engine below it,
-and hands the engine down to the format's reader (:func:`lcs_exact.fixture.set_engine`: a fixture
-with rational x0 is recomputed exactly between its samples); nothing imports it but the package
-front and the CLI.  ``read_fixture`` and ``FixtureTrajectory`` are importable from here as before.
+Windows.  Every event of the reference is windowed, and so are the events an accumulation
+implies (``accumulations[i].event_time(k)``: a bouncing ball's impacts after the last one listed,
+up to its accumulation time T*), so a time-stepper that is right away from events passes.
+
+This module sits above the fixture reader and the engine (a fixture with rational x0 is
+recomputed exactly between its samples); nothing imports it but :mod:`lcs_exact.testing`, the
+package front and the CLI.
 """
 from __future__ import annotations
 
+import bisect
 import math
 import re
 from dataclasses import dataclass, field
@@ -33,17 +37,14 @@ from typing import Any, Sequence
 
 from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 
-from .errors import FormatError, LCSError, ShapeError
-from .fixnumbers import ball_number, short_text, to_fraction
-from .fixture import FixtureEvent, FixtureTrajectory, Sample, read_fixture, set_engine
+from .errors import FormatError, InvalidArgument, LCSError, ShapeError
+from .fixnumbers import ball_number, number_rational, short_text, to_fraction
+from .fixturereader import read_fixture
 from .rational import to_fmpq
-from .simulate import simulate
 from .system import LCS
 
-set_engine(simulate)  # a fixture read back repeats its run with the engine (see the docstring)
-
-__all__ = ["read_solution_csv", "compare", "ComparisonReport", "EventComparison", "convergence_order",
-           "read_fixture", "FixtureTrajectory", "FixtureEvent", "Sample"]  # the last four: lcs_exact.fixture
+__all__ = ["read_solution_csv", "compare", "ComparisonReport", "EventComparison", "Violation", "convergence_order",
+           "OVERSHOOT"]
 
 _PREC = 128  # bits for the arithmetic on solver data (doubles) against references
 
@@ -53,7 +54,7 @@ _PREC = 128  # bits for the arithmetic on solver data (doubles) against referenc
 # ---------------------------------------------------------------------------------------------
 
 def read_solution_csv(path: Any) -> tuple[list[str], list[list[str]]]:
-    """Read a solver's solution: one row per time, columns t, x1..xn (comma- or whitespace-
+    """Read a solver's solution: one row per time, columns t, x_0..x_{n-1} (comma- or whitespace-
     separated), an optional header line, ``#`` comments.  Returns (t, X) as decimal strings
     (read exactly later).
 
@@ -78,7 +79,7 @@ def read_solution_csv(path: Any) -> tuple[list[str], list[list[str]]]:
                 raise ShapeError(f"{p}: line {lineno} has {len(fields)} columns, expected {width}")
             width = len(fields)
             if width < 2:
-                raise ShapeError(f"{p}: line {lineno} has {width} column; expected t, x1, ..., xn")
+                raise ShapeError(f"{p}: line {lineno} has {width} column; expected t, x_0, ..., x_{{n-1}}")
             bad = next((f for f in fields if not _is_number(f)), None)
             if bad is not None:
                 raise FormatError(f"{p}: line {lineno}: {bad[:30]!r} is not a number")
@@ -88,7 +89,7 @@ def read_solution_csv(path: Any) -> tuple[list[str], list[list[str]]]:
             t.append(fields[0])
             X.append(fields[1:])
     if len(t) < 2:
-        raise FormatError(f"{p}: a solution needs at least 2 rows (t, x1, ..., xn), found {len(t)}")
+        raise FormatError(f"{p}: a solution needs at least 2 rows (t, x_0, ..., x_{{n-1}}), found {len(t)}")
     return t, X
 
 
@@ -119,12 +120,35 @@ class EventComparison:
 
 
 @dataclass(frozen=True)
+class Violation:
+    """The worst point outside the tolerance ``|X - x| <= atol + rtol |x|``: its time, component
+    (index and name), the solver's value, the certified exact value and the error."""
+
+    time: float
+    component: int
+    name: str
+    solver: float
+    exact: arb
+    error: float
+    tolerance: float
+
+    def message(self, digits: int = 20) -> str:
+        """The sentence an :class:`AssertionError` carries."""
+        exact = f"{self.exact.mid().str(digits, radius=False)} (+/- {float(self.exact.rad()):.3g})"
+        return (f"the solution differs from the fixture by {self.error:.3g} > tolerance {self.tolerance:.3g} at "
+                f"t = {self.time:.17g}, component {self.name}: solver {self.solver!r}, exact {exact}")
+
+
+@dataclass(frozen=True)
 class ComparisonReport:
     """The error of a solution against a fixture (:func:`compare`).
 
-    ``max_error`` is a certified ball of ``max |x_i(t) - X_i|`` over components and compared points
-    (those outside the event windows), ``component_errors`` the same per component;
-    ``events`` compares each event time with the solver's switch.
+    ``max_error`` is a certified ball of ``max |x_i(t) - X_i|`` over the compared components and
+    points (those outside the event windows), ``component_errors`` the same per compared
+    component (``components``: their indices, ``names``: the fixture's state names of all n);
+    ``events`` compares each event time with the solver's switch.  With tolerances (``atol``,
+    ``rtol``) ``violation`` is the worst point outside them (None when every point is inside) and
+    ``n_violations`` their number.
     """
 
     label: str
@@ -146,9 +170,20 @@ class ComparisonReport:
     names: tuple = field(default=())
     n_beyond: int = 0  # solver times after the last time the reference knows (t_end, or a partial run's end)
     last_time: arb | None = None
+    components: tuple = field(default=())
+    windows: tuple = field(default=())  # the merged intervals left out, (lo, hi) floats
+    atol: float | None = None
+    rtol: float = 0.0
+    violation: Violation | None = None
+    n_violations: int = 0
 
     def _name(self, i: int) -> str:
-        return self.names[i] if i < len(self.names) else f"x{i + 1}"
+        return self.names[i] if i < len(self.names) else f"x_{i}"
+
+    @property
+    def passed(self) -> bool:
+        """True when tolerances were given, some point was compared and none is outside them."""
+        return self.atol is not None and self.n_compared > 0 and self.violation is None
 
     def to_dict(self) -> dict:
         """A JSON-ready dict (errors and event times as fixture numbers: value and bound)."""
@@ -156,11 +191,45 @@ class ComparisonReport:
                 "compared": self.n_compared, "in_event_windows": self.n_in_windows,
                 "unmatched": self.n_unmatched, "step": self.step, "window": self.window,
                 "window_rule": self.window_rule, "max_error": ball_number(self.max_error, 6),
-                "max_error_time": self.max_error_time, "max_error_component": self.max_error_component,
-                "component_errors": [ball_number(b, 6) for b in self.component_errors],
+                "max_error_time": self.max_error_time,
+                "max_error_component": None if self.max_error_component is None else self._name(self.max_error_component),
+                "component_errors": {self._name(i): ball_number(b, 6) for i, b in zip(self.components, self.component_errors)},
                 "events": [e.to_dict() for e in self.events], "certified": self.certified,
                 "time_mismatch": self.time_mismatch, "beyond_last_time": self.n_beyond,
-                "last_time": None if self.last_time is None else ball_number(self.last_time, 17)}
+                "last_time": None if self.last_time is None else ball_number(self.last_time, 17),
+                "atol": self.atol, "rtol": self.rtol, "violations": self.n_violations,
+                "violation": None if self.violation is None else self.violation.message(17)}
+
+    def to_pandas(self, what: str = "components"):
+        """A pandas DataFrame: ``"components"`` (default) one row per compared component, indexed
+        by its name, with the largest error (``max_error``, its certified upper bound
+        ``max_error_bound``); ``"events"`` one row per event (certified time, kind, the solver's
+        switch time and the difference).
+
+        >>> import lcs_exact as L
+        >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
+        >>> tr = L.simulate(osc, [1, 0], 1)
+        >>> ts = [k / 4 for k in range(5)]
+        >>> r = compare(tr, ts, [[float(c) + 1e-3, float(v)] for c, v in tr.sample(ts)])
+        >>> r.to_pandas().round(9)  # doctest: +NORMALIZE_WHITESPACE
+                   max_error  max_error_bound
+        component
+        x_0            0.001            0.001
+        x_1            0.000            0.000
+        """
+        try:
+            import pandas as pd
+        except ImportError:
+            raise InvalidArgument("to_pandas needs pandas: pip install pandas (or lcs_exact[data])") from None
+        if what == "components":
+            rows = [(float(b.mid()), float(b.upper())) for b in self.component_errors]
+            return pd.DataFrame(rows, columns=["max_error", "max_error_bound"],
+                                index=pd.Index([self._name(i) for i in self.components], name="component"))
+        if what == "events":
+            return pd.DataFrame([{"time": float(e.time.mid()), "exact": e.time_exact, "kind": e.kind,
+                                  "solver_time": e.solver_time, "time_error": e.time_error} for e in self.events],
+                                index=pd.Index([e.index for e in self.events], name="event"))
+        raise InvalidArgument(f"to_pandas: what must be 'components' or 'events', got {what!r}")
 
     def __repr__(self):
         return (f"<ComparisonReport {self.label!r}: max error {_sci(self.max_error)} over "
@@ -178,9 +247,13 @@ class ComparisonReport:
             lines.append(f"  max state error {_sci(self.max_error)} at t = {self.max_error_time:.6g} "
                          f"in {self._name(self.max_error_component)}")
             lines.append("  per component: " + ", ".join(f"{self._name(i)} {_sci(b)}"
-                                                         for i, b in enumerate(self.component_errors)))
+                                                         for i, b in zip(self.components, self.component_errors)))
         else:
             lines.append("  no point outside the event windows: no state error measured")
+        if self.atol is not None:
+            lines.append(f"  tolerance atol = {self.atol:.3g}, rtol = {self.rtol:.3g}: " +
+                         ("every compared point inside" if self.violation is None else
+                          f"{self.n_violations} point(s) outside; worst: {self.violation.message(12)}"))
         if self.events:
             lines.append(f"  {'event':>5}  {'certified time':<18}  {'kind':<16}  {'solver switch':>14}  "
                          f"{'time error':>11}  closed form")
@@ -197,12 +270,17 @@ def _sci(b: arb) -> str:
     return f"{v:.4g}" if v == 0 else f"{v:.4e}"
 
 
-def _as_rows(X: Any, n: int, what: str) -> list:
+def _as_rows(X: Any, widths: Sequence[int], what: str) -> list:
+    """The solver's rows, each of one of the accepted widths (all n states, or the plant's)."""
     rows = X.tolist() if hasattr(X, "tolist") else list(X)
+    want = " or ".join(str(w) for w in dict.fromkeys(widths))
+    width = None
     for i, r in enumerate(rows):
-        if not hasattr(r, "__len__") or isinstance(r, str) or len(r) != n:
+        if not hasattr(r, "__len__") or isinstance(r, str) or len(r) not in widths or (width is not None and len(r) != width):
             got = len(r) if hasattr(r, "__len__") and not isinstance(r, str) else "not a row"
-            raise ShapeError(f"{what}: row {i} has {got} values, expected n = {n}")
+            raise ShapeError(f"{what}: row {i} has {got} values, expected {want if width is None else width} "
+                             f"(all n states, or the plant's states only)")
+        width = len(r)
     return rows
 
 
@@ -213,8 +291,13 @@ def _reference_of(fixture: Any):
     return read_fixture(fixture), False
 
 
+#: a solver's time beyond the reference's last time by at most this fraction of its largest step
+#: is that last time (float grids such as ``np.arange(N + 1) * h`` overshoot t_end by rounding)
+OVERSHOOT = Fraction(1, 10 ** 9)
+
+
 def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str = "solution",
-            names: Sequence[str] = ()) -> ComparisonReport:
+            names: Sequence[str] = (), atol: Any = None, rtol: Any = 0.0) -> ComparisonReport:
     """Compare a numerical solution (times ``t``, states ``X``) against a certified trajectory.
 
     Parameters
@@ -222,15 +305,20 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     fixture : path, dict, FixtureTrajectory or Trajectory
     t : 1-D sequence (numbers or decimal strings; floats by their shortest repr), nondecreasing
         (a repeated time is a jump: the rows before and after it).
-    X : rows of n state values, one row per time.
+    X : rows of state values, one row per time: all n states, or the plant's states only
+        (``lcs.plant``: the sources appended by a builder left out).
     event_tol : the half-width w of the window excluded around each event (default: twice the
-        solution's largest step).
+        solution's largest step), the events an accumulation implies included.
+    names : the components' names (default: the fixture's state names, ``x_0, x_1, ...``).
+    atol, rtol : optional tolerances: the report's ``violation`` is the worst point with
+        ``|X - x| > atol + rtol |x|`` (what :func:`lcs_exact.testing.assert_matches_fixture` raises).
 
     The reference at each time is the fixture's sample when the time is on the sample grid (to
     within 1e-9 of the grid step: solvers accumulate t in floating point), else the exact
     recomputation when x0 is rational (or the Trajectory itself); other times are left out and
     counted as ``n_unmatched``.  Times after the last time the reference covers (``t_end``, or
-    where a partial run stopped) are left out and counted as ``n_beyond``.  Error balls are
+    where a partial run stopped) are left out and counted as ``n_beyond``, except those within
+    1e-9 of a step of it (a float grid's rounding), which are compared there.  Error balls are
     certified against the solver's numbers as given.
 
     Examples
@@ -239,73 +327,183 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])   # x'' = -x + u, 0 <= x _|_ u >= 0
     >>> tr = L.simulate(osc, [1, 0], 2)
     >>> ts = [k / 8 for k in range(17)]
-    >>> X = [[float(c) + 1e-6, float(v)] for c, v in tr.sample(ts)]   # x1 off by 1e-6
+    >>> X = [[float(c) + 1e-6, float(v)] for c, v in tr.sample(ts)]   # x_0 off by 1e-6
     >>> r = compare(tr, ts, X)
-    >>> round(float(r.max_error.mid()), 12), r.events[0].kind
-    (1e-06, 'jump')
+    >>> round(float(r.max_error.mid()), 12), r.events[0].kind, r.names
+    (1e-06, 'jump', ('x_0', 'x_1'))
     """
     ref, live = _reference_of(fixture)
-    n = ref.lcs.n
+    lcs = ref.lcs
+    n, plant = lcs.n, tuple(lcs.plant)
+    names = tuple(names) or tuple(lcs.state_names)
     ts = t.tolist() if hasattr(t, "tolist") else list(t)
-    rows = _as_rows(X, n, label)
+    rows = _as_rows(X, (n, len(plant)), label)
+    comps = tuple(range(n)) if not rows or len(rows[0]) == n else plant
     if len(ts) != len(rows):
         raise ShapeError(f"{label}: {len(ts)} times but {len(rows)} rows of states")
-    if len(ts) < 2:
-        raise FormatError(f"{label}: a solution needs at least 2 points")
+    if not ts:
+        raise FormatError(f"{label}: a solution needs at least 1 point")
     tq = [to_fraction(v, f"{label} t[{i}]") for i, v in enumerate(ts)]
     if any(b < a for a, b in zip(tq, tq[1:])):
         i = next(i for i, (a, b) in enumerate(zip(tq, tq[1:])) if b < a)
         raise FormatError(f"{label}: times decrease at row {i + 1} ({float(tq[i])} then {float(tq[i + 1])})")
+    tol = _tolerances(atol, rtol)
     with ctx.workprec(_PREC):
         Xb = [[arb(to_fmpq(v, f"{label} X[{i}][{c}]")) for c, v in enumerate(r)] for i, r in enumerate(rows)]
     tf = [float(v) for v in tq]
-    Xf = [[float(b.mid()) for b in r] for r in Xb]
-    step = max(b - a for a, b in zip(tf, tf[1:]))
+    step = max((b - a for a, b in zip(tq, tq[1:])), default=Fraction(0))
     if event_tol is None:
-        window, rule = 2 * step, "2 x the largest step"
+        window, rule = 2 * float(step), "2 x the largest step"
     else:
         window, rule = float(to_fraction(event_tol, "event_tol")), "event_tol"
         if window < 0:
             raise FormatError(f"event_tol must be >= 0, got {event_tol}")
 
     events = [_event_data(e, live) for e in ref.events]
-    taus = [float(ev[0].mid()) for ev in events]
-    inside = [any(abs(ti - tau) <= window for tau in taus) for ti in tf]
+    windows = _windows([float(ev[0].mid()) for ev in events], ref.accumulations, window)
+    inside = _in_windows(tf, windows)
     # the reference is known on [0, last] only (t_end, or the end of a partial run): later times
-    # (and times too close to last to tell) are left out and counted
+    # are left out and counted, but a float grid's rounding past a rational last time is forgiven
     last = ref.t_last.ball(30) if live else ref.final_time
+    last_q = _rational_last(ref, live)
     with ctx.workprec(_PREC):
-        known = [bool(arb(fmpq(t.numerator, t.denominator)) <= last) for t in tq]
+        for i, q in enumerate(tq):
+            if last_q is not None and last_q < q <= last_q + OVERSHOOT * step:
+                tq[i] = last_q
+        known = [bool(arb(fmpq(q.numerator, q.denominator)) <= last) for q in tq]
 
-    # references at the compared times
     todo = [i for i in range(len(tq)) if not inside[i] and known[i]]
     refs, kind, mismatch, unmatched = _references(ref, live, [tq[i] for i in todo])
-    comp_err = [arb(0)] * n
+    m = len(comps)
+    comp_err = [arb(0)] * m
     best = (None, None, None, arb(0))  # (index, component, mid, ball)
+    worst, violations = None, 0
     compared = 0
     with ctx.workprec(_PREC):
         for i, r in zip(todo, refs):
             if r is None:
                 continue
             compared += 1
-            for c in range(n):
-                e = abs(Xb[i][c] - r[c])
+            bad = None
+            for c, comp in enumerate(comps):
+                e = abs(Xb[i][c] - r[comp])
                 comp_err[c] = comp_err[c].max(e)
-                m = float(e.mid())
-                if best[2] is None or m > best[2]:
-                    best = (i, c, m, e)
+                mid = float(e.mid())
+                if best[2] is None or mid > best[2]:
+                    best = (i, comp, mid, e)
+                if tol is not None:
+                    limit = tol[0] + tol[1] * abs(float(r[comp].mid()))
+                    excess = float(e.upper()) - limit
+                    if excess > 0:
+                        bad = True
+                        if worst is None or excess > worst[0]:
+                            worst = (excess, Violation(tf[i], comp, names[comp] if comp < len(names) else f"x_{comp}",
+                                                       float(Xb[i][c].mid()), r[comp], mid, limit))
+            violations += bool(bad)
         overall = arb(0)
         for e in comp_err:
             overall = overall.max(e)
-    ev_cmp = tuple(_compare_event(j, ev, ref.lcs, tf, Xf, window) for j, ev in enumerate(events))
+    Xf = [_full_row([float(b.mid()) for b in r], comps, n) for r in Xb]
+    ev_cmp = tuple(_compare_event(j, ev, lcs, tf, Xf, window, comps) for j, ev in enumerate(events))
     return ComparisonReport(
         label=label, reference=kind, n_points=len(tq), n_compared=compared,
         n_in_windows=sum(1 for i, w in enumerate(inside) if w and known[i]), n_unmatched=unmatched,
-        step=step, window=window, window_rule=rule,
+        step=float(step), window=window, window_rule=rule,
         max_error=overall, max_error_time=None if best[0] is None else tf[best[0]],
         max_error_component=best[1], component_errors=tuple(comp_err), events=ev_cmp,
-        certified=bool(ref.certified), time_mismatch=mismatch, names=tuple(names),
-        n_beyond=len(tq) - sum(known), last_time=last)
+        certified=bool(ref.certified), time_mismatch=mismatch, names=names,
+        n_beyond=len(tq) - sum(known), last_time=last, components=comps, windows=tuple(windows),
+        atol=None if tol is None else tol[0], rtol=0.0 if tol is None else tol[1],
+        violation=None if worst is None else worst[1], n_violations=violations)
+
+
+def _tolerances(atol: Any, rtol: Any) -> tuple[float, float] | None:
+    if atol is None:
+        return None
+    out = []
+    for name, v in (("atol", atol), ("rtol", rtol)):
+        try:
+            f = float(v)
+        except (TypeError, ValueError):
+            raise InvalidArgument(f"{name} must be a number >= 0, got {v!r}") from None
+        if isinstance(v, bool) or not math.isfinite(f) or f < 0:
+            raise InvalidArgument(f"{name} must be a finite number >= 0, got {v!r}")
+        out.append(f)
+    return out[0], out[1]
+
+
+def _full_row(vals: list, comps: tuple, n: int) -> list:
+    """A solver row on all n components (0 where the solver gave none: the sources, which are
+    continuous and take no part in the switch detection)."""
+    if len(comps) == n:
+        return vals
+    row = [0.0] * n
+    for c, v in zip(comps, vals):
+        row[c] = v
+    return row
+
+
+def _rational_last(ref: Any, live: bool) -> Fraction | None:
+    """The reference's last time as a Fraction when it is rational (t_end of a complete run)."""
+    if live:
+        q = ref.t_last.known_rational()
+        return None if q is None else Fraction(int(q.p), int(q.q))
+    return number_rational(ref.data["final_time"])
+
+
+def _implied_events(acc: Any, w: float) -> tuple[list, float] | None:
+    """The event times (floats) an accumulation implies before its time T*, as many as fit
+    apart from one another: up to the first one within max(2w, float resolution) of T*, after
+    which every window touches the next and together they cover [that event - w, T* + w]; and
+    T* as a float.  None when the accumulation carries no law."""
+    if getattr(acc, "cycle", None) is None and getattr(acc, "law", None) is None:
+        return None  # a live Accumulation carries its law as ``cycle``, a fixture's as ``law``
+    t_star = float(_mid(acc.time))
+    resolution = max(2 * w, 2.0 ** -50 * max(1.0, abs(t_star)))
+    out = []
+    for k in range(100_000):
+        tk = float(_mid(acc.event_time(k)))
+        out.append(tk)
+        if t_star - tk <= resolution:
+            break
+    return out, t_star
+
+
+def _mid(x: Any) -> arb:
+    return x.ball(20).mid() if hasattr(x, "ball") else x.mid()
+
+
+def _windows(taus: list, accumulations: Sequence, w: float) -> list:
+    """The merged intervals [τ - w, τ + w] around every event, those accumulations imply
+    included (as [first event that no longer fits - w, T* + w])."""
+    spans = [(tau - w, tau + w) for tau in taus]
+    for acc in accumulations:
+        implied = _implied_events(acc, w)
+        if implied is None:  # no law: the accumulation time itself
+            t_star = float(_mid(acc.time))
+            spans.append((t_star - w, t_star + w))
+            continue
+        times, t_star = implied
+        spans += [(tk - w, tk + w) for tk in times[:-1]]
+        spans.append((times[-1] - w, t_star + w))
+    spans.sort()
+    merged: list = []
+    for lo, hi in spans:
+        if merged and lo <= merged[-1][1]:
+            merged[-1] = (merged[-1][0], max(merged[-1][1], hi))
+        else:
+            merged.append((lo, hi))
+    return merged
+
+
+def _in_windows(tf: list, windows: list) -> list:
+    """Whether each time lies in one of the (sorted, disjoint) windows."""
+    starts = [lo for lo, _ in windows]
+    out = []
+    for t in tf:
+        j = bisect.bisect_right(starts, t) - 1
+        out.append(j >= 0 and t <= windows[j][1])
+    return out
 
 
 def _event_data(e: Any, live: bool) -> tuple:
@@ -390,7 +588,7 @@ def _closed_loop(lcs: LCS, I: frozenset) -> fmpq_mat:
     return A
 
 
-def _compare_event(j: int, ev: tuple, lcs: LCS, tf: list, Xf: list, window: float) -> EventComparison:
+def _compare_event(j: int, ev: tuple, lcs: LCS, tf: list, Xf: list, window: float, comps: tuple) -> EventComparison:
     tau_b, mb, ma, xb, xa, cf = ev
     tau = float(tau_b.mid())
     if mb is None:
@@ -401,8 +599,10 @@ def _compare_event(j: int, ev: tuple, lcs: LCS, tf: list, Xf: list, window: floa
     kind = {0: "jump", 1: "kink (x' jumps)"}.get(order, f"x^({order}) jumps")
     if not tf[0] <= tau <= tf[-1]:
         return EventComparison(j, tau_b, order, kind, None, None, cf)
-    scale = max(abs(float(c.mid())) for c in d)
-    dirv = [float(c.mid()) / scale for c in d]
+    scale = max(abs(float(d[c].mid())) for c in comps)
+    if scale == 0:  # the jump is in components the solver did not give
+        return EventComparison(j, tau_b, order, kind, None, None, cf)
+    dirv = [float(c.mid()) / scale if i in comps else 0.0 for i, c in enumerate(d)]
     found = _switch_time(tf, Xf, dirv, order, tau, window)
     return EventComparison(j, tau_b, order, kind, found, None if found is None else found - tau, cf)
 

@@ -388,7 +388,7 @@ class _Run:
         offsets = [self.events[law.start + j].time - law.cycle_start for j in range(law.period)]
         cycle = ScaledCycle(law, _ReferenceStates(self), t, mode, self.events[-1].state_after, offsets)
         self.phases.append(PhaseRecord(t, T_star, mode.index_set, cycle))
-        self.accumulations.append(Accumulation(T_star, limit, law.period, law.ratio, law.start))
+        self.accumulations.append(Accumulation(T_star, limit, law.period, law.ratio, law.start, cycle))
         self.durations.clear()
         return T_star, limit
 

@@ -4,96 +4,83 @@ fixture in one line (docs/fixtures.md, docs/zoo.md).  In a pytest test of a solv
     from lcs_exact.testing import assert_matches_fixture
     assert_matches_fixture("ball.json", t, X, atol=1e-3)
 
-The fixture's states at the times t are its certified samples where t is on the sample grid, and
-recomputed exactly from the fixture's system and x0 elsewhere (``read_fixture``); a fixture
-whose content does not match its digest is refused (``FixtureMismatch``).  The check is
-``|X - x| <= atol + rtol |x|`` componentwise; a failure is an ``AssertionError`` whose message names
-the worst point: its time, component (by name), the solver's value, the exact value with its
-certified digits, and the error.
+:func:`assert_matches_fixture` is :func:`lcs_exact.compare` with tolerances, plus a raise: the
+same windows around every event (those an accumulation implies included; by default twice the
+solver's largest step), the same float-grid rounding forgiven, the same component names (the
+fixture's state names), X with all n states or the plant's only.  A failure is an
+``AssertionError`` whose message names the worst point: its time, component, the solver's value,
+the exact value with its certified digits, and the error.
 """
 from __future__ import annotations
 
 from typing import Any, Sequence
 
-from flint import arb
-
-from .balls import workprec
-from .errors import InvalidArgument
-from .fixture import read_fixture
-from .rational import to_fmpq
+from .compare import ComparisonReport, compare
+from .errors import FormatError
 
 __all__ = ["assert_matches_fixture"]
 
 
-def _rows(X: Any) -> list[list[float]]:
-    if hasattr(X, "tolist"):
-        X = X.tolist()
-    rows = [list(r) if isinstance(r, (list, tuple)) else [r] for r in X]
-    return [[float(v) for v in r] for r in rows]
-
-
 def assert_matches_fixture(fixture: Any, t: Sequence[Any], X: Any, atol: float = 1e-6, rtol: float = 0.0,
-                           digits: int = 20) -> None:
+                           event_tol: Any = None, digits: int = 20) -> ComparisonReport:
     """Assert that a solver's states X at the times t match the certified fixture.
 
     Parameters
     ----------
-    fixture : dict, str or FixtureTrajectory
-        A fixture dict, the path of its JSON file, or a fixture read back (``read_fixture``).
+    fixture : dict, str, FixtureTrajectory or Trajectory
+        A fixture dict, the path of its JSON file, a fixture read back (``read_fixture``), or a
+        trajectory from :func:`lcs_exact.simulate`.
     t : sequence of numbers
-        The solver's times (floats are read as their shortest decimals).  Off the fixture's
-        sample grid the exact values are recomputed, which needs a rational x0.
-    X : array-like, len(t) x n
-        The solver's states at those times.
+        The solver's times (floats are read as their shortest decimals; a float grid that
+        overshoots t_end or the sample grid by rounding is accepted).  Off the fixture's sample
+        grid the exact values are recomputed, which needs a rational x0 (or a run attached with
+        ``FixtureTrajectory.with_run``; the zoo's cases do it).
+    X : array-like, len(t) x n, or len(t) x len(plant)
+        The solver's states at those times: all n states, or the plant's only (without the
+        sources a builder appended, ``lcs.plant``).
     atol, rtol : float
         Tolerances: ``|X - x| <= atol + rtol |x|``, componentwise.
+    event_tol : float, optional
+        Half-width of the window left out around each exact event (states only); None: twice the
+        solver's largest step, as :func:`lcs_exact.compare`.
     digits : int
-        Digits of the exact values computed for the comparison (and printed).
+        Digits of the exact value printed in the message.
+
+    Returns
+    -------
+    ComparisonReport
+        The comparison (``report.passed`` is True), for a look at the errors.
 
     Raises
     ------
     AssertionError
-        At least one component is outside the tolerance; the message names the worst point.
+        At least one component is outside the tolerance (the message names the worst point), or
+        no point could be compared (all in event windows or after the reference's end).
+    FormatError
+        Some times have no reference: off the sample grid of a fixture whose run cannot be
+        recomputed exactly.
 
     Examples
     --------
     >>> import lcs_exact as L
     >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
     >>> fx = L.simulate(osc, [1, 0], 3).to_fixture(20)
-    >>> assert_matches_fixture(fx, [0.5, 1.0], [[0.8775826, -0.4794255], [0.5403023, -0.8414710]], atol=1e-6)
-    >>> assert_matches_fixture(fx, [0.5], [[0.88, -0.48]], atol=1e-6)
+    >>> _ = assert_matches_fixture(fx, [0.5, 1.0], [[0.8775826, -0.4794255], [0.5403023, -0.8414710]], event_tol=0.1)
+    >>> _ = assert_matches_fixture(fx, [0.5, 1.0], [[0.88, -0.48], [0.5403023, -0.8414710]], event_tol=0.1)
     Traceback (most recent call last):
     ...
     AssertionError: the solution differs from the fixture by 0.00242 > tolerance 1e-06 at t = 0.5, component x_0: solver 0.88, exact 0.87758256189037271612 (+/- ...)
     """
-    fx = read_fixture(fixture)
-    ts = [to_fmpq(v, "t") for v in (t.tolist() if hasattr(t, "tolist") else t)]
-    rows = _rows(X)
-    if len(rows) != len(ts):
-        raise InvalidArgument(f"X has {len(rows)} rows but t has {len(ts)} times")
-    names = list(getattr(fx.lcs, "state_names", ())) or [f"x_{i}" for i in range(len(rows[0]) if rows else 0)]
-    worst = None  # (excess, t, i, solver value, exact ball, error)
-    with workprec(128):
-        # the fixture's certified samples when every t is on its grid (any x0: the section 7 run
-        # starts from an irrational state), else the exact recomputation (x0 rational)
-        exact = fx.sample(ts, digits) if ts else []
-        for tq, row, comps in zip(ts, rows, exact):
-            if len(row) != len(comps):
-                raise InvalidArgument(f"X has {len(row)} columns but the fixture's state has {len(comps)}")
-            for i, (v, b) in enumerate(zip(row, comps)):
-                err = abs(arb(v) - b)
-                tol = atol + rtol * abs(float(b.mid()))
-                if err.upper() > tol:
-                    excess = float(err.upper()) - tol
-                    if worst is None or excess > worst[0]:
-                        worst = (excess, tq, i, v, b, float(err.mid()), tol)
-    if worst is not None:
-        _, tq, i, v, b, e, tol = worst
-        exact = _ball_text(b, digits)
-        raise AssertionError(f"the solution differs from the fixture by {e:.3g} > tolerance {tol:.3g} at t = "
-                             f"{float(tq):.17g}, component {names[i]}: solver {v!r}, exact {exact}")
-
-
-def _ball_text(b: arb, digits: int) -> str:
-    """A certified ball as 'value (+/- radius)' for a message."""
-    return f"{b.mid().str(digits, radius=False)} (+/- {float(b.rad()):.3g})"
+    report = compare(fixture, t, X, event_tol=event_tol, atol=atol, rtol=rtol)
+    if report.n_unmatched:
+        raise FormatError(f"{report.n_unmatched} of the solver's times are not on the fixture's sample grid and "
+                          "its run cannot be recomputed exactly (x0 is not rational): compare at grid times, or "
+                          "attach the run with FixtureTrajectory.with_run")
+    if report.violation is not None:
+        raise AssertionError(report.violation.message(digits)
+                             + (f" ({report.n_violations} points outside the tolerance)" if report.n_violations > 1 else ""))
+    if report.n_compared == 0:
+        raise AssertionError(f"none of the solver's {report.n_points} points was compared: {report.n_in_windows} lie in "
+                             f"the windows |t - event| <= {report.window:.3g} ({report.window_rule}) and "
+                             f"{report.n_beyond} after the reference's last time")
+    return report

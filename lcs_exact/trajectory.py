@@ -21,6 +21,7 @@ from .modes import format_mode, latex_mode
 from .plotting import plot_trajectory
 from .rational import to_fmpq, to_int
 from .reals import Real, as_real
+from .sources import source_block
 from .vectors import ExactVector, ProjectedVector
 
 __all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA", "Branches"]
@@ -151,6 +152,25 @@ class Trajectory:
     def t_last(self) -> Real:
         """The last time the trajectory covers (t_end unless partial)."""
         return self.phases[-1].t1 if self.phases else (self.events[-1].time if self.events else as_real(0))
+
+    @property
+    def sources(self):
+        """The exosystem of the run (:class:`~lcs_exact.sources.SourceBlock`): the LCS's
+        (:attr:`LCS.sources <lcs_exact.LCS.sources>`) with z0 read from this run's x0 (a user may
+        start the sources elsewhere than ``embed`` does); None when the system has none.
+
+        >>> import lcs_exact as L
+        >>> rect = L.examples.sine_rectifier()
+        >>> L.simulate(rect, [0, 0, 2], 1).sources.expressions      # x0 gives 2 cos t
+        ('2*sin(t)', '2*cos(t)')
+        """
+        sb = self.lcs.sources
+        if sb is None:
+            return None
+        z0 = [self.x0[i].known_rational() for i in sb.states]
+        if any(q is None for q in z0) or all(q == sb.z0[r, 0] for r, q in enumerate(z0)):
+            return sb
+        return source_block(sb.states, sb.S, fmpq_mat(len(z0), 1, z0), sb.names)
 
     # --- evaluation ---------------------------------------------------------------------------
     def _locate(self, t: Real, start: int = 0) -> tuple[int, bool]:

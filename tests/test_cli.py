@@ -392,7 +392,7 @@ def test_bad_compare_inputs(tmp_path, capsys):
     assert main(["simulate", write(tmp_path, OSC), "--sample", "1/2", "-o", str(fx)]) == 0
     capsys.readouterr()
     csv = tmp_path / "s.csv"
-    for text, fragment in (("t,q\n0,1\n1,0.5\n", "row 0 has 1 values, expected n = 2"),
+    for text, fragment in (("t,q\n0,1\n1,0.5\n", "row 0 has 1 values, expected 2"),
                            ("0,1,0\n1,x,0\n", "'x' is not a number"),
                            ("0,1,0\n", "at least 2 rows")):
         csv.write_text(text)

@@ -61,7 +61,7 @@ def test_no_import_cycles():
 LAYERS = ["interfaces", "errors", "rational", "ratfunc", "subspaces", "lcp", "polyhedra", "balls", "flintlib", "calcium",
           "forms", "expm", "nodes", "reals", "vectors", "modes", "ldcp", "rcpfamily", "selection", "mapplot", "plotting",
           "modemap", "sources", "system", "impacts", "guesses", "roots", "polyroots", "closedforms", "phase", "clock", "flow", "fixnumbers", "fixture",
-          "trajectory", "accumulation", "taylormodels", "cascade", "simulate", "exosystems",
+          "trajectory", "accumulation", "taylormodels", "cascade", "simulate", "fixturereader", "exosystems",
           "mechanics", "circuits", "relays", "examples", "models", "compare", "testing", "sweep", "zoo", "modelfile",
           "cli"]
 
