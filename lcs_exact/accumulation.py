@@ -32,7 +32,7 @@ from collections import deque
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
-from flint import arb, fmpq, fmpq_mat
+from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from . import calcium
 from .balls import workprec
@@ -40,9 +40,10 @@ from .errors import InvalidArgument, LCSError
 from .rational import submatrix
 from .subspaces import solve_any
 from .reals import Real, as_real
-from .vectors import ExactVector, RationalVector, algebraic_vector, ca_matvec
+from .trajectory import full_feedback
+from .vectors import ExactVector, ProjectedVector, RationalVector, algebraic_vector, ca_matvec
 
-__all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle", "event_signature"]
+__all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle", "ReferenceStates", "event_signature"]
 
 
 def symmetry_exponents(lcs, active: Sequence[int] | None = None) -> dict | None:
@@ -531,6 +532,45 @@ class ScaledCycle:
         scale = rho ** (m + 1)
         return law.cycle_start + (d - start(m)) / scale, scale
 
+    def ball_state(self, d: arb, prec: int) -> arb_mat | None:
+        """x(t_k + d) for a ball d at ``prec`` bits, without exact arithmetic: the cycle m and the
+        reference time decided on balls, the reference phase evaluated from its modal data and
+        scaled (what sampling and plots need: ~100 times cheaper than :meth:`state`).  None when
+        a ball cannot decide (d within its width of a cycle's or an event's boundary)."""
+        law = self.law
+        rho, T = law.ratio, law.cycle_length
+        with workprec(prec):
+            Tb, r = T.arb(prec), arb(rho)
+
+            def start(j):  # T rho (1 - rho^j) / (1 - rho)
+                return Tb * (r * (1 - r ** j) / (1 - r))
+
+            mid = float(d.mid())
+            frac = mid / max(float(T) * float(rho) / (1 - float(rho)), 1e-300)
+            m = max(0, int(math.log(max(1e-300, 1 - min(frac, 1 - 1e-16))) / math.log(float(rho)))) if frac > 0 else 0
+            for _ in range(64):
+                lo, hi = d - start(m), d - start(m + 1)
+                if m > 0 and lo < 0:
+                    m -= 1
+                elif hi >= 0:
+                    m += 1
+                elif lo > 0 and hi < 0:
+                    break
+                else:
+                    return None  # on a cycle's boundary, to the ball's width
+            else:
+                return None
+            scale = rho ** (m + 1)
+            x = self.reference.ball(law.cycle_start.arb(prec) + lo / arb(scale), prec)
+            if x is None:
+                return None
+            factors = arb_mat(len(law.exponents), 1, [arb(_power(scale, e)) for e in law.exponents])
+            if law.transform is None:
+                return arb_mat(x.nrows(), 1, [x[i, 0] * factors[i, 0] for i in range(x.nrows())])
+            y = arb_mat(law.transform) * x
+            y = arb_mat(y.nrows(), 1, [y[i, 0] * factors[i, 0] for i in range(y.nrows())])
+            return arb_mat(law.transform.inv()) * y
+
     @staticmethod
     def _scaled(v, scale: fmpq, exps: Sequence[int]) -> ExactVector:
         if isinstance(v, fmpq_mat):
@@ -566,3 +606,46 @@ def _exact(v: ExactVector):
     if q is None:
         raise LCSError("internal inconsistency: a reference value of a proven law is not exact")
     return q
+
+
+class ReferenceStates:
+    """x(t) on the part of a run computed so far (the reference cycle of a geometric law)."""
+
+    def __init__(self, run: Any):
+        self.run = run
+
+    @property
+    def lcs(self):
+        return self.run.lcs
+
+    def __call__(self, t_ref, kind: str = "x"):
+        t = as_real(t_ref)
+        phases = self.run.phases
+        for i, rec in enumerate(phases):
+            s = (t - rec.t1).sign()
+            if s > 0 and i + 1 < len(phases):
+                continue
+            if s == 0 and i + 1 < len(phases):  # x(t+) at an event time: the next phase's start
+                rec, t0 = phases[i + 1], phases[i + 1].t0
+            else:
+                t0 = rec.t0
+            x = rec.phase.state(t - t0)
+            if kind == "x":
+                return x
+            F = full_feedback(rec.phase.mode)
+            M = F if kind == "u" else self.run.lcs.C + self.run.lcs.D * F
+            return ProjectedVector(M, x)
+        raise LCSError("internal inconsistency: a reference time outside the computed run")
+
+    def ball(self, t_ref: arb, prec: int):
+        """x(t_ref) for a ball t_ref inside the computed part, from the phase holding it (balls
+        only), or None when t_ref's ball touches an event time."""
+        for rec in self.run.phases:
+            if not hasattr(rec.phase, "ball_state"):
+                return None
+            if t_ref < rec.t1.arb(prec):
+                dt = t_ref - rec.t0.arb(prec)
+                return rec.phase.ball_state(dt, prec) if dt > 0 else None
+            if not t_ref > rec.t1.arb(prec):
+                return None
+        return None

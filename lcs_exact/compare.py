@@ -7,19 +7,10 @@
   :func:`convergence_order` is the least-squares slope of log error against log step over several
   solutions; :func:`read_solution_csv` reads a solver's solution (t, x_0..x_{n-1}).
 
-Events in a solver's data.  At an event τ the exact solution has a first discontinuous derivative
-of some order j: j = 0 at a jump (an impact), j = 1 when x' jumps (u jumps), higher at a smooth
-lift-off.  It is computed exactly from the fixture: d_j = A_{I+}^j x(τ+) - A_{I-}^j x(τ-) with
-A_I the closed-loop matrix of mode I (x' = A_I x on a phase of mode I, section 4.1), the first j
-with d_j != 0 certified.  In the solver's data the switch is where the j-th divided difference of
-the signal d_j . x changes most, within the event's window; its time is the middle of that
-stencil.  The window around each event is |t - τ| <= w with w = ``event_tol``, or by default
-twice the largest step of the solution (a time-stepper resolves an event within one step; the
-state error there is O(1) and says nothing about the method's order).
-
 Windows.  Every event of the reference is windowed, and so are the events an accumulation
 implies (``accumulations[i].event_time(k)``: a bouncing ball's impacts after the last one listed,
-up to its accumulation time T*), so a time-stepper that is right away from events passes.
+up to its accumulation time T*), each widened to the solver's own switch for it
+(:mod:`lcs_exact.solverevents`), so a time-stepper that is right away from events passes.
 
 This module sits above the fixture reader and the engine (a fixture with rational x0 is
 recomputed exactly between its samples); nothing imports it but :mod:`lcs_exact.testing`, the
@@ -27,7 +18,6 @@ package front and the CLI.
 """
 from __future__ import annotations
 
-import bisect
 import math
 import re
 from dataclasses import dataclass, field
@@ -35,13 +25,13 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any, Sequence
 
-from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
+from flint import arb, ctx, fmpq
 
-from .errors import FormatError, InvalidArgument, LCSError, ShapeError
+from .errors import FormatError, InvalidArgument, ShapeError
 from .fixnumbers import ball_number, number_rational, short_text, to_fraction
 from .fixturereader import read_fixture
 from .rational import to_fmpq
-from .system import LCS
+from .solverevents import SEARCH_STEPS, event_windows, in_windows, signature
 
 __all__ = ["read_solution_csv", "compare", "ComparisonReport", "EventComparison", "Violation", "convergence_order",
            "OVERSHOOT"]
@@ -360,8 +350,11 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
             raise FormatError(f"event_tol must be >= 0, got {event_tol}")
 
     events = [_event_data(e, live) for e in ref.events]
-    windows = _windows([float(ev[0].mid()) for ev in events], ref.accumulations, window)
-    inside = _in_windows(tf, windows)
+    signatures = [signature(ev, lcs, comps) for ev in events]
+    Xf = [_full_row([float(b.mid()) for b in r], comps, n) for r in Xb]
+    windows, switches = event_windows(events, signatures, ref.accumulations, tf, Xf, window,
+                                       max(window, SEARCH_STEPS * float(step)))
+    inside = in_windows(tf, windows)
     # the reference is known on [0, last] only (t_end, or the end of a partial run): later times
     # are left out and counted, but a float grid's rounding past a rational last time is forgiven
     last = ref.t_last.ball(30) if live else ref.final_time
@@ -403,8 +396,7 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
         overall = arb(0)
         for e in comp_err:
             overall = overall.max(e)
-    Xf = [_full_row([float(b.mid()) for b in r], comps, n) for r in Xb]
-    ev_cmp = tuple(_compare_event(j, ev, lcs, tf, Xf, window, comps) for j, ev in enumerate(events))
+    ev_cmp = tuple(_compare_event(j, ev, sig, sw) for j, (ev, sig, sw) in enumerate(zip(events, signatures, switches)))
     return ComparisonReport(
         label=label, reference=kind, n_points=len(tq), n_compared=compared,
         n_in_windows=sum(1 for i, w in enumerate(inside) if w and known[i]), n_unmatched=unmatched,
@@ -449,61 +441,6 @@ def _rational_last(ref: Any, live: bool) -> Fraction | None:
         q = ref.t_last.known_rational()
         return None if q is None else Fraction(int(q.p), int(q.q))
     return number_rational(ref.data["final_time"])
-
-
-def _implied_events(acc: Any, w: float) -> tuple[list, float] | None:
-    """The event times (floats) an accumulation implies before its time T*, as many as fit
-    apart from one another: up to the first one within max(2w, float resolution) of T*, after
-    which every window touches the next and together they cover [that event - w, T* + w]; and
-    T* as a float.  None when the accumulation carries no law."""
-    if getattr(acc, "cycle", None) is None and getattr(acc, "law", None) is None:
-        return None  # a live Accumulation carries its law as ``cycle``, a fixture's as ``law``
-    t_star = float(_mid(acc.time))
-    resolution = max(2 * w, 2.0 ** -50 * max(1.0, abs(t_star)))
-    out = []
-    for k in range(100_000):
-        tk = float(_mid(acc.event_time(k)))
-        out.append(tk)
-        if t_star - tk <= resolution:
-            break
-    return out, t_star
-
-
-def _mid(x: Any) -> arb:
-    return x.ball(20).mid() if hasattr(x, "ball") else x.mid()
-
-
-def _windows(taus: list, accumulations: Sequence, w: float) -> list:
-    """The merged intervals [τ - w, τ + w] around every event, those accumulations imply
-    included (as [first event that no longer fits - w, T* + w])."""
-    spans = [(tau - w, tau + w) for tau in taus]
-    for acc in accumulations:
-        implied = _implied_events(acc, w)
-        if implied is None:  # no law: the accumulation time itself
-            t_star = float(_mid(acc.time))
-            spans.append((t_star - w, t_star + w))
-            continue
-        times, t_star = implied
-        spans += [(tk - w, tk + w) for tk in times[:-1]]
-        spans.append((times[-1] - w, t_star + w))
-    spans.sort()
-    merged: list = []
-    for lo, hi in spans:
-        if merged and lo <= merged[-1][1]:
-            merged[-1] = (merged[-1][0], max(merged[-1][1], hi))
-        else:
-            merged.append((lo, hi))
-    return merged
-
-
-def _in_windows(tf: list, windows: list) -> list:
-    """Whether each time lies in one of the (sorted, disjoint) windows."""
-    starts = [lo for lo, _ in windows]
-    out = []
-    for t in tf:
-        j = bisect.bisect_right(starts, t) - 1
-        out.append(j >= 0 and t <= windows[j][1])
-    return out
 
 
 def _event_data(e: Any, live: bool) -> tuple:
@@ -555,82 +492,16 @@ def _references(ref: Any, live: bool, times: list) -> tuple:
     return matched, "samples", mismatch, len(missing)
 
 
-def _derivative_jump(lcs: LCS, mb, ma, xb: tuple, xa: tuple) -> tuple:
-    """(j, d_j): the first order whose derivative jumps at the event, certified, and its jump
-    d_j = A_{I+}^j x+ - A_{I-}^j x-; (None, None) when no jump up to order n is certified."""
-    try:
-        Ab, Aa = arb_mat(_closed_loop(lcs, mb)), arb_mat(_closed_loop(lcs, ma))
-    except LCSError:  # a mode that is not autonomous has no flow to compare with
-        return None, None
-    with ctx.workprec(_PREC):
-        vb = arb_mat([[c] for c in xb])
-        va = arb_mat([[c] for c in xa])
-        for j in range(lcs.n + 1):
-            d = [va[i, 0] - vb[i, 0] for i in range(lcs.n)]
-            if any(not c.contains(0) for c in d):
-                return j, d
-            vb, va = Ab * vb, Aa * va
-    return None, None
-
-
-def _closed_loop(lcs: LCS, I: frozenset) -> fmpq_mat:
-    """A_I = A + B_{.I} F_I: x' = A_I x on a phase of mode I (section 4.1); F_I's rows follow
-    the indices of I in increasing order."""
-    A = fmpq_mat(lcs.A)
-    if not I:
-        return A
-    F = lcs.mode(I).feedback()
-    for r, i in enumerate(sorted(I)):
-        for a in range(lcs.n):
-            if lcs.B[a, i] != 0:
-                for b in range(lcs.n):
-                    A[a, b] += lcs.B[a, i] * F[r, b]
-    return A
-
-
-def _compare_event(j: int, ev: tuple, lcs: LCS, tf: list, Xf: list, window: float, comps: tuple) -> EventComparison:
+def _compare_event(j: int, ev: tuple, sig: tuple | None, found: float | None) -> EventComparison:
     tau_b, mb, ma, xb, xa, cf = ev
     tau = float(tau_b.mid())
     if mb is None:
         return EventComparison(j, tau_b, 0, "initial jump", None, None, cf)
-    order, d = _derivative_jump(lcs, mb, ma, xb, xa)
-    if order is None:
+    if sig is None:
         return EventComparison(j, tau_b, None, "no visible jump", None, None, cf)
+    order = sig[0]
     kind = {0: "jump", 1: "kink (x' jumps)"}.get(order, f"x^({order}) jumps")
-    if not tf[0] <= tau <= tf[-1]:
-        return EventComparison(j, tau_b, order, kind, None, None, cf)
-    scale = max(abs(float(d[c].mid())) for c in comps)
-    if scale == 0:  # the jump is in components the solver did not give
-        return EventComparison(j, tau_b, order, kind, None, None, cf)
-    dirv = [float(c.mid()) / scale if i in comps else 0.0 for i, c in enumerate(d)]
-    found = _switch_time(tf, Xf, dirv, order, tau, window)
     return EventComparison(j, tau_b, order, kind, found, None if found is None else found - tau, cf)
-
-
-def _switch_time(tf: list, Xf: list, dirv: list, order: int, tau: float, w: float) -> float | None:
-    """The middle of the stencil where the order-th divided difference of dirv . x changes most,
-    among stencils centred within [tau - w, tau + w]."""
-    idx = [i for i, ti in enumerate(tf) if abs(ti - tau) <= w]
-    if not idx:
-        return None
-    lo, hi = max(0, idx[0] - order - 1), min(len(tf), idx[-1] + order + 2)
-    ts = tf[lo:hi]
-    ss = [sum(a * b for a, b in zip(dirv, r)) for r in Xf[lo:hi]]
-    if order >= 1:  # divided differences need distinct times: keep the last row of a repeated time
-        keep = [i for i in range(len(ts)) if i + 1 == len(ts) or ts[i + 1] != ts[i]]
-        ts, ss = [ts[i] for i in keep], [ss[i] for i in keep]
-    D = ss
-    for k in range(1, order + 1):
-        D = [(D[i + 1] - D[i]) / (ts[i + k] - ts[i]) for i in range(len(D) - 1)]
-    best = None
-    for i in range(1, len(D)):
-        loc = (ts[i - 1] + ts[i + order]) / 2
-        if abs(loc - tau) > w:
-            continue
-        change = abs(D[i] - D[i - 1])
-        if best is None or change > best[0]:
-            best = (change, loc)
-    return None if best is None else best[1]
 
 
 def convergence_order(reports: Sequence[ComparisonReport], steps: Sequence[Any] | None = None) -> float:

@@ -234,7 +234,8 @@ def _accumulation(a: Any, d: int) -> dict:
     out = {"time": _real_number(a.time, d), "state": _vector(a.state, d), "events": count}
     if getattr(a, "cycle", None) is not None:  # the law of the implied events (Accumulation.event_time)
         out["law"] = {"start": _real_number(a.start, d), "cycle_length": _real_number(a.cycle_length, d),
-                      "ratio": str(a.ratio), "offsets": [_real_number(o, d) for o in a.offsets]}
+                      "ratio": str(a.ratio), "offsets": [_real_number(o, d) for o in a.offsets],
+                      "first_event": int(a.first_event)}
     return out
 
 

@@ -366,7 +366,7 @@ def _fixture_accumulation(a: dict, i: int, digits: int) -> FixtureAccumulation:
                "cycle_length": number_ball(law["cycle_length"], where=f"{w}.law.cycle_length"),
                "ratio": to_fmpq(law["ratio"], f"{w}.law.ratio"),
                "offsets": tuple(number_ball(o, where=f"{w}.law.offsets") for o in law["offsets"]),
-               "digits": digits}
+               "digits": digits, "first_event": law.get("first_event")}
     return FixtureAccumulation(number_ball(_key(a, "time", w), where=f"{w}.time"), number_exact(a["time"]),
                                _balls(_key(a, "state", w), f"{w}.state"), a.get("events"), law)
 

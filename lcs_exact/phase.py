@@ -168,6 +168,13 @@ class Phase:
         return {**self.__dict__, "_modal": None, "_modal_prec": 0}  # ball caches, as above
 
     # --- data per precision -------------------------------------------------------------------
+    def ball_state(self, dt: arb, prec: int) -> arb_mat:
+        """x(t) at a ball dt = t - t_s (relative to the phase start), at ``prec`` bits: one
+        exponential per eigenvalue from the modal data (sampling, plots)."""
+        with workprec(prec):
+            x = self.spectrum.apply(dt, self.base.arb(prec), prec, self.modal(prec))
+            return x * self.scale.arb(prec) if self.scale is not None else x
+
     def modal(self, prec: int) -> list:
         """Modal vectors of the phase's base start at ``prec`` bits (cached at the highest)."""
         if self._modal_prec < prec:

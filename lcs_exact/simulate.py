@@ -33,7 +33,7 @@ from .balls import (ACCURACY_HEADROOM, MAX_DIGITS, Deadline, Policy, accuracy_bi
                     workprec)
 from .errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, NotRational,
                      ShapeError, TimeLimitExceeded, UnresolvedSign, ZenoDetected)
-from .accumulation import Accumulation, ScaledCycle, geometric_law, symmetry_exponents
+from .accumulation import Accumulation, ReferenceStates, ScaledCycle, geometric_law, symmetry_exponents
 from .cascade import cascade_bound
 from .clock import SourceClock
 from .flow import next_event
@@ -47,7 +47,7 @@ from .selection import (impulse_forms, initial_solution, initial_solution_groups
                         undetermined_inputs)
 from .modes import format_mode, mode_order
 from .system import LCS
-from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory, full_feedback
+from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
 
 __all__ = ["simulate", "check_accumulation"]
 
@@ -386,7 +386,7 @@ class _Run:
         from there as Definition 4.10 prescribes (item 2: the limit state, then selection)."""
         T_star, limit = law.time, law.limit
         offsets = [self.events[law.start + j].time - law.cycle_start for j in range(law.period)]
-        cycle = ScaledCycle(law, _ReferenceStates(self), t, mode, self.events[-1].state_after, offsets)
+        cycle = ScaledCycle(law, ReferenceStates(self), t, mode, self.events[-1].state_after, offsets)
         self.phases.append(PhaseRecord(t, T_star, mode.index_set, cycle))
         self.accumulations.append(Accumulation(T_star, limit, law.period, law.ratio, law.start, cycle))
         self.durations.clear()
@@ -576,36 +576,6 @@ def check_accumulation(durations: list, t_now, t_end) -> None:
         raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically (ratio <= "
                            f"{float(rho.mid()):.3g}); accumulation point near t = {float(limit.mid()):.15g} < t_end "
                            "(Remark 4.11)", lower=dyadic_lower(t_now.arb(64)), upper=None, estimate=float(limit.mid()))
-
-
-class _ReferenceStates:
-    """x(t) on the part of a run computed so far (the reference cycle of a geometric law)."""
-
-    def __init__(self, run: _Run):
-        self.run = run
-
-    @property
-    def lcs(self):
-        return self.run.lcs
-
-    def __call__(self, t_ref, kind: str = "x"):
-        t = as_real(t_ref)
-        phases = self.run.phases
-        for i, rec in enumerate(phases):
-            s = (t - rec.t1).sign()
-            if s > 0 and i + 1 < len(phases):
-                continue
-            if s == 0 and i + 1 < len(phases):  # x(t+) at an event time: the next phase's start
-                rec, t0 = phases[i + 1], phases[i + 1].t0
-            else:
-                t0 = rec.t0
-            x = rec.phase.state(t - t0)
-            if kind == "x":
-                return x
-            F = full_feedback(rec.phase.mode)
-            M = F if kind == "u" else self.run.lcs.C + self.run.lcs.D * F
-            return ProjectedVector(M, x)
-        raise LCSError("internal inconsistency: a reference time outside the computed run")
 
 
 #: seconds a cascade proof may take: (while the run can go on, when a decision failed and it cannot)

@@ -302,13 +302,13 @@ class Trajectory:
             if at_start or rec.t0.known_rational() == tq:  # the phase's start itself, exactly
                 x = phase.z.arb(prec)
                 return [x[i, 0] for i in range(x.nrows())]
-            if not hasattr(phase, "spectrum"):  # an accumulation window: exact states
-                x = phase.state(as_real(tq) - rec.t0).arb(prec)
-                return [x[i, 0] for i in range(x.nrows())]
             dt = arb(tq) - rec.t0.arb(prec)
-            x = phase.spectrum.apply(dt, phase.base.arb(prec), prec, phase.modal(prec))
-            if phase.scale is not None:
-                x = x * phase.scale.arb(prec)
+            if not hasattr(phase, "spectrum"):  # an accumulation window: balls, else exact states
+                x = phase.ball_state(dt, prec)
+                if x is None:
+                    x = phase.state(as_real(tq) - rec.t0).arb(prec)
+                return [x[i, 0] for i in range(x.nrows())]
+            x = phase.ball_state(dt, prec)
             return [x[i, 0] for i in range(x.nrows())]
 
     # --- export -------------------------------------------------------------------------------

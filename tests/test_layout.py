@@ -62,7 +62,7 @@ LAYERS = ["interfaces", "errors", "rational", "ratfunc", "subspaces", "lcp", "po
           "forms", "expm", "nodes", "reals", "vectors", "modes", "ldcp", "rcpfamily", "selection", "mapplot", "plotting",
           "modemap", "sources", "system", "impacts", "guesses", "roots", "polyroots", "closedforms", "phase", "clock", "flow", "fixnumbers", "fixture",
           "trajectory", "accumulation", "taylormodels", "cascade", "simulate", "fixturereader", "exosystems",
-          "mechanics", "circuits", "relays", "examples", "models", "compare", "testing", "sweep", "zoo", "modelfile",
+          "mechanics", "circuits", "relays", "examples", "models", "solverevents", "compare", "testing", "sweep", "zoo", "modelfile",
           "cli"]
 
 
