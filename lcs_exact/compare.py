@@ -363,7 +363,8 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
         for i, q in enumerate(tq):
             if last_q is not None and last_q < q <= last_q + OVERSHOOT * step:
                 tq[i] = last_q
-        known = [bool(arb(fmpq(q.numerator, q.denominator)) <= last) for q in tq]
+        known = [q <= last_q if last_q is not None else bool(arb(fmpq(q.numerator, q.denominator)) <= last)
+                 for q in tq]
 
     todo = [i for i in range(len(tq)) if not inside[i] and known[i]]
     refs, kind, mismatch, unmatched = _references(ref, live, [tq[i] for i in todo])

@@ -10,6 +10,7 @@ recomputed elsewhere (from the recipe of a zoo problem when x0 is irrational) is
 """
 from __future__ import annotations
 
+import ast
 import json
 from dataclasses import dataclass
 from fractions import Fraction
@@ -27,6 +28,7 @@ from .rational import to_fmpq, to_matrix
 from .simulate import simulate
 from .sources import AppendedStates, SourceBlock
 from .system import LCS
+from .vectors import expm_action
 
 __all__ = ["read_fixture", "FixtureTrajectory", "FixtureEvent", "FixtureAccumulation", "Sample"]
 
@@ -97,9 +99,12 @@ class FixtureTrajectory:
     ``final_state``, ``certified``, ``assumptions``, ``partial``, ``stop_reason``,
     ``accumulations``, ``provenance`` (the dict written with the fixture, or None), ``data``
     (the dict).  Numbers are certified ``flint.arb`` balls.
-    ``x0_rational`` holds x0 as Fractions when the fixture says it is rational; then ``exact``
-    is the trajectory recomputed exactly (on first use, checked against the fixture's events and
-    samples).  ``digested``: the fixture carries its content digest (checked on reading).
+    ``x0_rational`` holds x0 as Fractions when the fixture says it is rational; then, or when
+    its provenance says how x0 is made exactly (``"x0": "expm_action(A, -1, [0, -1, -1, 0])"``,
+    as the zoo writes: e^{A t} v with the fixture's own A, checked against its x0 balls),
+    ``exact`` is the trajectory recomputed exactly (on first use, checked against the fixture's
+    events and samples).  ``digested``: the fixture carries its content digest (checked on
+    reading).
     """
 
     def __init__(self, data: dict, source: str = "fixture"):
@@ -190,8 +195,18 @@ class FixtureTrajectory:
 
     @property
     def can_recompute(self) -> bool:
-        """True when x0 and t_end are exact rationals: the run can be repeated exactly."""
-        return self.x0_rational is not None and self.t_end_rational is not None
+        """True when x0 (rational, or made as the provenance says) and t_end are exact: the run
+        can be repeated exactly."""
+        return self.t_end_rational is not None and self._x0_exact() is not None
+
+    def _x0_exact(self):
+        """x0 exactly: the rational x0, or e^{A t} v from the provenance's recipe (the zoo's
+        ``expm_action(A, t, v)``), checked against the fixture's x0 balls; else None."""
+        if self.x0_rational is not None:
+            return [fmpq(q.numerator, q.denominator) for q in self.x0_rational]
+        if "_x0_recipe" not in self.__dict__:
+            self._x0_recipe = _x0_recipe(self.provenance, self.lcs, self.x0)
+        return self._x0_recipe
 
     @property
     def exact(self):
@@ -211,7 +226,7 @@ class FixtureTrajectory:
         return self
 
     def _recompute(self):
-        x0 = [fmpq(q.numerator, q.denominator) for q in self.x0_rational]
+        x0 = self._x0_exact()
         T = fmpq(self.t_end_rational.numerator, self.t_end_rational.denominator)
         opts = {"allow_unresolved": not self.certified, "max_events": max(1000, len(self.events))}
         if self.partial:
@@ -280,15 +295,17 @@ class FixtureTrajectory:
         """Certified balls of x(t) for t in ts: from the fixture's samples at grid times, else from
         the exact recomputation (FormatError when neither is available)."""
         times = [to_fraction(t, "t") for t in ts]
-        if all(t in self._by_time for t in times):
-            if not self.digested and self.can_recompute:
-                self.verify()  # no digest vouches for the samples: the recomputed run checks them
-            return [list(self._by_time[t].x) for t in times]
-        if self.exact is None:
-            missing = next(t for t in times if t not in self._by_time)
-            raise FormatError(f"{self.source}: t = {missing} is not a sample time and x0 is not rational "
-                              f"(no exact recomputation)")
-        return self.exact.sample(times, digits)
+        rows: list = [self._by_time.get(t) for t in times]
+        missing = [i for i, r in enumerate(rows) if r is None]
+        if len(missing) < len(times) and not self.digested and self.can_recompute:
+            self.verify()  # no digest vouches for the samples: the recomputed run checks them
+        if missing:
+            if self.exact is None:
+                raise FormatError(f"{self.source}: t = {times[missing[0]]} is not a sample time and x0 is not "
+                                  f"known exactly (no exact recomputation)")
+            for i, x in zip(missing, self.exact.sample([times[i] for i in missing], digits)):
+                rows[i] = x
+        return [list(r.x) if isinstance(r, Sample) else r for r in rows]
 
     def to_numpy(self, t: Any):
         """A float64 array of shape (len(t), n): the certified states at the times t (right limits),
@@ -389,6 +406,25 @@ def _source_block(d: Any, A: Any, source: str):
     if len(d["expressions"]) != m:
         raise FormatError(f"{source}: sources.expressions has {len(d['expressions'])} entries, expected {m}")
     return SourceBlock(tuple(states), S, z0, tuple(d["expressions"]))
+
+
+def _x0_recipe(provenance: Any, lcs: LCS, balls: tuple):
+    """e^{A t} v for a provenance ``"x0": "expm_action(A, t, [v...])"`` (t and v rational literals,
+    read by ``ast``, never evaluated), when it agrees with the fixture's x0 balls; else None."""
+    text = provenance.get("x0") if isinstance(provenance, dict) else None
+    if not isinstance(text, str) or not text.startswith("expm_action(A,") or len(text) > 10_000:
+        return None
+    try:
+        call = ast.parse(text, mode="eval").body
+        t, v = (ast.literal_eval(a) for a in call.args[1:3])
+        x0 = expm_action(lcs.A, to_fmpq(t, "t"), [to_fmpq(c, "v") for c in v])
+        if len(call.args) != 3 or len(x0) != lcs.n:
+            return None
+    except (SyntaxError, ValueError, TypeError, AttributeError, LCSError):
+        return None
+    with workprec(128):
+        ok = all(c.ball(30).overlaps(b) for c, b in zip(x0, balls))
+    return x0 if ok else None
 
 
 def _fmt_modes(m) -> str:

@@ -11,6 +11,12 @@
   (file, n, k, events, closed forms, digests, provenance);
 * ``DIR/README.md``: the same as a table (problem, n, k, events, digits, closed forms).
 
+The suite also ships with the package, pre-built (``lcs_exact/zoo_data``): :func:`cases` gives one
+:class:`ZooCase` per problem, with the float64 data a numerical solver starts from (A, B, C, D,
+x0, the restitution, which states are the plant's and which are sources) and
+:meth:`ZooCase.assert_matches` for its test; the pytest plugin ``lcs_exact.pytest_plugin``
+(installed with the package) parametrizes the fixture ``lcs_zoo_case`` over every case.
+
 The problems are built from :mod:`lcs_exact.examples` and :mod:`lcs_exact.models` only: the
 paper's two carts (section 7) and its hook example (Example 8.3), the bouncing ball with
 restitution, a chain of carts, a column of beads, Newton's cradle, RLC-diode circuits, sine
@@ -30,24 +36,30 @@ from __future__ import annotations
 
 import json
 import time
+from functools import cached_property
+from importlib.resources import files
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from .balls import MAX_DIGITS
-from .errors import InvalidArgument, LCSError
+from .compare import ComparisonReport, compare
+from .errors import FormatError, InvalidArgument, LCSError
 from .examples import (ball_column, bouncing_ball, cart_chain, diode_bridge, diode_bridge_cap_filter,
                        filippov_spiral, half_wave_rectifier, newtons_cradle, sine_rectifier, two_carts,
                        two_carts_with_hook)
 from .fixture import MAX_SAMPLES, SCHEMA, validate_fixture
+from .fixturereader import FixtureTrajectory, read_fixture
 from .models import circuit, relay
 from .vectors import expm_action
 from .simulate import simulate
+from .sources import SourceBlock
 from .system import LCS
+from .testing import assert_matches_fixture
 
 __all__ = ["SUITE", "DEFAULT_DIGITS", "DEFAULT_SAMPLES", "INDEX_FILE", "README_FILE", "Problem", "PROBLEMS",
-           "problem", "version", "write_zoo"]
+           "problem", "version", "write_zoo", "ZooCase", "cases", "DATA"]
 
 #: the suite's name and version: the list of problems, their parameters, x0 and t_end
 SUITE = "lcs-exact/zoo/1"
@@ -370,3 +382,128 @@ def _readme(index: dict) -> str:
 def _call(pv: dict) -> str:
     args = ", ".join(f"{k}={_show(v)}" for k, v in pv["parameters"].items())
     return f"{pv['builder']}({args})"
+
+
+# ---------------------------------------------------------------------------------------------
+# the shipped suite: one case per problem, for other solvers' test suites
+# ---------------------------------------------------------------------------------------------
+
+#: the folder of the pre-built suite inside the package (written by :func:`write_zoo` at the
+#: defaults; a test regenerates it and compares the digests)
+DATA = "zoo_data"
+
+
+def _floats(m: Any):
+    import numpy as np  # numpy is not loaded by ``import lcs_exact``
+    return np.array([[float(m[i, j]) for j in range(m.ncols())] for i in range(m.nrows())], dtype=np.float64)
+
+
+class ZooCase:
+    """One problem of the shipped zoo, as a numerical solver's test sees it.
+
+    Attributes
+    ----------
+    name, title : str
+        The problem's name (the test id) and a one-line description.
+    fixture : FixtureTrajectory
+        The certified fixture (events, accumulations, samples on t_end / 100).
+    A, B, C, D : numpy.ndarray
+        The LCS x' = A x + B u, y = C x + D u, 0 <= y ⊥ u >= 0 in float64 (n x n, n x k, k x n, k x k).
+    x0 : numpy.ndarray
+        The initial state (all n states, float64).
+    t_end : float
+        The horizon.
+    restitution : numpy.ndarray or None
+        Newton's restitution coefficient per constraint (None: the paper's inelastic P_I).
+    plant : tuple of int
+        Indices of the modelled system's states; the others are the sources' (``sources``).
+    sources : SourceBlock or None
+        The exosystem inside the state (``sin(t)``, ``cos(t)``, a constant ``1`` of gravity):
+        ``sources(t)`` gives their values, so a solver need not integrate them.
+    step : float
+        The fixture's sample step (a solver whose times hit this grid is compared on the samples).
+    state_names : tuple of str
+        The names of the n states (the component names of a failure message).
+
+    Examples
+    --------
+    >>> case = cases(["bouncing_ball"])[0]
+    >>> case.name, case.A.shape, case.plant, case.sources.expressions, case.restitution.tolist()
+    ('bouncing_ball', (3, 3), (0, 1), ('1',), [0.9])
+    """
+
+    def __init__(self, problem: Problem, path: Any):
+        self.problem, self.name, self.title, self._path = problem, problem.name, problem.title, path
+
+    @cached_property
+    def fixture(self) -> FixtureTrajectory:
+        return read_fixture(str(self._path))
+
+    @cached_property
+    def _data(self) -> tuple:
+        fx = self.fixture
+        lcs = fx.lcs
+        import numpy as np
+        x0 = np.array([float(b.mid()) for b in fx.x0], dtype=np.float64)
+        e = None if lcs.restitution is None else np.array([float(q) for q in lcs.restitution], dtype=np.float64)
+        return (_floats(lcs.A), _floats(lcs.B), _floats(lcs.C), _floats(lcs.D), x0, e)
+
+    A = property(lambda self: self._data[0].copy())
+    B = property(lambda self: self._data[1].copy())
+    C = property(lambda self: self._data[2].copy())
+    D = property(lambda self: self._data[3].copy())
+    x0 = property(lambda self: self._data[4].copy())
+    restitution = property(lambda self: None if self._data[5] is None else self._data[5].copy())
+
+    @property
+    def t_end(self) -> float:
+        return float(self.fixture.t_end.mid())
+
+    @property
+    def plant(self) -> tuple:
+        return tuple(self.fixture.lcs.plant)
+
+    @property
+    def sources(self) -> SourceBlock | None:
+        return self.fixture.sources
+
+    @property
+    def step(self) -> float:
+        return float(self.fixture.sample_step)
+
+    @property
+    def state_names(self) -> tuple:
+        return tuple(self.fixture.lcs.state_names)
+
+    def compare(self, t: Any, X: Any, **options: Any) -> ComparisonReport:
+        """:func:`lcs_exact.compare` of a solution (times t, states X: all n, or the plant's)
+        against the case (``event_tol``, ``atol``, ``rtol``, ``label`` as there)."""
+        return compare(self.fixture, t, X, **options)
+
+    def assert_matches(self, t: Any, X: Any, atol: float = 1e-6, rtol: float = 0.0,
+                       event_tol: Any = None) -> ComparisonReport:
+        """:func:`lcs_exact.testing.assert_matches_fixture` against the case: AssertionError
+        naming the worst point outside ``|X - x| <= atol + rtol |x|``, away from the windows
+        around every event (twice the solver's largest step by default, widened to the solver's
+        own switch; those an accumulation implies included).  X: all n states, or the plant's."""
+        return assert_matches_fixture(self.fixture, t, X, atol=atol, rtol=rtol, event_tol=event_tol)
+
+    def __repr__(self):
+        return f"<ZooCase {self.name!r}: {self.title}>"
+
+
+def cases(names: str | Sequence[str] | None = None) -> list[ZooCase]:
+    """The shipped zoo's cases (:class:`ZooCase`), in the order of :data:`PROBLEMS`; ``names``
+    (a list, or a comma-separated string) selects some.  The fixtures are read on first use.
+
+    >>> [c.name for c in cases("relay,two_carts")]
+    ['two_carts', 'relay']
+    """
+    folder = files("lcs_exact").joinpath(DATA)
+    out = []
+    for p in _selected(names):
+        path = folder.joinpath(f"{p.name}.json")
+        if not path.is_file():
+            raise FormatError(f"the shipped zoo lacks {p.name}.json (a broken install?)")
+        out.append(ZooCase(p, path))
+    return out

@@ -11,6 +11,8 @@ from flint import ctx
 
 TEST_DPS = 60
 
+pytest_plugins = ["pytester"]  # tests/test_zoo_cases.py runs a solver's four-line test file with the zoo plugin
+
 
 @pytest.fixture(autouse=True)
 def _reset_precision():

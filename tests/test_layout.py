@@ -63,7 +63,7 @@ LAYERS = ["interfaces", "errors", "rational", "ratfunc", "subspaces", "lcp", "po
           "modemap", "sources", "system", "impacts", "guesses", "roots", "polyroots", "closedforms", "phase", "clock", "flow", "fixnumbers", "fixture",
           "trajectory", "accumulation", "taylormodels", "cascade", "simulate", "fixturereader", "exosystems",
           "mechanics", "circuits", "relays", "examples", "models", "solverevents", "compare", "testing", "sweep", "zoo", "modelfile",
-          "cli"]
+          "cli", "pytest_plugin"]
 
 
 def test_every_module_has_a_layer_and_the_layers_point_down():
@@ -78,7 +78,7 @@ def test_no_function_level_imports_of_the_package():
     package face aside): an import inside a function hides a layer."""
     inside = []
     for m, p in MODULES.items():
-        if m == "cli":
+        if m in ("cli", "pytest_plugin"):  # faces: the plugin loads the engine only when a test asks for it
             continue
         for f in ast.walk(ast.parse(p.read_text(encoding="utf-8"))):
             if isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef)):
