@@ -142,10 +142,10 @@ def read_model_data(path: str) -> dict:
             if j is not None:
                 raise FormatError(f"model file {path}: {key}[{i}, {j}] is {_kind(row[j])}, not a number "
                                   f"or a rational string")
-    for key, what in (("x0", "a number or a rational string"), ("w", "a source (a string such as \"sine(2)\") "
-                                                                     "or a number")):
+    for key, what, items in (("x0", "a number or a rational string", "numbers"),
+                             ("w", "a source (a string such as \"sine(2)\") or a number", "sources")):
         if key in data and not isinstance(data[key], list):
-            raise FormatError(f"model file {path}: {key} must be a list, got {_kind(data[key])}")
+            raise FormatError(f"model file {path}: {key} must be a list of {items}, got {_kind(data[key])}")
         j = next((j for j, v in enumerate(data.get(key, ())) if not _is_scalar(v)), None)
         if j is not None:
             raise FormatError(f"model file {path}: {key}[{j}] is {_kind(data[key][j])}, not {what}")
