@@ -167,7 +167,8 @@ class Source:
 
 
 def _q(x: fmpq) -> str:
-    return str(x) if x.q == 1 else f"'{x}'"
+    # an integer of 4000 digits or more is quoted too: Python's parser refuses such literals
+    return str(x) if x.q == 1 and abs(x.p) < 10 ** 3999 else f"'{x}'"
 
 
 def as_source(x: Any, what: str = "a source") -> Source:
@@ -563,7 +564,7 @@ def state_signals(S: fmpq_mat, z0: fmpq_mat) -> tuple | None:
 #: the calls a source text may contain, with their parameters (in order)
 SOURCE_CALLS = {"constant": ("c",), "polynomial": ("coeffs",), "exponential": ("rate", "amplitude"),
                 "sine": ("omega", "amplitude"), "cosine": ("omega", "amplitude")}
-MAX_SOURCE_TEXT = 10_000  # characters of one source's text
+MAX_SOURCE_TEXT = 4_000_000  # characters of one source's text (64 coefficients of MAX_RATIONAL_BITS bits fit)
 _ALLOWED = ("the calls constant(c), polynomial([c0, c1, ...]), exponential(rate, amplitude), sine(omega, "
             "amplitude), cosine(omega, amplitude) with rational arguments (3, -1/2, '1/2', 0.25), "
             "+, -, and * or / by a rational")

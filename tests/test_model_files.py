@@ -242,6 +242,12 @@ def test_the_repr_of_a_source_parses_back_to_it(w):
     assert parse_source(repr(w)) == w
 
 
+def test_huge_integers_parse_back():
+    """Python's parser refuses integer literals of 4300 digits or more: the repr quotes them."""
+    w = constant(10 ** 5000) + sine(3 ** 9000, -(7 ** 5000))
+    assert parse_source(repr(w)) == w
+
+
 @pytest.mark.parametrize("text, expected", [
     ("sine(100, 10)", sine(100, 10)),
     ("cosine('1/2', amplitude=4)", cosine(fmpq(1, 2), 4)),
