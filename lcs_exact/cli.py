@@ -268,7 +268,8 @@ def _join_values(argv: list[str]) -> list[str]:
     return out
 
 
-_MODEL_HELP = "model file, TOML (.toml) or JSON: A, B, C, D and optional sources, x0, t_end, names (docs/model-files.md)"
+_MODEL_HELP = ("model file, TOML (.toml) or JSON: A, B, C, D and optional sources, x0, t_end, names "
+               "(docs/model-files.md)")
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -70,8 +70,8 @@ def _appended(lcs: Any) -> tuple:
     signals = state_signals(sb.S, sb.z0)
     why = None
     if signals is None:
-        why = (f"their S is not made of the blocks the sources' exosystem builds (chains of integrators, "
-               f"exponentials, rotations s' = w c, c' = -w s)")
+        why = ("their S is not made of the blocks the sources' exosystem builds (chains of integrators, "
+               "exponentials, rotations s' = w c, c' = -w s)")
     else:
         ex = exosystem(signals)
         if ex.size != len(J) or ex.S != sb.S or ex.z0 != sb.z0 or ex.W != identity(len(J)):

@@ -22,7 +22,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import lcs_exact as L
-from lcs_exact import examples, models, sources
+from lcs_exact import examples, models
 from lcs_exact.cli import main
 from lcs_exact.modelfile import load_model, read_model_data
 from lcs_exact.sources import (AppendedStates, constant, cosine, exosystem, exponential, parse_source, polynomial,
