@@ -18,6 +18,7 @@ from .system import LCS, WellPosedness
 from .accumulation import Accumulation
 from .trajectory import Branches, Event, Status, Trajectory
 from .modemap import ModeMap, Region
+from .modelfile import read_model
 from . import examples, models, sources, zoo  # lcs_exact.examples, .models, .sources, .zoo as attributes
 
 __all__ = [
@@ -27,7 +28,7 @@ __all__ = [
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
     "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied", "HorizonExceeded", "TimeLimitExceeded",
     "read_fixture", "validate_fixture", "compare", "convergence_order", "ComparisonReport",
-    "FixtureTrajectory", "ModeMap", "Region", "examples", "models", "sources", "zoo",
+    "FixtureTrajectory", "ModeMap", "Region", "read_model", "examples", "models", "sources", "zoo",
 ]
 
 __version__ = "0.1.0"

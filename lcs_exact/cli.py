@@ -11,11 +11,13 @@
     lcs-exact --version
 
 A model file (TOML or JSON) has ``A``, ``B``, ``C``, ``D`` as lists of rows of numbers or
-rational strings ("1/3"), and optionally ``x0``, ``t_end``, ``name``, ``states`` and ``inputs``
-(names); any other key is an error.  Numbers are read exactly: a JSON or TOML decimal such as
-1e-400 is the rational 10^-400 (never a float).  The format is :mod:`lcs_exact.modelfile`
-(``load_model``, ``read_model`` and ``MODEL_KEYS`` are importable from here as before); this
-module parses arguments, runs and prints.
+rational strings ("1/3"), and optionally sources (``E``, ``F``, ``w``: a driven system),
+``x0``, ``t_end``, ``restitution``, ``name``, ``states``, ``inputs`` and ``roles``; any other
+key is an error.  Numbers are read exactly: a JSON or TOML decimal such as 1e-400 is the
+rational 10^-400 (never a float).  ``x0`` (in the file or ``--x0``) is what ``lcs.embed`` takes:
+with sources, the plant's state (the sources' states are appended).  The format is
+:mod:`lcs_exact.modelfile` (``load_model``, ``read_model``, ``read_model_data`` and
+``MODEL_KEYS`` are importable from here); this module parses arguments, runs and prints.
 
 ``--digits`` is 1..10000 (MAX_DIGITS, that of :mod:`lcs_exact.balls`), ``--max-events`` >= 0,
 ``--time-limit`` > 0 seconds; ``--x0 -1,2`` needs no ``=``.  For ``zoo``, ``--sample N`` is the
@@ -44,7 +46,7 @@ from .errors import FormatError, InvalidArgument, LCSError
 from .fixture import MAX_SAMPLES, ball_number, sample_grid
 from .fixturereader import read_fixture
 from .interfaces import SystemLike
-from .modelfile import MODEL_KEYS, check_exponents, load_model, read_model
+from .modelfile import MODEL_KEYS, check_exponents, load_model, read_model, read_model_data
 from .models import two_carts
 from .modes import format_mode
 from .rational import to_vector
@@ -53,7 +55,7 @@ from .simulate import simulate
 from .system import LCS
 from .zoo import write_zoo
 
-__all__ = ["main", "load_model", "read_model", "MAX_DIGITS", "MODEL_KEYS"]  # load_model, read_model, MODEL_KEYS: modelfile
+__all__ = ["main", "load_model", "read_model", "read_model_data", "MAX_DIGITS", "MODEL_KEYS"]  # all but main: modelfile
 
 
 class _UsageError(Exception):
@@ -69,16 +71,22 @@ class _Parser(argparse.ArgumentParser):
 # arguments and model files
 # ---------------------------------------------------------------------------------------------
 
-def _x0_of(args, data: dict, n: int) -> list:
+def _x0_of(args, data: dict, lcs: LCS):
+    """The full initial state: --x0 or the file's x0, as ``lcs.embed`` takes it (with sources,
+    the plant's state; the sources' initial state is appended)."""
+    n = len(lcs.plant)
     if args.x0 is not None:
         x0 = [v.strip() for v in args.x0.split(",")]
         check_exponents(x0, "--x0")
         if len(x0) != n:
-            raise FormatError(f"--x0 has length {len(x0)}, expected {n} (n)")
-        return x0
-    if "x0" not in data:
+            what = f"{n} (the plant's states {', '.join(lcs.state_names[:n])}; the sources' states " \
+                   f"follow from w)" if n < lcs.n else f"{n} (n)"
+            raise FormatError(f"--x0 has length {len(x0)}, expected {what}")
+    elif "x0" not in data:
         raise FormatError("no initial state: give --x0 or put x0 in the model file")
-    return data["x0"]
+    else:
+        x0 = data["x0"]
+    return lcs.embed(to_vector(x0, n, "x0"))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -261,6 +269,10 @@ def _join_values(argv: list[str]) -> list[str]:
     return out
 
 
+_MODEL_HELP = ("model file, TOML (.toml) or JSON: A, B, C, D and optional sources, x0, t_end, names "
+               "(docs/model-files.md)")
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="lcs-exact", description="Exact linear complementarity systems "
                      "(Heemels, Schumacher, Weiland 2000)")
@@ -269,7 +281,7 @@ def _parser() -> argparse.ArgumentParser:
     tc = sub.add_parser("two-carts", help="the paper's two-carts run of section 7 and its events")
     tc.add_argument("--digits", type=_digits, default=30)
     sim = sub.add_parser("simulate", help="Algorithm 7.1 on a model file; prints events and x(t_end)")
-    sim.add_argument("model")
+    sim.add_argument("model", help=_MODEL_HELP)
     sim.add_argument("--t-end", help="final time (default: the file's t_end)")
     sim.add_argument("--digits", type=_digits, default=30, help=f"correct digits, 1..{MAX_DIGITS}")
     sim.add_argument("--x0", help="comma-separated initial state (default: the file's x0)")
@@ -279,20 +291,24 @@ def _parser() -> argparse.ArgumentParser:
     sim.add_argument("--max-events", type=_max_events, default=1000)
     sim.add_argument("--time-limit", type=_seconds, help="wall-clock limit in seconds")
     sel = sub.add_parser("select", help="S(x0) and the initial solution for a model file")
-    sel.add_argument("model")
+    sel.add_argument("model", help=_MODEL_HELP)
     sel.add_argument("--x0", help="comma-separated initial state (default: the file's x0)")
     chk = sub.add_parser("check", help="well-posedness (Theorem 6.3), Markov parameters, modes")
-    chk.add_argument("model")
+    chk.add_argument("model", help=_MODEL_HELP)
     cmp_ = sub.add_parser("compare", help="error of other solvers' solutions (CSV: t, x1..xn) "
                           "against a fixture; several CSVs give the order of convergence")
-    cmp_.add_argument("fixture")
-    cmp_.add_argument("solutions", nargs="+")
+    cmp_.add_argument("fixture", help="a certified fixture (JSON), as written by `lcs-exact simulate MODEL -o "
+                      "FIXTURE.json` or `lcs-exact zoo`")
+    cmp_.add_argument("solutions", nargs="+", help="one or more CSV solutions of another solver: a row per time, "
+                      "t then one column per state (an optional header line, # comments); several give the "
+                      "order of convergence")
     cmp_.add_argument("--json", action="store_true", help="print JSON instead of tables")
     cmp_.add_argument("--event-tol", help="half-width of the window left out around each event "
                       "(default: twice the solution's largest step)")
     zoo = sub.add_parser("zoo", help="write the suite of certified fixtures of standard problems, "
                          "an index.json and a README.md into DIR")
-    zoo.add_argument("dir", metavar="DIR")
+    zoo.add_argument("dir", metavar="DIR", help="folder to write the fixtures, index.json and README.md into "
+                     "(created if missing)")
     zoo.add_argument("--digits", type=_digits, default=20, help=f"correct digits, 1..{MAX_DIGITS} (default 20)")
     zoo.add_argument("--sample", type=_intervals, default=100, metavar="N",
                      help="grid intervals per problem: the sample step is t_end / N (default 100)")
@@ -306,7 +322,7 @@ def _parser() -> argparse.ArgumentParser:
 
 def _simulate(args) -> int:
     lcs, data = load_model(args.model)
-    x0 = _x0_of(args, data, lcs.n)
+    x0 = _x0_of(args, data, lcs)
     t_end = args.t_end if args.t_end is not None else data.get("t_end")
     if t_end is None:
         raise FormatError("no final time: give --t-end or put t_end in the model file")
@@ -395,10 +411,16 @@ def _write_fixture(traj, args, closed_forms: bool = True) -> None:
 def _compare(args) -> int:
     if args.event_tol is not None:
         check_exponents(args.event_tol, "--event-tol")
-    fx = read_fixture(args.fixture)
+    try:
+        fx = read_fixture(args.fixture)
+    except FormatError:
+        kind = _document_kind(args.fixture)
+        if kind is not None and "model file" in kind:  # a model file given as the fixture
+            raise FormatError(f"{args.fixture}: expected a fixture, got {kind}") from None
+        raise
     reports = []
     for path in args.solutions:
-        t, X = read_solution_csv(path)
+        t, X = _read_solution(path, fx.lcs.n)
         reports.append(compare(fx, t, X, event_tol=args.event_tol, label=path))
     order = convergence_order(reports) if len(reports) > 1 else None
     if args.json:
@@ -413,6 +435,55 @@ def _compare(args) -> int:
         for r in reports:
             print(f"    step {r.step:<12.6g} max error {float(r.max_error.mid()):.4e}   {r.label}")
     return 0
+
+
+def _read_solution(path: str, n: int) -> tuple:
+    """A CSV solution for ``compare`` (:func:`lcs_exact.compare.read_solution_csv`); a file that is
+    not one (a model file, a fixture, JSON or TOML given in its place) is named for what it is."""
+    layout = f"a row per time: t, then one column per state, {n + 1} columns for the fixture's {n} states"
+    try:
+        return read_solution_csv(path)
+    except (LCSError, UnicodeDecodeError) as e:
+        kind = _document_kind(path)
+        if kind is not None:
+            raise FormatError(f"{path}: expected a CSV solution ({layout}), got {kind}; the arguments are "
+                              f"`lcs-exact compare FIXTURE.json SOLUTION.csv [MORE.csv ...]`") from None
+        if isinstance(e, UnicodeDecodeError):
+            raise FormatError(f"{path}: expected a CSV solution ({layout}), got bytes that are not UTF-8 text "
+                              f"(byte {e.start})") from None
+        raise type(e)(f"{_one_line(e)} (a CSV solution has {layout})") from None
+
+
+def _document_kind(path: str) -> str | None:
+    """What a JSON or TOML file is (a fixture, a model file, another JSON/TOML document), or None
+    for anything else."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return None
+    data, syntax = None, None
+    if text.lstrip()[:1] in ("{", "["):
+        syntax = "JSON"
+        try:
+            data = json.loads(text)
+        except (ValueError, RecursionError):
+            return "a file that looks like JSON (it begins with a bracket)"
+    else:
+        try:
+            import tomllib
+            data, syntax = tomllib.loads(text), "TOML"
+        except (ImportError, ValueError, RecursionError):
+            return None
+        if not data:
+            return None
+    if isinstance(data, dict):
+        schema = data.get("schema")
+        if isinstance(schema, str) and schema.startswith("lcs-exact/"):
+            return f"a fixture ({schema}): give it first, as FIXTURE"
+        if all(k in data for k in "ABCD"):
+            return f"a {syntax} model file (keys {', '.join(list(data)[:6])}): simulate it with `lcs-exact simulate " \
+                   f"{path} -o FIXTURE.json` to make a fixture"
+    return f"a {syntax} document"
 
 
 def _zoo(args) -> int:
@@ -464,7 +535,7 @@ def _main(argv: list[str] | None) -> int:
             return _simulate(args)
         elif args.cmd == "select":
             lcs, data = load_model(args.model)
-            report_selection(lcs, _x0_of(args, data, lcs.n))
+            report_selection(lcs, _x0_of(args, data, lcs))
         elif args.cmd == "check":
             lcs, _ = load_model(args.model)
             check_report(lcs)

@@ -1,15 +1,21 @@
-"""The model-file format: a system (and optionally x0, t_end, names) in TOML or JSON (docs/model-files.md).
+"""The model-file format: a system, its sources, a run and names in TOML or JSON (docs/model-files.md).
 
 A model file is an object with ``A``, ``B``, ``C``, ``D`` as lists of rows of numbers or rational
-strings ("1/3"), and optionally ``x0``, ``t_end``, ``name``, ``states`` and ``inputs`` (names);
-any other key is an error (:data:`MODEL_KEYS`).  Numbers are read exactly: a JSON or TOML decimal
-such as 1e-400 is the rational 10^-400 (never a float); exponents beyond +/-10^4 are refused
-before anything turns them into rationals.  A fixture (``"schema": "lcs-exact/trajectory/1"``) is
-refused with a hint to ``lcs-exact compare``.
+strings ("1/3"), and optionally the sources of a driven system (``E``, ``F``, ``w``: x' = A x +
+B u + E w(t), y = C x + D u + F w(t), :func:`lcs_exact.models.driven`), ``x0``, ``t_end``,
+``restitution``, ``name``, ``states``, ``inputs`` and ``roles``; any other key is an error
+(:data:`MODEL_KEYS`).  Numbers are read exactly: a JSON or TOML decimal such as 1e-400 is the
+rational 10^-400 (never a float); exponents beyond +/-10^4 are refused before anything turns them
+into rationals.  Sources are text (``"sine(100, 10)"``, the repr of
+:mod:`lcs_exact.sources` objects) read by :func:`~lcs_exact.sources.parse_source`, never
+evaluated.  A fixture (``"schema": "lcs-exact/trajectory/1"``) is refused with a hint to
+``lcs-exact compare``.
 
-:func:`read_model` returns the checked data, :func:`load_model` the :class:`~lcs_exact.LCS` and
-the data; every error is a :class:`~lcs_exact.errors.FormatError` (or the LCS's own error) naming
-the file.  The command ``lcs-exact`` (:mod:`lcs_exact.cli`) reads its models here.
+:func:`read_model` returns the :class:`~lcs_exact.LCS`, :func:`load_model` the LCS and the
+checked data, :func:`read_model_data` the checked data alone; every error is a
+:class:`~lcs_exact.errors.FormatError` (or the LCS's own error) naming the file.  Files are
+written by ``LCS.to_model`` (:mod:`lcs_exact.modelformat`).  The command ``lcs-exact``
+(:mod:`lcs_exact.cli`) reads its models here.
 """
 from __future__ import annotations
 
@@ -22,12 +28,12 @@ from typing import Any
 from flint import fmpz
 
 from .errors import FormatError, LCSError
+from .exosystems import driven
+from .modelformat import MATRIX_KEYS, MODEL_KEYS
+from .sources import AppendedStates, parse_source
 from .system import LCS
 
-__all__ = ["MODEL_KEYS", "read_model", "load_model", "check_exponents"]
-
-#: the keys of a model file, in the order of docs/model-files.md: the system, then the optional ones
-MODEL_KEYS = ("A", "B", "C", "D", "x0", "t_end", "name", "states", "inputs")
+__all__ = ["MODEL_KEYS", "read_model", "read_model_data", "load_model", "check_exponents"]
 _MAX_EXPONENT = 10_000  # 1e999999999 would be a gigabyte-sized rational: refused, not computed
 _EXPONENT = re.compile(r"[eE]\s*([+-]?\d+)")
 
@@ -82,8 +88,16 @@ def _kind(v: Any) -> str:
         type(v), "a number")
 
 
-def read_model(path: str) -> dict:
-    """The model file's data, checked: an object with A, B, C, D and only the known keys."""
+def read_model_data(path: str) -> dict:
+    """The model file's data, checked: an object with A, B, C, D and only the known keys, each of
+    its kind (shapes and values are checked by :func:`load_model`).
+
+    >>> import json, os, tempfile
+    >>> with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
+    ...     json.dump({"A": [[0]], "B": [[1]], "C": [[1]], "D": [[0]], "x0": ["1/2"]}, f)
+    >>> read_model_data(f.name)["x0"]; os.unlink(f.name)
+    ['1/2']
+    """
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8")
@@ -119,40 +133,57 @@ def read_model(path: str) -> dict:
     missing = [key for key in "ABCD" if key not in data]
     if missing:
         raise FormatError(f"model file {path} lacks {', '.join(missing)}")
-    for key in "ABCD":
-        v = data[key]
+    for key in MATRIX_KEYS:
+        v = data.get(key, [])
         if not isinstance(v, list) or not all(isinstance(r, list) for r in v):
             raise FormatError(f"model file {path}: {key} must be a list of rows (lists of numbers), got {_kind(v)}")
-    if "x0" in data and not isinstance(data["x0"], list):
-        raise FormatError(f"model file {path}: x0 must be a list of numbers, got {_kind(data['x0'])}")
-    for key in "ABCD":  # entries are scalars: [[1], 0] is not read as 1
-        for i, row in enumerate(data[key]):
-            j = next((j for j, v in enumerate(row) if not _is_scalar(v)), None)
+        for i, row in enumerate(v):  # entries are scalars: [[1], 0] is not read as 1
+            j = next((j for j, e in enumerate(row) if not _is_scalar(e)), None)
             if j is not None:
                 raise FormatError(f"model file {path}: {key}[{i}, {j}] is {_kind(row[j])}, not a number "
                                   f"or a rational string")
-    j = next((j for j, v in enumerate(data.get("x0", ())) if not _is_scalar(v)), None)
-    if j is not None:
-        raise FormatError(f"model file {path}: x0[{j}] is {_kind(data['x0'][j])}, not a number or a "
-                          f"rational string")
-    if "t_end" in data and (isinstance(data["t_end"], (bool, list, dict)) or data["t_end"] is None):
+    for key, what, items in (("x0", "a number or a rational string", "numbers"),
+                             ("w", "a source (a string such as \"sine(2)\") or a number", "sources")):
+        if key in data and not isinstance(data[key], list):
+            raise FormatError(f"model file {path}: {key} must be a list of {items}, got {_kind(data[key])}")
+        j = next((j for j, v in enumerate(data.get(key, ())) if not _is_scalar(v)), None)
+        if j is not None:
+            raise FormatError(f"model file {path}: {key}[{j}] is {_kind(data[key][j])}, not {what}")
+    if "w" in data and not data["w"]:
+        raise FormatError(f"model file {path}: w is empty: leave out w, E and F for a system without sources")
+    if "w" in data and "E" not in data and "F" not in data:
+        raise FormatError(f"model file {path}: w needs E or F (how the sources enter x' and y)")
+    if "w" not in data and ("E" in data or "F" in data):
+        raise FormatError(f"model file {path}: {'E' if 'E' in data else 'F'} needs w (the sources it multiplies)")
+    if "t_end" in data and not _is_scalar(data["t_end"]):
         raise FormatError(f"model file {path}: t_end must be a number, got {_kind(data['t_end'])}")
+    if "restitution" in data:
+        e = data["restitution"]
+        if not (_is_scalar(e) or (isinstance(e, list) and all(_is_scalar(v) for v in e))):
+            raise FormatError(f"model file {path}: restitution must be a number in [0, 1] or a list of them "
+                              f"(one per complementarity pair), got {_kind(e)}")
     if "name" in data and not isinstance(data["name"], str):
         raise FormatError(f"model file {path}: name must be a string, got {_kind(data['name'])}")
     for key in ("states", "inputs"):
         if key in data and (not isinstance(data[key], list) or not all(isinstance(s, str) for s in data[key])):
             raise FormatError(f"model file {path}: {key} must be a list of names (strings)")
-    for key in ("A", "B", "C", "D", "x0", "t_end"):
+    if "roles" in data and (not isinstance(data["roles"], list) or not all(
+            isinstance(r, list) and len(r) == 4 and all(isinstance(w, str) for w in r) for r in data["roles"])):
+        raise FormatError(f"model file {path}: roles must be a list of [u label, y label, in-mode word, "
+                          f"out-of-mode word] (four strings) per complementarity pair")
+    for key in MATRIX_KEYS + ("x0", "t_end", "restitution"):
         if key in data:
             check_exponents(data[key], f"model file {path}: {key}")
     return data
 
 
 def load_model(path: str) -> tuple[LCS, dict]:
-    """Read a model file (TOML or JSON) into an LCS and its checked data (see :func:`read_model`).
+    """Read a model file (TOML or JSON) into an LCS and its checked data (see :func:`read_model_data`).
 
     ``states`` and ``inputs`` become the LCS's ``state_names`` and ``constraint_names`` (shown by
-    ``check``, ``select`` and ``simulate``); an error in the data names the file.
+    ``check``, ``select`` and ``simulate``); with sources (``w``) the LCS is the driven system of
+    :func:`lcs_exact.models.driven`, its state (x, z) and ``x0`` the plant's state x (what
+    ``lcs.embed`` takes).  An error in the data names the file.
 
     >>> import json, os, tempfile
     >>> with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
@@ -162,21 +193,63 @@ def load_model(path: str) -> tuple[LCS, dict]:
     >>> lcs.state_names, lcs.constraint_names
     (('x', 'v'), ('wall',))
     """
-    data = read_model(path)
+    data = read_model_data(path)
+    where = f"model file {path}"
     try:
-        lcs = LCS(data["A"], data["B"], data["C"], data["D"], name=data.get("name"))
+        plain = LCS(data["A"], data["B"], data["C"], data["D"])
     except LCSError as e:  # shapes and entries, naming the file
-        raise type(e)(f"model file {path}: {e}") from None
-    for key, size, what in (("states", lcs.n, "n"), ("inputs", lcs.k, "k")):
-        if key in data and len(data[key]) != size:
-            raise FormatError(f"model file {path}: {key} has {len(data[key])} names, expected {what} = {size}")
-    if "states" in data or "inputs" in data:
+        raise type(e)(f"{where}: {e}") from None
+    n_plant, k = plain.n, plain.k
+    srcs = []
+    for i, text in enumerate(data.get("w", ())):
         try:
-            lcs = LCS(lcs.A, lcs.B, lcs.C, lcs.D, name=lcs.name, state_names=data.get("states"),
-                      constraint_names=data.get("inputs"))
-        except LCSError as e:  # empty or repeated names, in the file's words
-            msg = str(e).replace("state_names", "states").replace("constraint_names", "inputs")
-            raise type(e)(f"model file {path}: {msg}") from None
-    if "x0" in data and len(data["x0"]) != lcs.n:
-        raise FormatError(f"model file {path}: x0 has length {len(data['x0'])}, expected {lcs.n} (n)")
+            srcs.append(parse_source(text))
+        except LCSError as e:
+            raise type(e)(f"{where}: w[{i}]: {e}") from None
+    states = data.get("states")
+    if srcs:
+        try:
+            base = driven(plain.A, plain.B, plain.C, plain.D, data.get("E"), data.get("F"), w=srcs,
+                          state_names=states if states is not None and len(states) == n_plant else None)
+        except LCSError as e:  # E, F: shapes and entries; plant names that repeat
+            raise type(e)(f"{where}: {str(e).replace('state_names', 'states')}") from None
+    else:
+        base = plain
+    n = base.n
+    if states is not None and len(states) not in (n_plant, n):
+        expected = f"n = {n}" if n == n_plant else f"{n_plant} (the plant's states) or {n} (with the sources' states)"
+        raise FormatError(f"{where}: states has {len(states)} names, expected {expected}")
+    if "inputs" in data and len(data["inputs"]) != k:
+        raise FormatError(f"{where}: inputs has {len(data['inputs'])} names, expected k = {k}")
+    if "roles" in data and len(data["roles"]) != k:
+        raise FormatError(f"{where}: roles has {len(data['roles'])} entries, expected k = {k} (one per pair)")
+    if "x0" in data and len(data["x0"]) != n_plant:
+        what = f"{n_plant} (the plant's states: the sources' states follow from w)" if srcs else f"{n} (n)"
+        raise FormatError(f"{where}: x0 has length {len(data['x0'])}, expected {what}")
+    # the plant's names (or the defaults x_0, ...) with the sources' atoms ('1', 'sin(2t)'), or all n
+    names = base.state_names if states is None or (srcs and len(states) == n_plant) else states
+    embedding = None if not srcs else AppendedStates(n_plant, base.embedding.tail, tuple(names)[n_plant:])
+    try:
+        lcs = LCS(base.A, base.B, base.C, base.D, name=data.get("name"), state_names=names,
+                  constraint_names=data.get("inputs"), embedding=embedding, restitution=data.get("restitution"),
+                  roles=data.get("roles"))
+    except LCSError as e:  # empty or repeated names, restitution, in the file's words
+        msg = str(e).replace("state_names", "states").replace("constraint_names", "inputs")
+        raise type(e)(f"{where}: {msg}") from None
     return lcs, data
+
+
+def read_model(path: str) -> LCS:
+    """The :class:`~lcs_exact.LCS` of a model file (TOML or JSON, docs/model-files.md): the
+    inverse of :meth:`LCS.to_model <lcs_exact.LCS.to_model>`.  Its ``x0`` and ``t_end`` are in
+    :func:`load_model`'s data.
+
+    >>> import os, tempfile
+    >>> from lcs_exact import examples
+    >>> rect = examples.sine_rectifier()
+    >>> path = rect.to_model(os.path.join(tempfile.mkdtemp(), "rect.json"))
+    >>> back = read_model(path)
+    >>> back.A == rect.A, back.sources.expressions, back.describe_mode({0})
+    (True, ('sin(t)', 'cos(t)'), 'D1 conducting')
+    """
+    return load_model(path)[0]

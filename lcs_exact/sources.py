@@ -30,6 +30,7 @@ constant(1) + sine(2, amplitude=3)
 """
 from __future__ import annotations
 
+import ast
 from dataclasses import dataclass
 from math import factorial
 from typing import Any, Sequence
@@ -41,8 +42,8 @@ from .rational import to_fmpq, to_vector, vector_entries
 from .reals import RationalReal
 from .vectors import ComponentsVector, ExactVector, as_exact_vector
 
-__all__ = ["Source", "constant", "polynomial", "exponential", "sine", "cosine", "as_source",
-           "Exosystem", "exosystem", "SourceBlock", "source_block", "AppendedStates"]
+__all__ = ["Source", "constant", "polynomial", "exponential", "sine", "cosine", "as_source", "parse_source",
+           "Exosystem", "exosystem", "SourceBlock", "source_block", "state_signals", "AppendedStates"]
 
 # an atom: ("pow", j) = t^j, ("exp", r) = e^{r t}, ("sin", w) = sin(w t), ("cos", w) = cos(w t)
 _ORDER = {"pow": 0, "exp": 1, "sin": 2, "cos": 2}
@@ -166,7 +167,8 @@ class Source:
 
 
 def _q(x: fmpq) -> str:
-    return str(x) if x.q == 1 else f"'{x}'"
+    # an integer of 4000 digits or more is quoted too: Python's parser refuses such literals
+    return str(x) if x.q == 1 and abs(x.p) < 10 ** 3999 else f"'{x}'"
 
 
 def as_source(x: Any, what: str = "a source") -> Source:
@@ -520,3 +522,170 @@ def source_block(states: Sequence[int], S: fmpq_mat, z0: fmpq_mat, names: Sequen
     exprs = (_expressions(S, z0, blocks) if blocks is not None
              else tuple(f"z_{i}(t)" for i in states))
     return SourceBlock(states, S, z0, exprs, tuple(names))
+
+
+def state_signals(S: fmpq_mat, z0: fmpq_mat) -> tuple | None:
+    """Each state's function of time z_i(t) = (e^{S t} z0)_i as a :class:`Source`, block by block
+    (a chain of integrators, scalars, rotations: those :func:`exosystem` builds), or None when S
+    is of another shape.  The inverse of :func:`exosystem` on its own states: the states of
+    ``exosystem(ws)`` are the atoms (``'t^2/2'`` is ``polynomial([0, 0, '1/2'])``).
+
+    >>> ex = exosystem([polynomial([1, 0, 3]), sine(2)])
+    >>> state_signals(ex.S, ex.z0)
+    (constant(1), polynomial([0, 1]), polynomial([0, 0, '1/2']), sine(2), cosine(2))
+    >>> state_signals(fmpq_mat([[0, 1], [-1, 0]]), fmpq_mat([[2], [0]]))   # (2 cos t, -2 sin t)
+    (cosine(1, amplitude=2), sine(1, amplitude=-2))
+    """
+    blocks = _blocks(S)
+    if blocks is None:
+        return None
+    out: list = [None] * S.nrows()
+    for kind, b in blocks:
+        if kind == "rotation":
+            w = S[b[0], b[1]]
+            s0, c0 = z0[b[0], 0], z0[b[1], 0]
+            out[b[0]] = sine(w, c0) + cosine(w, s0)    # s = s0 cos + c0 sin
+            out[b[1]] = cosine(w, c0) - sine(w, s0)    # c = c0 cos - s0 sin
+        elif kind == "exp":
+            out[b[0]] = exponential(S[b[0], b[0]], z0[b[0], 0])
+        else:  # z_j = sum_i z0_i t^(j-i) / (j-i)!
+            for j in range(len(b)):
+                coeffs = [fmpq(0)] * (j + 1)
+                for i in range(j + 1):
+                    coeffs[j - i] += z0[b[i], 0] / factorial(j - i)
+                out[b[j]] = polynomial(coeffs)
+    return tuple(out)
+
+
+# ---------------------------------------------------------------------------------------------
+# source text: the repr of a Source read back (model files), without eval
+# ---------------------------------------------------------------------------------------------
+
+#: the calls a source text may contain, with their parameters (in order)
+SOURCE_CALLS = {"constant": ("c",), "polynomial": ("coeffs",), "exponential": ("rate", "amplitude"),
+                "sine": ("omega", "amplitude"), "cosine": ("omega", "amplitude")}
+MAX_SOURCE_TEXT = 4_000_000  # characters of one source's text (64 coefficients of MAX_RATIONAL_BITS bits fit)
+_ALLOWED = ("the calls constant(c), polynomial([c0, c1, ...]), exponential(rate, amplitude), sine(omega, "
+            "amplitude), cosine(omega, amplitude) with rational arguments (3, -1/2, '1/2', 0.25), "
+            "+, -, and * or / by a rational")
+
+
+def parse_source(text: Any) -> Source:
+    """The :class:`Source` a text describes: the repr of a Source (``"constant(1) + sine(2,
+    amplitude=3)"``), a sum or difference of the calls ``constant``, ``polynomial``,
+    ``exponential``, ``sine``, ``cosine`` with rational arguments (integers, decimals, ``'p/q'``
+    strings, ``p/q``), rational multiples (``3 * sine(2)``, ``sine(2) / 4``) and rationals alone
+    (constants).  The text is parsed (``ast``), never evaluated; a Source or a number is taken as
+    it is (:func:`as_source`).  Anything else is :class:`~lcs_exact.errors.InvalidArgument`.
+
+    >>> parse_source("constant(1) + sine(2, amplitude=3)") == constant(1) + sine(2, 3)
+    True
+    >>> parse_source("cosine('1/2', amplitude=4)"), parse_source("-981/100")
+    (cosine('1/2', amplitude=4), constant('-981/100'))
+    >>> parse_source("2 * exponential(-1) - polynomial([0, 0.5])")
+    polynomial([0, '-1/2']) + exponential(-1, amplitude=2)
+    >>> parse_source("__import__('os')")
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.InvalidArgument: source text "__import__('os')": '__import__' is not a source (allowed: the calls constant(c), polynomial([c0, c1, ...]), exponential(rate, amplitude), sine(omega, amplitude), cosine(omega, amplitude) with rational arguments (3, -1/2, '1/2', 0.25), +, -, and * or / by a rational)
+    """
+    if not isinstance(text, str):
+        return as_source(text)
+    short = text if len(text) <= 60 else text[:57] + "..."
+    if len(text) > MAX_SOURCE_TEXT:
+        raise InvalidArgument(f"source text {short!r} has {len(text)} characters (at most {MAX_SOURCE_TEXT})")
+    try:
+        tree = ast.parse(text.strip(), mode="eval")
+    except SyntaxError as e:
+        if "digits" in str(e.msg) and "integer" in str(e.msg):  # Python's limit on integer literals
+            raise InvalidArgument(f"source text {short!r}: an integer has more than 4300 digits; write it "
+                                  f"as a string ('123...')") from None
+        raise InvalidArgument(f"source text {short!r} is not an expression ({e.msg})") from None
+    except (ValueError, RecursionError, MemoryError) as e:  # an integer beyond Python's digit limit, nesting
+        raise InvalidArgument(f"source text {short!r} cannot be read: {' '.join(str(e).split())[:80]}") from None
+    try:
+        return as_source(_SourceText(text.strip(), short).value(tree.body))
+    except RecursionError:
+        raise InvalidArgument(f"source text {short!r} is nested too deeply") from None
+    except (InvalidArgument, NotRational) as e:  # a bad argument (sine(0), '1/x'): in the text's words
+        if str(e).startswith("source text"):
+            raise
+        raise type(e)(f"source text {short!r}: {e}") from None
+
+
+class _SourceText:
+    """The walk of :func:`parse_source` over one expression: each node is a rational or a Source."""
+
+    def __init__(self, text: str, short: str):
+        self.text, self.short = text, short
+
+    def fail(self, why: str):
+        raise InvalidArgument(f"source text {self.short!r}: {why}")
+
+    def value(self, node: ast.AST):
+        if isinstance(node, ast.Call):
+            return self.call(node)
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div)):
+            a, b = self.value(node.left), self.value(node.right)
+            if isinstance(node.op, ast.Add):
+                return a + b if not (isinstance(a, Source) or isinstance(b, Source)) else as_source(a) + as_source(b)
+            if isinstance(node.op, ast.Sub):
+                return a - b if not (isinstance(a, Source) or isinstance(b, Source)) else as_source(a) - as_source(b)
+            if isinstance(b, Source) and (isinstance(node.op, ast.Div) or isinstance(a, Source)):
+                self.fail("a source is multiplied or divided by a rational only, not by a source")
+            if isinstance(node.op, ast.Div):
+                if b == 0:
+                    self.fail("division by 0")
+                return a / b
+            return b * a if isinstance(b, Source) else a * b
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            v = self.value(node.operand)
+            return -v if isinstance(node.op, ast.USub) else v
+        return self.rational(node)
+
+    def rational(self, node: ast.AST) -> fmpq:
+        """A literal number: an int, a decimal read from its text (exactly), a 'p/q' string."""
+        if isinstance(node, ast.Constant) and isinstance(node.value, (int, float, str)) \
+                and not isinstance(node.value, bool):
+            if isinstance(node.value, float):  # 0.1 is 1/10: the literal's digits, not the binary double
+                return to_fmpq(ast.get_source_segment(self.text, node) or repr(node.value), "a number")
+            return to_fmpq(node.value, "a number")
+        if (isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult, ast.Div))) or \
+                (isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd))):
+            v = self.value(node)
+            if isinstance(v, Source):
+                self.fail("a source where a rational number is expected")
+            return v
+        if isinstance(node, ast.Name):
+            self.fail(f"{node.id!r} is not a source (allowed: {_ALLOWED})")
+        segment = ast.get_source_segment(self.text, node) or ""
+        self.fail(f"{segment[:40]!r} is not allowed (allowed: {_ALLOWED})")
+
+    def call(self, node: ast.Call) -> Source:
+        name = node.func.id if isinstance(node.func, ast.Name) else None
+        if name not in SOURCE_CALLS:
+            what = name if name is not None else ast.get_source_segment(self.text, node.func)
+            self.fail(f"{what!r} is not a source (allowed: {_ALLOWED})")
+        params = SOURCE_CALLS[name]
+        if any(isinstance(a, ast.Starred) for a in node.args) or any(k.arg is None for k in node.keywords):
+            self.fail(f"{name}() takes its arguments as they are, not unpacked with * or **")
+        if len(node.args) > len(params):
+            self.fail(f"{name}() takes at most {len(params)} arguments ({', '.join(params)}), got {len(node.args)}")
+        args = dict(zip(params, node.args))
+        for k in node.keywords:
+            if k.arg not in params:
+                self.fail(f"{name}() has no argument {k.arg!r} (its arguments: {', '.join(params)})")
+            if k.arg in args:
+                self.fail(f"{name}() got the argument {k.arg!r} twice")
+            args[k.arg] = k.value
+        if params[0] not in args:
+            self.fail(f"{name}() needs its argument {params[0]!r}")
+        if name == "polynomial":
+            seq = args["coeffs"]
+            if not isinstance(seq, (ast.List, ast.Tuple)):
+                self.fail("polynomial() takes a list of coefficients, low degree first: polynomial([1, 0, 2])")
+            if len(seq.elts) > 64:
+                self.fail(f"a polynomial source of degree {len(seq.elts) - 1} > 63: too many exosystem states")
+            return polynomial([self.rational(e) for e in seq.elts])
+        values = {k: self.rational(v) for k, v in args.items()}
+        return {"constant": constant, "exponential": exponential, "sine": sine, "cosine": cosine}[name](**values)

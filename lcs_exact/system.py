@@ -21,6 +21,7 @@ from flint import fmpq, fmpq_mat, fmpq_poly
 
 from .errors import IllPosed, InvalidArgument, ShapeError
 from .lcp import p_matrix_violation
+from .modelformat import model_data, write_model_file
 from .modemap import mode_map
 from .modes import Mode, format_mode
 from .ratfunc import RationalFunction, RationalMatrix
@@ -404,6 +405,60 @@ class LCS:
         if self.embedding is None:
             return to_vector(x, self.n, "x")
         return self.embedding(x)
+
+    def to_model(self, path: Any, x0: Any = None, t_end: Any = None):
+        """Write the system as a model file (docs/model-files.md): TOML when ``path`` ends in
+        ``.toml``, JSON otherwise; :func:`lcs_exact.read_model` reads it back to an LCS with the
+        same exact matrices, names, roles, restitution, sources and :meth:`embed`.
+
+        Parameters
+        ----------
+        path : str or path-like
+        x0 : vector, optional
+            The initial state, as :meth:`embed` takes it (the plant's states when the LCS has
+            sources); exact rationals only.
+        t_end : rational, optional
+
+        Returns
+        -------
+        pathlib.Path
+            The file written.  ``Unsupported`` when the LCS's appended states are not sources a
+            file can carry (:mod:`lcs_exact.modelformat`).
+
+        Examples
+        --------
+        >>> import os, tempfile
+        >>> from lcs_exact import examples, read_model
+        >>> ball = examples.bouncing_ball()
+        >>> path = os.path.join(tempfile.mkdtemp(), "ball.toml")
+        >>> print(ball.to_model(path, x0=[1, 0], t_end=1).read_text(), end="")
+        name = "bouncing ball"
+        A = [
+          [0, 1],
+          [0, 0],
+        ]
+        B = [
+          [0],
+          [1],
+        ]
+        C = [[1, 0]]
+        D = [[0]]
+        E = [
+          [0],
+          ["-981/100"],
+        ]
+        F = [[0]]
+        w = ["constant(1)"]
+        x0 = [1, 0]
+        t_end = 1
+        restitution = "9/10"
+        states = ["q", "q'", "1"]
+        inputs = ["floor"]
+        roles = [["force (floor)", "gap (floor)", "contact", "open"]]
+        >>> read_model(path).A == ball.A
+        True
+        """
+        return write_model_file(model_data(self, x0, t_end), path)
 
     @property
     def plant(self) -> tuple:

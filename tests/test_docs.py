@@ -74,21 +74,24 @@ def test_model_file_page_matches_the_reader(tmp_path):
     keys = re.findall(r"^\| `(\w+)` \| (?:yes|no) \|", text, re.M)
     assert tuple(keys) == MODEL_KEYS
     blocks = re.findall(r"```(json|toml)\n(.*?)```", text, re.S)
-    assert [k for k, _ in blocks] == ["json", "toml"]
-    for kind, body in blocks:
-        path = tmp_path / f"model.{kind}"
+    assert [k for k, _ in blocks] == ["json", "toml", "toml", "toml"]
+    seen = set()
+    for i, (kind, body) in enumerate(blocks):
+        path = tmp_path / f"model{i}.{kind}"
         path.write_text(body, encoding="utf-8")
         lcs, data = load_model(str(path))
-        assert set(data) == set(MODEL_KEYS)
-        tr = L.simulate(lcs, data["x0"], data["t_end"], digits=10)
+        seen |= set(data)
+        tr = L.simulate(lcs, lcs.embed(data["x0"]), data["t_end"], digits=10)
         assert tr.certified and len(tr.events) >= 1
+    assert seen == set(MODEL_KEYS)   # together the examples use every key
     # the page's unknown-key message is the reader's
     bad = tmp_path / "bad.json"
     bad.write_text(json.dumps({"A": [[0]], "B": [[1]], "C": [[1]], "D": [[0]], "x": 1}))
     with pytest.raises(L.FormatError) as err:
         load_model(str(bad))
-    assert "unknown key 'x' (allowed: A, B, C, D, x0, t_end, name, states, inputs)" in str(err.value)
-    assert "unknown key 'x' (allowed: A, B, C, D, x0, t_end, name, states,\ninputs)" in text
+    message = "unknown key 'x' (allowed: A, B, C, D, E, F, w, x0, t_end, restitution, name, states, inputs, roles)"
+    assert message in str(err.value)
+    assert message in " ".join(text.split())
 
 
 PATH = re.compile(r"(?<![\w/.:-])((?:[\w.-]+/)+[\w.-]+\.(?:md|py|ipynb|json|toml|png|rst|csv|txt|cfg|ini))\b")
