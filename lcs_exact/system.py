@@ -24,7 +24,7 @@ from .lcp import p_matrix_violation
 from .modemap import mode_map
 from .modes import Mode, format_mode
 from .ratfunc import RationalFunction, RationalMatrix
-from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, adjugate_coefficients, eigenvalue_moduli, mat_rows,
+from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, adjugate_coefficients, as_list, eigenvalue_moduli, mat_rows,
                        matrix_to_sympy, submatrix, to_fmpq, to_int, to_matrix, to_short, to_vector)
 from .selection import initial_solution, is_regular, ldcp, rcp, select_modes
 from .sources import SourceBlock, source_block
@@ -135,7 +135,8 @@ class LCS:
         if k == 0:
             raise ShapeError("B has no columns: an LCS needs at least one complementarity pair (k >= 1)")
         self.C = to_matrix(_as_row(C), "C", (k, n))
-        if not isinstance(D, (list, tuple)) and not hasattr(D, "tolist") and not isinstance(D, fmpq_mat):
+        if getattr(D, "ndim", None) == 0 or not isinstance(D, (list, tuple)) and not hasattr(D, "tolist") and \
+                not isinstance(D, fmpq_mat):  # a scalar (a numpy scalar too) for k = 1
             D = [[D]]
         self.D = to_matrix(_as_row(D), "D", (k, k))
         self.n, self.k = n, k
@@ -189,8 +190,8 @@ class LCS:
         """Validated restitution coefficients (one fmpq per constraint), or None (docs/extensions.md)."""
         if e is None:
             return None
-        if isinstance(e, (list, tuple)) or hasattr(e, "tolist"):
-            e = list(e.tolist() if hasattr(e, "tolist") else e)
+        if isinstance(e, (list, tuple)) or hasattr(e, "tolist") and getattr(e, "ndim", None) != 0:
+            e = list(as_list(e) if hasattr(e, "tolist") else e)
             if len(e) != self.k:
                 raise ShapeError(f"restitution has {len(e)} coefficients, expected one per constraint (k = {self.k})")
             es = tuple(fmpq(0) if x is None else to_fmpq(x, f"restitution[{i}]") for i, x in enumerate(e))

@@ -19,7 +19,7 @@ from .errors import InvalidArgument, LCSError, Undetermined
 from .fixture import fixture_dict
 from .modes import format_mode, latex_mode
 from .plotting import plot_trajectory
-from .rational import to_fmpq, to_int
+from .rational import as_list, to_fmpq, to_int
 from .reals import Real, as_real
 from .vectors import ExactVector, ProjectedVector
 
@@ -314,7 +314,7 @@ class Trajectory:
         """(times as fmpq, column names, rows of floats): the states at t (right limits), then
         u and y when asked (an undetermined input is NaN)."""
         if hasattr(t, "tolist"):
-            t = t.tolist()
+            t = as_list(t)
         if isinstance(t, (str, bytes)) or not hasattr(t, "__iter__"):
             t = [t]
         ts = [to_fmpq(v, "t") for v in t]
