@@ -279,7 +279,8 @@ class Trajectory:
     def _point(rec: PhaseRecord, tq: fmpq, prec: int, at_start: bool = False) -> list[arb]:
         phase = rec.phase
         with workprec(prec):
-            if at_start or rec.t0.known_rational() == tq:  # the phase's start itself, exactly
+            if at_start or rec.t0.known_rational() == tq or getattr(phase, "equilibrium", False):
+                # the phase's start itself, exactly, or any time of a phase at an equilibrium
                 x = phase.z.arb(prec)
                 return [x[i, 0] for i in range(x.nrows())]
             if not hasattr(phase, "spectrum"):  # an accumulation window: exact states

@@ -619,7 +619,10 @@ def orbit_start(v: ExactVector, M: fmpq_mat) -> tuple[ExactVector, Real | None]:
 
 def homogenized(x: ExactVector) -> ExactVector:
     """x itself, or c q (c > 0 certified, q rational) when the forms proven to vanish on x leave
-    a single direction q (rank n - 1): then every sign at x is the sign at q, exactly."""
+    a single direction q (rank n - 1): then every sign at x is the sign at q, exactly; the
+    rational 0 when they leave none (rank n: a velocity reset to rest, x = P_I x- with P_I = 0)."""
+    if x.known_rational() is None and x.zero_forms.nrows() and x.zero_span.dim == x.n:
+        return RationalVector(zeros(x.n, 1), x.policy)
     if x.known_rational() is not None or isinstance(x, (ScaledVector, AlgebraicVector)) or \
             x.zero_forms.nrows() != x.n - 1:
         return x
