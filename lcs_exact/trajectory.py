@@ -386,10 +386,11 @@ class Trajectory:
             status = "NOT certified"
         if self.choices:
             status += f", one of several solutions ({len(self.choices)} choices)"
-        head = f"<Trajectory on [0, {self.t_end.label()}]: {len(self.events)} events, {status}"
-        if self.partial:
-            head += f", PARTIAL ({self.status.value}): {self.stop_reason}"
-        return head + ">"
+        if not self.partial:
+            return f"<Trajectory on [0, {self.t_end.label()}]: {len(self.events)} events, {status}>"
+        # a partial run is known up to t_last only: say so first, then the horizon asked for
+        return (f"<Trajectory known on [0, {self.t_last.label()}] of [0, {self.t_end.label()}] (PARTIAL, "
+                f"{self.status.value}): {len(self.events)} events, {status}; {self.stop_reason}>")
 
     def _repr_latex_(self):
         rows = []
