@@ -70,3 +70,19 @@ def test_a_partial_runs_repr_says_where_it_is_known():
     tr = err.value.trajectory
     assert repr(tr).startswith(f"<Trajectory known on [0, {tr.events[-1].time.label()}] of [0, 10] (PARTIAL, "
                                "accumulation of events)")
+
+
+def test_u_and_y_at_an_event_time_are_the_right_limits_as_the_state():
+    """x1' = -x2 + u, x2' = 0 from (1, 1), stop y = x1: x1 = 1 - t, u = 0 until t = 1; then the
+    stop holds x1 = 0 (mode {0}: y' = -x2 + u = 0, u = x2 = 1).  At t = 1 the state is x(1+) =
+    (0, 1) and u, y are u(1+) = 1, y(1+) = 0, in one row of to_numpy (u was u(1-) = 0: a row
+    mixed x(1+) with u(1-))."""
+    lcs = L.LCS([[0, -1], [0, 0]], [[1], [0]], [[1, 0]], [[0]])
+    tr = L.simulate(lcs, [1, 1], 3)
+    assert len(tr.events) == 1 and tr.events[0].time.rational() == 1
+    assert [str(c) for c in tr.state(1).rational().entries()] == ["0", "1"]
+    assert [str(c) for c in tr.u(1).rational().entries()] == ["1"]
+    assert [str(c) for c in tr.y(1).rational().entries()] == ["0"]
+    assert [str(c) for c in tr.u(Fraction(999, 1000)).rational().entries()] == ["0"]  # before: free
+    assert tr.to_numpy([Fraction(1, 2), 1, 2], u=True, y=True).tolist() == [[0.5, 1, 0, 0.5], [0, 1, 1, 0], [0, 1, 1, 0]]
+    assert tr.undetermined(1) == frozenset()
