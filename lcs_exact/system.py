@@ -384,16 +384,25 @@ class LCS:
         return to_statespace(self)
 
     def to_numpy(self):
-        """(A, B, C, D) as float64 arrays (rounded: the exact data stay in ``lcs.A`` ...).
+        """(A, B, C, D) as float64 arrays (rounded: the exact data stay in ``lcs.A`` ...); an entry
+        beyond float64's range is an InvalidArgument naming it (not infinity).
 
         >>> [m.shape for m in LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]]).to_numpy()]
         [(2, 2), (2, 1), (1, 2), (1, 1)]
         """
         from fractions import Fraction
         import numpy as np
-        return tuple(np.array([[float(Fraction(int(e.p), int(e.q))) for e in row] for row in mat_rows(m)],
-                              dtype=np.float64).reshape(m.nrows(), m.ncols())
-                     for m in (self.A, self.B, self.C, self.D))
+        out = []
+        for key in "ABCD":
+            m = getattr(self, key)
+            try:
+                out.append(np.array([[float(Fraction(int(e.p), int(e.q))) for e in row] for row in mat_rows(m)],
+                                    dtype=np.float64).reshape(m.nrows(), m.ncols()))
+            except OverflowError:
+                big = next(e for row in mat_rows(m) for e in row if abs(e) > 2**1023)
+                raise InvalidArgument(f"{key} has an entry {to_short(big)} beyond the range of float64: it has "
+                                      "no float (to_numpy and to_statespace round to float64)") from None
+        return tuple(out)
 
     def embed(self, x: Any) -> fmpq_mat:
         """The full initial state (n x 1) for a state x of the modelled system.

@@ -150,6 +150,18 @@ def test_statespace_round_trip_is_exact_for_decimal_data():
     assert all(getattr(LCS.from_statespace(two_carts().to_statespace()), m) == getattr(two_carts(), m) for m in "ABCD")
 
 
+def test_an_entry_beyond_float64_is_named_not_infinite():
+    """10^400 has no float64 (the largest is (2 - 2^-52) 2^1023 < 10^309): to_numpy and
+    to_statespace refuse it by name (it was a bare OverflowError); 2^1023 and 10^-400 round."""
+    huge = LCS([[0, 1], [10**400, 0]], [[0], [1]], [[1, 0]], [[0]])
+    with pytest.raises(L.InvalidArgument, match=r"A has an entry 1000.* beyond the range of float64"):
+        huge.to_numpy()
+    with pytest.raises(L.InvalidArgument, match="beyond the range of float64"):
+        huge.to_statespace()
+    A = LCS([[2**1023]], [[fmpq(1, 10**400)]], [[1]], [[0]]).to_numpy()
+    assert A[0].tolist() == [[2.0**1023]] and A[1].tolist() == [[0.0]]
+
+
 def test_from_statespace_reads_python_controls_default_names_as_no_names():
     control = pytest.importorskip("control")
     lcs = LCS.from_statespace(control.ss(OSC["A"], OSC["B"], OSC["C"], OSC["D"]))  # x[0], u[0], y[0]
