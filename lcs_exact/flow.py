@@ -223,7 +223,11 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
     where a decision needs it.  An event exactly at H is reported (the state there is x(H+));
     ``clock`` (the sources' clock of a driven LCS seen from the phase, :mod:`lcs_exact.clock`)
     proves touches in absolute time and, when H = clock.t_end - clock.t_s (t_end not None), an
-    event at t_end when t_s has no closed form."""
+    event at t_end when t_s has no closed form.  A phase at an equilibrium (A_I z = 0, proven:
+    ``phase.equilibrium``) has none at any horizon: its functions are constant, and none is
+    negative at the start (the mode was selected there)."""
+    if phase.equilibrium and all(phase.start_order(c)[0] >= 0 for c in phase.constraints):
+        return None
     hb = horizon_bound(H)
     found: list = []
     limit = hb

@@ -19,7 +19,7 @@ from typing import Any
 
 from .errors import InvalidArgument, ShapeError
 from .exosystems import extend
-from .rational import hstack, identity, submatrix, to_matrix, vstack, zeros
+from .rational import as_list, hstack, identity, submatrix, to_matrix, vstack, zeros
 from .sources import as_source, exosystem
 from .system import LCS
 
@@ -146,11 +146,12 @@ def _sources(values: Any, count: int, what: str, per: str) -> list | None:
     """``force`` / ``gap`` as a list of ``count`` sources (a single value when count = 1), or None."""
     if values is None:
         return None
-    if isinstance(values, (str, bytes)) or not isinstance(values, (list, tuple)) and not hasattr(values, "tolist"):
+    if isinstance(values, (str, bytes)) or getattr(values, "ndim", None) == 0 or \
+            not isinstance(values, (list, tuple)) and not hasattr(values, "tolist"):  # one value (a numpy scalar too)
         if count != 1:
             raise ShapeError(f"{what} must have one entry per {per} ({count}), got a single value {values!r}")
         values = [values]
-    values = list(values.tolist() if hasattr(values, "tolist") else values)
+    values = list(as_list(values) if hasattr(values, "tolist") else values)
     if len(values) == count and all(isinstance(v, (list, tuple)) and len(v) == 1 for v in values):
         values = [v[0] for v in values]  # a column
     if len(values) != count:

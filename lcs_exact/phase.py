@@ -121,7 +121,11 @@ class Phase:
             self.zero_forms = row_basis(W, inv) if W.nrows() or inv.nrows() else zeros(0, self.M.nrows())
         self.constraints = self._constraints()
         q0 = self.base.known_rational()
-        self.equilibrium = q0 is not None and is_zero(self.M * q0)  # A_I z = 0: x(t) = z throughout
+        # A_I z = 0, proven: x(t) = z throughout, so every monitored function is constant (no
+        # event ever, at any horizon).  Exact for a rational start; for another, when every row
+        # of A_I is among the forms proven to vanish on the phase
+        self.equilibrium = is_zero(self.M * q0) if q0 is not None else \
+            all(submatrix(self.M, [i], None) in self.zero_span for i in range(self.M.nrows()))
         # a polynomial phase (A_I nilpotent) from an exactly known start: exact roots and states
         self.exact_start = None
         if self.spectrum.nilpotent_only:

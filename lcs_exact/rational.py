@@ -26,7 +26,7 @@ from collections.abc import Mapping, Set
 from decimal import Decimal
 from fractions import Fraction
 from itertools import islice
-from numbers import Integral, Rational, Real
+from numbers import Integral, Rational
 from typing import Any, Iterable, Sequence, Union
 
 import flint
@@ -35,7 +35,7 @@ from flint import fmpq, fmpq_mat, fmpq_poly, fmpz
 from .errors import InvalidArgument, NotRational, ShapeError, Unsupported
 
 __all__ = [
-    "RationalLike", "to_fmpq", "to_matrix", "to_vector", "vector_entries", "to_int", "is_rational_vector",
+    "RationalLike", "to_fmpq", "to_matrix", "to_vector", "vector_entries", "as_list", "to_int", "is_rational_vector",
     "zeros", "identity", "is_zero", "hstack", "vstack", "submatrix", "column", "mat_rows", "mat_equal",
     "sign_of_form", "lex_sign", "format_form",
     "fmpq_to_sympy", "matrix_to_sympy", "adjugate_coefficients", "poly_at_matrix",
@@ -154,8 +154,8 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
 
     Accepts int, ``"p/q"`` or decimal strings (``"-1.25e-3"``), Fraction, Decimal, sympy
     Rational, fmpq, fmpz, numpy integers, and floats (read as their shortest decimal repr:
-    ``0.1 -> 1/10``; a numpy float32 or float16 by its own shortest repr, ``np.float32(0.1)`` is
-    also 1/10).  Refuses bools, NaN and infinities, complex numbers, SymPy non-rationals
+    ``0.1 -> 1/10``; a NumPy float of any type, a scalar or a 0-d array, by the shortest repr of
+    its own type: ``np.float32(-0.1)`` and ``np.float16(-0.1)`` are -1/10 too).  Refuses bools, NaN and infinities, complex numbers, SymPy non-rationals
     (:class:`~lcs_exact.errors.NotRational`, naming ``what``) and numbers whose numerator or
     denominator would exceed :data:`MAX_RATIONAL_BITS` bits
     (:class:`~lcs_exact.errors.InvalidArgument`; checked before a decimal exponent is expanded).
@@ -193,15 +193,13 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
             return _check_bits(int(x.p), int(x.q), what, x)
         raise NotRational(f"{what} {to_short(x)} is a SymPy {type(x).__name__}, not a rational number")
     if mod.startswith("numpy") and hasattr(x, "item") and getattr(x, "ndim", 0) == 0:
-        if type(x).__name__ in ("float32", "float16") and math.isfinite(float(x)):
-            # a float32 is read by its own shortest repr (np.float32(0.1) is 0.1, as typed), not
-            # by the float64 repr of its binary value (0.10000000149011612)
-            return _parse_number(str(x), what)
+        if type(x).__name__ == "ndarray":
+            x = x[()]  # a 0-d array: its scalar, of its own type (.item() would make a float32 a float)
+        if getattr(getattr(x, "dtype", None), "kind", None) == "f":
+            return _numpy_float(x, what)
         v = x.item()
-        if type(v) is type(x):  # numpy.longdouble: no Python equivalent; its shortest repr is exact enough
-            if not math.isfinite(float(v)) and isinstance(x, Real):
-                raise NotRational(f"{what} is {x!r}, not a finite number")
-            v = str(x) if isinstance(x, Real) else complex(x)
+        if type(v) is type(x):  # a numpy type with no Python equivalent (clongdouble)
+            v = complex(x)
         return to_fmpq(v, what)
     # other numbers.Rational (Integral first: numpy-like ints)
     if isinstance(x, Integral):
@@ -209,6 +207,41 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
     if isinstance(x, Rational):
         return _check_bits(int(x.numerator), int(x.denominator), what, x)
     raise NotRational(f"{what} {to_short(x)} of type {type(x).__name__} is not an exact rational number")
+
+
+def _numpy_float(x: Any, what: str) -> fmpq:
+    """A NumPy float (float16, float32, float64, longdouble) read as the shortest decimal that
+    its own type rounds back to it: ``np.float32(-0.1)`` is -1/10, as typed, not the float64 repr
+    of its binary value (-0.10000000149011612).  ``format_float_scientific(unique=True)`` is that
+    decimal whatever the print options (``str`` is not: under ``legacy='1.13'`` a float32 1/3
+    prints as 0.333333, which is not even the same float32)."""
+    import numpy as np
+    if not np.isfinite(x):
+        raise NotRational(f"{what} is {x!r}, not a finite number")
+    return _parse_number(np.format_float_scientific(x, unique=True, trim="-"), what)
+
+
+def as_list(data: Any) -> Any:
+    """``data.tolist()``, except that a NumPy float array keeps its entries as NumPy scalars
+    (nested lists of them): ``tolist`` turns a float32 into the Python float of its binary value,
+    whose repr is not the float32's (0.10000000149011612 for ``np.float32(0.1)``); kept, each
+    entry is read by :func:`to_fmpq` as its own type's shortest decimal.
+
+    >>> import numpy as np
+    >>> [to_fmpq(v) for v in as_list(np.array([0.1, -0.1], dtype=np.float32))]
+    [1/10, -1/10]
+    >>> as_list(np.array([[1, 2]]))
+    [[1, 2]]
+    """
+    if getattr(getattr(data, "dtype", None), "kind", None) != "f" or \
+            not type(data).__module__.startswith("numpy"):
+        return data.tolist()
+    import numpy as np
+    a = np.asarray(data)  # an np.matrix too (its rows would be matrices again)
+
+    def nest(b):
+        return b[()] if b.ndim == 0 else list(b) if b.ndim == 1 else [nest(r) for r in b]
+    return nest(a)
 
 
 def to_int(x: Any, what: str, lo: int | None = None, hi: int | None = None) -> int:
@@ -265,8 +298,8 @@ def _rows_of(data: Any, name: str) -> list[list[Any]]:
     if isinstance(data, fmpq_mat) or isinstance(data, flint.fmpz_mat):
         return [[data[i, j] for j in range(data.ncols())] for i in range(data.nrows())]
     if hasattr(data, "tolist"):  # numpy arrays, sympy matrices
-        data = data.tolist()
-    rows = [r.tolist() if hasattr(r, "tolist") else r for r in _items(data, name, "a matrix (a list of rows)")]
+        data = as_list(data)
+    rows = [as_list(r) if hasattr(r, "tolist") else r for r in _items(data, name, "a matrix (a list of rows)")]
     out = []
     for i, r in enumerate(rows):
         if isinstance(r, (Mapping, Set)):
@@ -325,11 +358,11 @@ def vector_entries(data: Any, n: int | None, name: str = "x0") -> list:
     """
     want = "a vector" + ("" if n is None else f" of length {n}") + " (a list of numbers)"
     if hasattr(data, "tolist") and not isinstance(data, fmpq_mat):
-        data = data.tolist()
+        data = as_list(data)
     flat: list[Any] = []
     for i, e in enumerate(_items(data, name, want)):
         if hasattr(e, "tolist") and getattr(e, "ndim", 0) > 0:
-            e = e.tolist()
+            e = as_list(e)
         if isinstance(e, (list, tuple)):
             if len(e) != 1:
                 raise ShapeError(f"{name} must be {want}: entry {i} is a row of length {len(e)}")

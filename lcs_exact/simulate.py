@@ -601,9 +601,9 @@ def _phase_horizon(phase: Phase, H):
     rates, else (the largest horizon they allow, a reason): H max|lambda(A_I)| <= MAX_HORIZON_FAST
     and H min{|lambda(A_I)| != 0} <= MAX_HORIZON_SLOW.  Applied to the phases evaluated (a mode
     can be faster than A: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0}); a nilpotent A_I
-    has no limit (its constraints are polynomials)."""
+    has no limit (its constraints are polynomials), nor has an equilibrium (x constant: no event)."""
     quick = phase.spectrum.modulus_bounds()  # bounds from chi's coefficients: no roots
-    if quick is None:
+    if quick is None or phase.equilibrium:
         return H, None
     with workprec(64):
         if H.arb(64) * quick[0] <= MAX_HORIZON_FAST and H.arb(64) * quick[1] <= MAX_HORIZON_SLOW:

@@ -25,10 +25,11 @@ from .modelformat import model_data, write_model_file
 from .modemap import mode_map
 from .modes import Mode, format_mode
 from .ratfunc import RationalFunction, RationalMatrix
-from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, adjugate_coefficients, eigenvalue_moduli, mat_rows,
+from .rational import (MAX_DIMENSION, MAX_MARKOV_INDEX, adjugate_coefficients, as_list, eigenvalue_moduli, mat_rows,
                        matrix_to_sympy, submatrix, to_fmpq, to_int, to_matrix, to_short, to_vector)
 from .selection import initial_solution, is_regular, ldcp, rcp, select_modes
 from .sources import SourceBlock, source_block
+from .statespace import read_statespace, to_statespace
 
 __all__ = ["LCS", "WellPosedness", "LATEX_MAX_CHARS"]
 
@@ -136,7 +137,8 @@ class LCS:
         if k == 0:
             raise ShapeError("B has no columns: an LCS needs at least one complementarity pair (k >= 1)")
         self.C = to_matrix(_as_row(C), "C", (k, n))
-        if not isinstance(D, (list, tuple)) and not hasattr(D, "tolist") and not isinstance(D, fmpq_mat):
+        if getattr(D, "ndim", None) == 0 or not isinstance(D, (list, tuple)) and not hasattr(D, "tolist") and \
+                not isinstance(D, fmpq_mat):  # a scalar (a numpy scalar too) for k = 1
             D = [[D]]
         self.D = to_matrix(_as_row(D), "D", (k, k))
         self.n, self.k = n, k
@@ -190,8 +192,8 @@ class LCS:
         """Validated restitution coefficients (one fmpq per constraint), or None (docs/extensions.md)."""
         if e is None:
             return None
-        if isinstance(e, (list, tuple)) or hasattr(e, "tolist"):
-            e = list(e.tolist() if hasattr(e, "tolist") else e)
+        if isinstance(e, (list, tuple)) or hasattr(e, "tolist") and getattr(e, "ndim", None) != 0:
+            e = list(as_list(e) if hasattr(e, "tolist") else e)
             if len(e) != self.k:
                 raise ShapeError(f"restitution has {len(e)} coefficients, expected one per constraint (k = {self.k})")
             es = tuple(fmpq(0) if x is None else to_fmpq(x, f"restitution[{i}]") for i, x in enumerate(e))
@@ -354,7 +356,9 @@ class LCS:
         arrays): x' = A x + B u, y = C x + D u with 0 <= y ⊥ u >= 0 (inputs and outputs paired, so
         the system must be square).  Floats are read as their shortest decimals (0.1 is 1/10);
         ``options`` go to :class:`LCS` (names, restitution, ...).  State and pair names come from
-        the system's ``state_labels`` / ``input_labels`` when it has them.
+        the system's labels when it has them (:func:`~lcs_exact.statespace.read_statespace`):
+        ``LCS.from_statespace(lcs.to_statespace())`` gives back the names and, for decimal data
+        of up to 15 significant digits, the exact matrices.
 
         >>> class SS:  # a stand-in with the attributes of control.StateSpace
         ...     A, B, C, D = [[0.0, 1.0], [-2.5, -0.1]], [[0.0], [1.0]], [[1.0, 0.0]], [[0.0]]
@@ -362,35 +366,44 @@ class LCS:
         [   0,     1]
         [-5/2, -1/10]
         """
-        mats = []
-        for key in ("A", "B", "C", "D"):
-            m = getattr(sys, key, None)
-            if m is None:
-                raise InvalidArgument(f"from_statespace needs a system with A, B, C, D; {key} is missing")
-            mats.append(m.tolist() if hasattr(m, "tolist") else m)
-        A, B, C, D = mats
-        k_in = len(B[0]) if B and isinstance(B[0], list) else 1
-        k_out = len(C)
-        if k_in != k_out:
-            raise ShapeError(f"an LCS pairs each input u_i with an output y_i: the system has {k_in} inputs "
-                             f"and {k_out} outputs")
-        if "state_names" not in options and getattr(sys, "state_labels", None):
-            options["state_names"] = list(sys.state_labels)
-        if "constraint_names" not in options and getattr(sys, "input_labels", None):
-            options["constraint_names"] = list(sys.input_labels)
-        return cls(A, B, C, D, **options)
+        mats, names = read_statespace(sys)
+        return cls(*mats, **{**names, **options})
+
+    def to_statespace(self):
+        """The linear part x' = A x + B u, y = C x + D u as a python-control ``StateSpace`` (needs
+        the extra ``control``): A, B, C, D rounded to float64, states named ``state_names``,
+        inputs and outputs as in tables and plots (``u_0``, ``u (stop)``, the builder's
+        ``force (stop)``; :func:`~lcs_exact.statespace.signal_names`).  The complementarity
+        conditions stay here: python-control sees u as a free input.
+
+        >>> ss = LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]], constraint_names=["stop"]).to_statespace()
+        >>> ss.state_labels, ss.input_labels, ss.output_labels
+        (['x_0', 'x_1'], ['u (stop)'], ['y (stop)'])
+        >>> LCS.from_statespace(ss).constraint_names
+        ('stop',)
+        """
+        return to_statespace(self)
 
     def to_numpy(self):
-        """(A, B, C, D) as float64 arrays (rounded: the exact data stay in ``lcs.A`` ...).
+        """(A, B, C, D) as float64 arrays (rounded: the exact data stay in ``lcs.A`` ...); an entry
+        beyond float64's range is an InvalidArgument naming it (not infinity).
 
         >>> [m.shape for m in LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]]).to_numpy()]
         [(2, 2), (2, 1), (1, 2), (1, 1)]
         """
         from fractions import Fraction
         import numpy as np
-        return tuple(np.array([[float(Fraction(int(e.p), int(e.q))) for e in row] for row in mat_rows(m)],
-                              dtype=np.float64).reshape(m.nrows(), m.ncols())
-                     for m in (self.A, self.B, self.C, self.D))
+        out = []
+        for key in "ABCD":
+            m = getattr(self, key)
+            try:
+                out.append(np.array([[float(Fraction(int(e.p), int(e.q))) for e in row] for row in mat_rows(m)],
+                                    dtype=np.float64).reshape(m.nrows(), m.ncols()))
+            except OverflowError:
+                big = next(e for row in mat_rows(m) for e in row if abs(e) > 2**1023)
+                raise InvalidArgument(f"{key} has an entry {to_short(big)} beyond the range of float64: it has "
+                                      "no float (to_numpy and to_statespace round to float64)") from None
+        return tuple(out)
 
     def embed(self, x: Any) -> fmpq_mat:
         """The full initial state (n x 1) for a state x of the modelled system.

@@ -19,9 +19,10 @@ from .errors import InvalidArgument, LCSError, Undetermined
 from .fixture import fixture_dict
 from .modes import format_mode, latex_mode
 from .plotting import plot_trajectory
-from .rational import to_fmpq, to_int
+from .rational import as_list, to_fmpq, to_int
 from .reals import Real, as_real
 from .sources import source_block
+from .statespace import signal_names, time_response
 from .vectors import ExactVector, ProjectedVector
 
 __all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA", "Branches"]
@@ -190,15 +191,15 @@ class Trajectory:
                          + (" (the trajectory is partial)" if self.partial else ""))
 
     def _phase_at(self, t: Real) -> PhaseRecord:
-        """The phase holding t, for u and y; at the end T* of an accumulation window, the phase
-        after it (the scaled cycles have no value at T* itself: there u and y are the right
-        limits, as the state is)."""
+        """The phase holding t, for u and y; at the end of a phase, the phase after it: u and y
+        at an event time are the right limits u(t+), y(t+), as the state is x(t+) (the scaled
+        cycles of an accumulation window have no value at its end T* itself)."""
         i, at_end = self._locate(t)
-        if at_end and hasattr(self.phases[i].phase, "output"):
-            if i + 1 == len(self.phases):
-                raise InvalidArgument(f"u and y at the accumulation time {t.label()} itself: the trajectory "
-                                      "ends there, and the inputs have no limit from the left (the state does)")
+        if at_end and i + 1 < len(self.phases):
             return self.phases[i + 1]
+        if at_end and hasattr(self.phases[i].phase, "output"):
+            raise InvalidArgument(f"u and y at the accumulation time {t.label()} itself: the trajectory "
+                                  "ends there, and the inputs have no limit from the left (the state does)")
         return self.phases[i]
 
     def state(self, t: Any) -> ExactVector:
@@ -215,7 +216,9 @@ class Trajectory:
         return rec.phase.state(t - rec.t0)
 
     def u(self, t: Any) -> ExactVector:
-        """u(t) on a continuous phase (u_I = F_I x, zero off I).  An input that the state does
+        """u(t) on a continuous phase (u_I = F_I x, zero off I); at an event time the value after
+        it, u(t+), as :meth:`state` gives x(t+) (the impulse at the event is in
+        ``Event.impulse``).  An input that the state does
         not determine there (:meth:`undetermined`) is reported as such: its component is an
         :class:`UndeterminedReal` (printed ``undetermined``; asking it for digits raises
         :class:`~lcs_exact.errors.Undetermined`)."""
@@ -227,8 +230,8 @@ class Trajectory:
         return PartlyUndetermined(v, rec.undetermined, "u") if rec.undetermined else v
 
     def y(self, t: Any) -> ExactVector:
-        """y(t) = C x + D u on a continuous phase (components that depend on an undetermined
-        input are undetermined, as for :meth:`u`)."""
+        """y(t) = C x + D u on a continuous phase, y(t+) at an event time (components that depend
+        on an undetermined input are undetermined, as for :meth:`u`)."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
         if hasattr(rec.phase, "output"):  # an accumulation window (accumulation.ScaledCycle)
@@ -299,7 +302,8 @@ class Trajectory:
     def _point(rec: PhaseRecord, tq: fmpq, prec: int, at_start: bool = False) -> list[arb]:
         phase = rec.phase
         with workprec(prec):
-            if at_start or rec.t0.known_rational() == tq:  # the phase's start itself, exactly
+            if at_start or rec.t0.known_rational() == tq or getattr(phase, "equilibrium", False):
+                # the phase's start itself, exactly, or any time of a phase at an equilibrium
                 x = phase.z.arb(prec)
                 return [x[i, 0] for i in range(x.nrows())]
             dt = arb(tq) - rec.t0.arb(prec)
@@ -334,17 +338,16 @@ class Trajectory:
         """(times as fmpq, column names, rows of floats): the states at t (right limits), then
         u and y when asked (an undetermined input is NaN)."""
         if hasattr(t, "tolist"):
-            t = t.tolist()
+            t = as_list(t)
         if isinstance(t, (str, bytes)) or not hasattr(t, "__iter__"):
             t = [t]
         ts = [to_fmpq(v, "t") for v in t]
         names = list(self.lcs.state_names)
         rows = [[float(b.mid()) for b in row] for row in self.sample(ts, 17)]
-        roles = getattr(self.lcs, "roles", None)
         for kind, wanted in (("u", u), ("y", y)):
             if not wanted:
                 continue
-            names += [roles[j][0 if kind == "u" else 1] if roles else f"{kind}_{j}" for j in range(self.lcs.k)]
+            names += signal_names(self.lcs)[1 if kind == "u" else 2]
             for row, tq in zip(rows, ts):
                 vec = getattr(self, kind)(tq)
                 row += [float(c) for c in vec]
@@ -366,13 +369,29 @@ class Trajectory:
 
     def to_pandas(self, t: Any, *, u: bool = False, y: bool = False):
         """A pandas DataFrame indexed by t (name ``t``) with the state names as columns (then u
-        and y in the builder's words when asked): :meth:`to_numpy` with labels."""
+        and y when asked, named as in plots: the builder's words, ``u_0``, or ``u (stop)``;
+        :func:`~lcs_exact.statespace.signal_names`): :meth:`to_numpy` with labels."""
         try:
             import pandas as pd
         except ImportError:
             raise InvalidArgument("to_pandas needs pandas: pip install pandas (or lcs_exact[data])") from None
         ts, names, rows = self._columns(t, u, y)
         return pd.DataFrame(rows, index=pd.Index([float(v) for v in ts], name="t"), columns=names)
+
+    def to_control(self, t: Any):
+        """The run at the times ``t`` as a python-control ``TimeResponseData`` (needs the extra
+        ``control``): ``time``, ``states`` x(t), ``inputs`` u(t), ``outputs`` y(t), each at an
+        event time the value after it (as :meth:`to_numpy`), certified then rounded to float64,
+        named as :meth:`LCS.to_statespace <lcs_exact.LCS.to_statespace>` names them; ``success``
+        is False for a partial run.  See :func:`lcs_exact.statespace.time_response`.
+
+        >>> from lcs_exact.examples import two_carts
+        >>> from lcs_exact import simulate
+        >>> r = simulate(two_carts(), [0, 1, -1, 0], 1).to_control([0, 0.5, 1])
+        >>> r.state_labels, r.input_labels, r.states.shape, r.inputs.shape
+        (['q_0', 'q_1', "q_0'", "q_1'"], ['force (stop)'], (4, 3), (3,))
+        """
+        return time_response(self, t)
 
     def to_csv(self, path: Any, t: Any, *, u: bool = False, y: bool = False) -> None:
         """Write t and the states (u, y) at the times t as CSV (the format ``lcs-exact compare``
@@ -405,10 +424,11 @@ class Trajectory:
             status = "NOT certified"
         if self.choices:
             status += f", one of several solutions ({len(self.choices)} choices)"
-        head = f"<Trajectory on [0, {self.t_end.label()}]: {len(self.events)} events, {status}"
-        if self.partial:
-            head += f", PARTIAL ({self.status.value}): {self.stop_reason}"
-        return head + ">"
+        if not self.partial:
+            return f"<Trajectory on [0, {self.t_end.label()}]: {len(self.events)} events, {status}>"
+        # a partial run is known up to t_last only: say so first, then the horizon asked for
+        return (f"<Trajectory known on [0, {self.t_last.label()}] of [0, {self.t_end.label()}] (PARTIAL, "
+                f"{self.status.value}): {len(self.events)} events, {status}; {self.stop_reason}>")
 
     def _repr_latex_(self):
         rows = []

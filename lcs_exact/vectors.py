@@ -25,7 +25,7 @@ from .errors import ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of, symbolic_expm, t_symbol
 from .interfaces import SystemLike
 from .nodes import Node
-from .rational import format_form, is_zero, matrix_to_sympy, to_matrix, to_vector, vector_entries, zeros
+from .rational import as_list, format_form, is_zero, matrix_to_sympy, to_matrix, to_vector, vector_entries, zeros
 from .reals import ComponentReal, Real, ScaledReal, as_real, ca_from_state, ca_state, is_sympy, radical_form, rational_ca
 from .subspaces import RowSpan, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
 
@@ -591,7 +591,7 @@ def as_exact_vector(x: Any, n: int | None = None, name: str = "x0", policy: Poli
         return RationalVector(to_vector(x, x.nrows() if n is None and x.ncols() == 1 else
                                         (n if n is not None else x.ncols()), name), policy)
     if hasattr(x, "tolist") and not is_sympy(x):
-        x = x.tolist()
+        x = as_list(x)
     flat = vector_entries(x, n, name)
     if any(isinstance(e, Real) or (is_sympy(e) and not getattr(e, "is_Rational", False)) for e in flat):
         # the library's own exact reals (a component of traj.state(t)) and SymPy closed forms
@@ -619,7 +619,10 @@ def orbit_start(v: ExactVector, M: fmpq_mat) -> tuple[ExactVector, Real | None]:
 
 def homogenized(x: ExactVector) -> ExactVector:
     """x itself, or c q (c > 0 certified, q rational) when the forms proven to vanish on x leave
-    a single direction q (rank n - 1): then every sign at x is the sign at q, exactly."""
+    a single direction q (rank n - 1): then every sign at x is the sign at q, exactly; the
+    rational 0 when they leave none (rank n: a velocity reset to rest, x = P_I x- with P_I = 0)."""
+    if x.known_rational() is None and x.zero_forms.nrows() and x.zero_span.dim == x.n:
+        return RationalVector(zeros(x.n, 1), x.policy)
     if x.known_rational() is not None or isinstance(x, (ScaledVector, AlgebraicVector)) or \
             x.zero_forms.nrows() != x.n - 1:
         return x

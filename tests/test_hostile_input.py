@@ -618,6 +618,53 @@ def test_horizon_of_a_mode_faster_than_A():
         simulate(lcs, [-1], 10**100, time_limit=30)  # a short t_end in the message, the limit reached
 
 
+def test_an_exact_equilibrium_has_no_horizon_limit():
+    """At a state z with A_I z = 0 (proven) the phase is x(t) = z: u = F_I z and y are constant,
+    none negative (the mode was selected at z), so no event ever comes; the run finishes at any
+    t_end with the state exactly z.  It used to stop with HorizonExceeded at 10^6 / (slowest rate)
+    of A_I, although nothing is ever evaluated at a large t."""
+    T = 10**18
+    assert T * 1 > MAX_HORIZON_SLOW  # every system below has a rate of modulus 1
+    # the oscillator x1' = x2, x2' = -x1 + u, y = x1 from (1, 0): x = (cos t, -sin t) until y = cos t
+    # reaches 0 at pi/2 with x = (0, -1); the stop (y = x1: C B = 0, C A B = 1 > 0) resets the
+    # velocity (P_I of mode {0} projects onto V_{0} = {x1 = x1' = 0} = {0}): x(pi/2+) = (0, 0), and
+    # A 0 = 0: at rest from pi/2 on, mode {} (u = 0), y = 0
+    osc = LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
+    tr = simulate(osc, [1, 0], T)
+    assert tr.certified and not tr.partial and len(tr.events) == 1
+    assert tr.events[0].time.closed_form == sp.pi / 2
+    assert vec(tr.state(T).known_rational()) == [0, 0] and vec(tr.state(T - 1).known_rational()) == [0, 0]
+    assert vec(tr.u(T).known_rational()) == [0] and vec(tr.y(T).known_rational()) == [0]
+    assert [[b.is_exact() and b == 0 for b in row] for row in tr.sample([T, 10**17 + 1])] == [[True] * 2] * 2
+    assert simulate(osc, [0, 0], T).state(T).known_rational() == fmpq_mat([[0], [0]])
+    # a cart with friction, p' = v, v' = -v + u, stop y = p: A (p, 0) = 0, a line of equilibria
+    # (eigenvalues 0 and -1); at p = 1 no event (y = 1 > 0, u = 0), at p = sqrt 2 neither (a
+    # start that is not rational: A z = 0 is proven from the form v = 0 known on it)
+    cart = LCS([[0, 1], [0, -1]], [[0], [1]], [[1, 0]], [[0]])
+    tr = simulate(cart, [1, 0], T)
+    assert not tr.events and vec(tr.state(T).known_rational()) == [1, 0] and vec(tr.y(T).known_rational()) == [1]
+    tr = simulate(cart, [sp.sqrt(2), 0], T)
+    assert not tr.events and tr.certified and not tr.partial
+    x = tr.state(T)
+    with lcs_exact.balls.workprec(256):
+        assert abs(x[0].ball(40) - arb(2).sqrt()) < arb(10) ** -39 and x[1].sign() == 0
+    # from (1/2, -1): v = -e^-t, p = e^-t - 1/2, which reaches 0 at log 2 with v = -1/2; the stop
+    # resets v: (0, 0), an equilibrium again
+    tr = simulate(cart, ["1/2", -1], T)
+    assert len(tr.events) == 1 and tr.events[0].time.closed_form == sp.log(2)
+    assert vec(tr.state(T).known_rational()) == [0, 0]
+    # an equilibrium of a closed mode: carts q0, q1 (velocities v0, v1) joined by a spring,
+    # cart 1 damped, a constant force -2 (the appended state c = 1) pushing cart 0 onto the stop
+    # y = q0: v0' = (q1 - q0) - 2c + u, v1' = (q0 - q1) - v1.  At q = v = 0 the stop holds cart 0
+    # with u = 2 (v0' = 0) and nothing moves: mode {0}, whose A_I has the damped oscillator of
+    # cart 1 (rates of modulus 1)
+    push = LCS([[0, 0, 1, 0, 0], [0, 0, 0, 1, 0], [-1, 1, 0, 0, -2], [1, -1, 0, -1, 0], [0, 0, 0, 0, 0]],
+               [[0], [0], [1], [0], [0]], [[1, 0, 0, 0, 0]], [[0]])
+    tr = simulate(push, [0, 0, 0, 0, 1], T)
+    assert not tr.events and tr.phases[0].mode == frozenset({0}) and not tr.partial
+    assert vec(tr.state(T).known_rational()) == [0, 0, 0, 0, 1] and vec(tr.u(T).known_rational()) == [2]
+
+
 def test_single_stiff_exponential_is_not_slow():
     tr = simulate(LCS([[-10**6]], [[1]], [[1]], [[0]]), [1], 1, time_limit=2)
     assert not tr.events and tr.state(1)[0].ball(20).contains(0) is False

@@ -103,6 +103,67 @@ def test_to_matrix_of_numpy_float_array():
     assert mat(m) == [[Fraction(1, 2), Fraction(1, 10)], [Fraction(2), Fraction(-3, 4)]]
 
 
+def _shortest_decimal(x) -> Fraction:
+    """The shortest decimal that x's own NumPy type reads back as x, found by brute force from
+    x's exact value (x is a float64 value exactly: every float16/32/64, and the longdoubles made
+    here from float64s): the value rounded to 1, 2, 3, ... significant digits (Decimal,
+    half-even), each parsed back by the type itself; the first that gives x back."""
+    import decimal
+    exact = Fraction(float(x))
+    for digits in range(1, 45):
+        with decimal.localcontext() as ctx:
+            ctx.prec = digits
+            text = str(decimal.Decimal(exact.numerator) / decimal.Decimal(exact.denominator))
+        if type(x)(text) == x:
+            return Fraction(text)
+    raise AssertionError(f"no decimal of at most 44 digits reads back as {x!r}")
+
+
+FLOAT_TYPES = [np.float16, np.float32, np.float64, np.longdouble]
+TYPED = ["0.1", "-0.1", "2.5", "-1e-3", "0.3", "-7.77", "1/3", "-2/3", "1e-7", "-123.456"]
+
+
+def _read_every_way(x, want):
+    T = type(x)
+    assert F(to_fmpq(x)) == want and F(to_fmpq(-x)) == -want
+    assert F(to_fmpq(np.array(x))) == want  # a 0-d array
+    assert vec(to_vector(np.array([x, -x], dtype=T), 2)) == [want, -want]
+    assert mat(to_matrix(np.array([[x], [-x]], dtype=T))) == [[want], [-want]]
+    assert mat(to_matrix(np.matrix([[x, -x]], dtype=T))) == [[want, -want]]
+    assert vec(to_vector([x, np.array(-x)], 2)) == [want, -want]
+    with np.printoptions(legacy="1.13"):  # str() then differs; the reading must not
+        assert F(to_fmpq(x)) == want and F(to_fmpq(np.array(-x))) == -want
+
+
+@pytest.mark.filterwarnings("ignore::PendingDeprecationWarning")  # np.matrix is read too
+@pytest.mark.parametrize("T", FLOAT_TYPES, ids=lambda T: T.__name__)
+def test_every_numpy_float_reads_as_its_own_shortest_decimal(T):
+    """np.float32(-0.1) is -1/10 like np.float32(0.1) is 1/10: a scalar, a 0-d array, the entries
+    of 1-d and 2-d arrays (tolist() made float32 entries Python floats, whose repr is that of
+    the float64 value: -0.10000000149011612) and under any print options (str(np.float32(1/3))
+    is 0.333333 under legacy='1.13', not the float32 0.33333334)."""
+    for text in TYPED:
+        x = T(float(Fraction(text)))  # the float64 nearest the text, then rounded to T
+        _read_every_way(x, _shortest_decimal(x))
+    for text in ("0.1", "-0.1", "0.3", "-1e-3", "1e-7", "-6"):
+        # one significant digit, read by T itself: no shorter decimal exists, so it is x's shortest
+        _read_every_way(T(text), Fraction(text))
+
+
+def test_numpy_float_values_derived_by_hand():
+    # the float32 nearest 1/3 is 11184811/2^25 = 0.3333333432674407958984375; 0.3333333 reads back
+    # as 11184810/2^25 (it is below the midpoint 0.33333332836627960205078125), 0.33333334 as
+    # 11184811/2^25: the shortest decimal is 0.33333334
+    assert Fraction(float(np.float32(1 / 3))) == Fraction(11184811, 2**25)
+    assert F(to_fmpq(np.float32(1 / 3))) == F(to_fmpq(np.array([np.float32(1 / 3)])[0])) == Fraction(33333334, 10**8)
+    # float16 has 10 fraction bits: -0.1 is -1638/2^14 = -0.0999755859375, and -0.1 reads back as it
+    assert Fraction(float(np.float16(-0.1))) == Fraction(-1638, 2**14)
+    assert F(to_fmpq(np.array(np.float16(-0.1)))) == Fraction(-1, 10)
+    for bad in (np.float32("nan"), np.array(np.float16("inf")), np.longdouble("-inf")):
+        with pytest.raises(NotRational, match="not a finite number"):
+            to_fmpq(bad)
+
+
 @pytest.mark.parametrize("bad", [
     "abc", "1/0", "", None, float("nan"), float("inf"), float("-inf"), sympy.sqrt(2), sympy.pi,
     1 + 2j, complex(1, 0), True, False, [1], object(),

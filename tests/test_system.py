@@ -84,6 +84,22 @@ def test_float_and_string_inputs_are_exact():
     assert mat(lcs.markov(1)) == [[Fraction(2, 21)]]
 
 
+def test_numpy_scalars_where_a_scalar_is_accepted():
+    """D for k = 1, a restitution coefficient and a mechanical force may be NumPy scalars or 0-d
+    arrays (a NumPy scalar has ``tolist`` too: it was taken for a matrix or a list, and refused
+    with "D must be a matrix" or a bare TypeError); each is read as its own type's shortest
+    decimal: np.float32(-0.1) is -1/10, as typed."""
+    import numpy as np
+    from lcs_exact import models
+    for D in (np.float32(-0.1), np.array(np.float16(-0.1)), np.float64(-0.1)):
+        assert mat(LCS([[1]], [[1]], [[1]], D).D) == [[Fraction(-1, 10)]]
+    ball = models.mechanical([[1]], [[0]], [[1]], force=np.float32(-9.81))
+    assert mat(ball.A)[1][2] == Fraction(-981, 100)  # q'' = -9.81 (the force on the appended state)
+    for e in (np.float32(0.9), np.array(np.float16(0.9)), np.array([np.float32(0.9)]), [np.float64(0.9)]):
+        assert [Fraction(int(v.p), int(v.q)) for v in LCS(ball.A, ball.B, ball.C, ball.D, restitution=e).restitution] \
+            == [Fraction(9, 10)]
+
+
 def test_flat_inputs_for_single_constraint():
     lcs = LCS([[0, 1], [0, 0]], [0, 1], [1, 0], 0)
     assert (lcs.n, lcs.k) == (2, 1)
