@@ -14,7 +14,8 @@ from .reals import Real
 from .vectors import ExactVector, expm_action
 from .simulate import simulate
 from .sweep import SweepResult, param_sweep, sweep
-from .system import LCS, WellPosedness
+from .system import LCS
+from .wellposedness import WellPosedness
 from .accumulation import Accumulation
 from .trajectory import Branches, Event, Status, Trajectory
 from .modemap import ModeMap, Region
