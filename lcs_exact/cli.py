@@ -295,7 +295,7 @@ def _parser() -> argparse.ArgumentParser:
     sel.add_argument("--x0", help="comma-separated initial state (default: the file's x0)")
     chk = sub.add_parser("check", help="well-posedness (Theorem 6.3), Markov parameters, modes")
     chk.add_argument("model", help=_MODEL_HELP)
-    cmp_ = sub.add_parser("compare", help="error of other solvers' solutions (CSV: t, x1..xn) "
+    cmp_ = sub.add_parser("compare", help="error of other solvers' solutions (CSV: t, x_0..x_{n-1}) "
                           "against a fixture; several CSVs give the order of convergence")
     cmp_.add_argument("fixture", help="a certified fixture (JSON), as written by `lcs-exact simulate MODEL -o "
                       "FIXTURE.json` or `lcs-exact zoo`")

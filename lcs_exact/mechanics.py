@@ -41,11 +41,11 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
         Constraint matrix: the constraints are E q >= 0 (a flat list is one constraint).
     damping : m x m matrix, optional
         Damping matrix (the paper's D); zero by default.  ``D=`` is accepted as its old name.
-    force : sequence of m rationals or sources, optional
+    force : sequence of m rationals or Source objects, optional
         External force on each coordinate: a constant (gravity: ``-m g``) or a source of
         :mod:`lcs_exact.sources` (``sine(omega, F0)``); one entry per coordinate (a single entry
         for m = 1).  Carried by appended exosystem states.
-    gap : sequence of k rationals or sources, optional
+    gap : sequence of k rationals or Source objects, optional
         Offsets of the constraints, y = E q + gap >= 0 (a floor at q_0 = -1/10 is gap 1/10).
     restitution : rational or sequence of k rationals in [0, 1], optional
         Newton's impact law (Moreau's generalisation for simultaneous impacts), see

@@ -10,6 +10,7 @@ import math
 from fractions import Fraction
 
 import mpmath as mp
+import numpy as np
 import pytest
 from flint import arb, ctx, fmpq
 from helpers import A_CARTS, carts, mpmath_digits
@@ -417,3 +418,87 @@ def test_bad_csv(tmp_path, text, err, fragment):
     p.write_text(text)
     with pytest.raises(err, match=re_escape(fragment)):
         read_solution_csv(p)
+
+
+# ---------------------------------------------------------------------------------------------
+# windows: the events an accumulation implies, the solver's own switch, float grids, the plant
+# ---------------------------------------------------------------------------------------------
+
+def _ball_half():
+    """A ball dropped from 5 with g = 10, e = 1/2: impacts at 1, 2, 2.5, 2.75, ..., 3 - 2^-k,
+    accumulating at T* = 3 (flight times 2, 1, 1/2, ...); at rest on the floor afterwards."""
+    ball = L.examples.bouncing_ball(g=10, e="1/2")
+    return L.simulate(ball, ball.embed([5, 0]), 4, digits=20)
+
+
+def _ball_state(t: float) -> list[float]:
+    """(q, q', 1) of that ball at t, derived here as flights between impacts: impact k at t_k
+    (t_0 = 1), take-off speed 10 / 2^(k+1), flight time 2 v / g; at rest from T* = 3."""
+    if t < 1:
+        return [5 - 5 * t * t, -10 * t, 1.0]
+    if t >= 3:
+        return [0.0, 0.0, 1.0]
+    k, tk, v = 0, 1.0, 5.0  # impact k at tk, take-off speed v = 10 e^(k+1)
+    while tk + 2 * v / 10 <= t:
+        tk, v, k = tk + 2 * v / 10, v / 2, k + 1
+    s = t - tk
+    return [v * s - 5 * s * s, v - 10 * s, 1.0]
+
+
+def test_windows_cover_the_implied_impacts_and_the_solvers_late_switch():
+    tr = _ball_half()
+    assert [float(e.time) for e in tr.events] == [1.0, 2.0, 2.5] and len(tr.accumulations) == 1
+    h, delay = 1e-3, 3e-3  # a solver three steps late at every impact: X(t) = x(t - delay)
+    t = np.arange(4001) * h
+    X = np.array([_ball_state(max(0.0, s - delay)) for s in t])
+    r = L.compare(tr, t, X, atol=0.05)
+    assert r.passed, str(r)
+    assert all(abs(e.time_error - delay) <= h for e in r.events)  # the middle of the stencil of the jump
+    # the window of the first implied impact, 2.75, reaches the solver's switch 2.753 (+- one step)
+    (w,) = [w for w in r.windows if w[0] < 2.75 < w[1]]
+    assert w[0] <= 2.75 - 2 * h and w[1] >= 2.753 + h
+    # from the implied impact closer than 2w to T* = 3, one window reaches past it
+    assert any(a < 3 - 4 * h and b >= 3 + 2 * h for a, b in r.windows)
+    # windows of 2h around the listed impacts only (no implied ones, no switch) would leave the
+    # velocity's O(1) jump in: between 2.75 and 2.753 the error is 10 / 2^3 + 10 / 2^4 = 1.875 (minus 10 s)
+    assert max(abs(a[1] - b[1]) for s, a, b in zip(t, X, (_ball_state(v) for v in t)) if 2.7505 < s < 2.7525) > 1.8
+
+
+def test_a_wrong_restitution_is_not_hidden_by_the_windows():
+    tr = _ball_half()
+    t = np.arange(4001) * 1e-3
+    X = np.array([_ball_state(s) for s in t])
+    X[t > 2.0, 1] *= 0.9  # the take-off after the second impact 10 % too slow
+    r = L.compare(tr, t, X, atol=0.05)
+    assert not r.passed and r.violation.name == "q'" and 2.0 < r.violation.time < 2.5
+
+
+def test_float_grid_overshoot_and_the_plants_columns():
+    tr = _ball_half()
+    t = np.arange(401) * 0.01
+    t[-1] = np.nextafter(4.0, 5.0)  # 4.000000000000001: a float grid that overshoots t_end = 4 by rounding
+    assert t[-1] > 4
+    X = np.array([_ball_state(min(s, 4.0)) for s in t])
+    r = L.compare(tr, t, X, atol=1e-9)
+    assert r.n_beyond == 0 and r.passed and r.components == (0, 1, 2)
+    r = L.compare(tr, t, X[:, :2], atol=1e-9)  # the plant (q, q') without gravity's constant
+    assert r.passed and r.components == (0, 1) and r.names == ("q", "q'", "1")
+    assert list(r.to_pandas().index) == ["q", "q'"]
+    with pytest.raises(L.ShapeError, match="all n states, or the plant's states only"):
+        L.compare(tr, t, X[:, :1])
+
+
+def test_an_older_fixture_without_sources_and_laws_still_reads():
+    from lcs_exact.fixture import content_digest
+    fx = _ball_half().to_fixture(20)
+    assert fx["sources"]["expressions"] == ["1"] and "law" in fx["accumulations"][0]
+    old = {k: v for k, v in fx.items() if k not in ("sources", "digest")}
+    old["accumulations"] = [{k: v for k, v in a.items() if k != "law"} for a in fx["accumulations"]]
+    old["digest"] = content_digest(old)
+    back = L.read_fixture(old)
+    assert back.sources is None and back.accumulations[0].law is None and back.restitution == (fmpq(1, 2),)
+    with pytest.raises(L.InvalidArgument, match="no law"):
+        back.accumulations[0].event_time(0)
+    new = L.read_fixture(fx)
+    assert new.sources.expressions == ("1",) and new.lcs.plant == (0, 1)
+    assert [float(new.accumulations[0].event_time(k).mid()) for k in range(3)] == [2.75, 2.875, 2.9375]
