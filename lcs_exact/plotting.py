@@ -484,8 +484,7 @@ def _draw_window(cv: _Canvas, ph: PhaseInterval, npts: int) -> None:
     fa, fb = float(ph.start), float(ph.end)
     width = fb - fa
     cuts = [fa]
-    for t in ph.window.event_times(400):
-        ft = float(t)
+    for ft in _flight_times(ph.window, 400):
         if ft >= fb or ft - cuts[-1] < width * 5e-3:
             break
         cuts.append(ft)
@@ -504,6 +503,26 @@ def _draw_window(cv: _Canvas, ph: PhaseInterval, npts: int) -> None:
                 vals = [[float(c) for c in get(t)] for t in ts]
                 for pos, i in enumerate(cv.comps[p]):
                     cv.line(p, pos, tt, [v[i] for v in vals])
+
+
+def _flight_times(window, count: int):
+    """The first ``count`` event times of an accumulation window as floats, for cutting its lines
+    (the law's cycles: cycle m starts at t_k + T (rho + ... + rho^m) and repeats the reference
+    cycle's offsets scaled by rho^(m+1), as ``window.event_times``, whose exact sums grow with
+    every cycle: 400 of a bouncing ball's took a minute); the samples inside each flight are
+    exact."""
+    law = getattr(window, "law", None)
+    if law is None or not getattr(window, "offsets", ()):
+        yield from (float(t) for t in window.event_times(count))
+        return
+    rho, T = float(law.ratio), float(law.cycle_length)
+    offsets = [float(d) for d in window.offsets]
+    start, scale, n = float(window.t_k), rho, 0
+    while n < count:
+        for d in offsets:
+            yield start + d * scale
+            n += 1
+        start, scale = start + T * scale, scale * rho
 
 
 def _draw_events(cv: _Canvas, evs: list) -> None:
