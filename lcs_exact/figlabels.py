@@ -18,16 +18,72 @@ import weakref
 from typing import Any, Iterable
 
 from .interfaces import SystemLike
-from .mapplot import MODE_COLORS
+from .mapplot import MODE_COLORS, default_names
 from .modes import format_mode, mode_order
 
-__all__ = ["text_width", "Rows", "mode_colors", "mode_texts", "derived_outputs", "EMPTY_MODE_COLOR"]
+__all__ = ["text_width", "Rows", "mode_colors", "mode_texts", "derived_outputs", "EMPTY_MODE_COLOR", "state_label",
+           "pair_label", "impulse_label", "event_text"]
 
 #: the colour of the empty mode (every pair out: no contact, no diode conducting) and of unknown modes
 EMPTY_MODE_COLOR = "#9a9a9a"
 
 #: per system, the colour given to each nonempty mode, in the order the modes were first drawn
 _COLORS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+
+def state_label(lcs: SystemLike, i: int) -> str:
+    """The name of state i in a legend: the builder's, or ``$x_{i}$`` for default names.
+
+    >>> from lcs_exact.examples import two_carts
+    >>> state_label(two_carts(), 2)
+    "q_0'"
+    """
+    names = getattr(lcs, "state_names", None) or tuple(f"x_{j}" for j in range(lcs.n))
+    return f"$x_{{{i}}}$" if default_names(names, "x_") else names[i]
+
+
+def pair_label(lcs: SystemLike, which: str, i: int) -> str:
+    """The name of u_i or y_i (``which``) in a legend: the builder's words (``force (stop)``,
+    ``i(D1)``), ``u (name)`` for a named pair, ``$u_{i}$`` otherwise.
+
+    >>> from lcs_exact.examples import two_carts
+    >>> pair_label(two_carts(), "u", 0), pair_label(two_carts(), "y", 0)
+    ('force (stop)', 'gap (stop)')
+    """
+    roles = getattr(lcs, "roles", None)
+    if roles is not None:
+        return roles[i][0 if which == "u" else 1]
+    names = getattr(lcs, "constraint_names", None) or tuple(str(j) for j in range(lcs.k))
+    return f"${which}_{{{i}}}$" if default_names(names, "") else f"{which} ({names[i]})"
+
+
+def impulse_label(lcs: SystemLike, i: int) -> str:
+    """``impulse (stop)``: an impulse of pair i, named as the pair (``force (stop)``).
+
+    >>> from lcs_exact.examples import two_carts
+    >>> impulse_label(two_carts(), 0)
+    'impulse (stop)'
+    """
+    names = getattr(lcs, "constraint_names", None) or tuple(str(j) for j in range(lcs.k))
+    if default_names(names, "") and getattr(lcs, "roles", None) is None:
+        return f"impulse u_{i}"
+    return f"impulse ({names[i]})"
+
+
+def event_text(e: Any) -> str:
+    """An event's label: ``∅→{0}``; ``start→{1}`` at t = 0; ``∅→∅ via {0}`` when the state jumped
+    through modes other than the one entered (an impact followed by lift-off, a chain (4.9)).
+
+    >>> from types import SimpleNamespace as E
+    >>> event_text(E(mode_before=frozenset(), mode_after=frozenset(), modes=(frozenset({0}),)))
+    '∅→∅ via {0}'
+    """
+    before = "start" if e.mode_before is None else format_mode(e.mode_before)
+    text = f"{before}→{format_mode(e.mode_after)}"
+    chain = tuple(getattr(e, "modes", ()) or ())
+    if chain and (len(chain) > 1 or chain[-1] != e.mode_after):
+        text += " via " + ", ".join(format_mode(m) for m in chain)
+    return text
 
 
 def text_width(text: str, size: float = 8) -> float:

@@ -24,8 +24,9 @@ What a reader needs to see, and how it is drawn:
   ``sin(t)``, ``cos(t)``, a relay's level ``c``: ``lcs.sources``) only when asked
   (``sources=True``); the outputs a builder declared (a relay's w_j in Sgn(C_j x)) are drawn
   instead of its internal pairs' u and y;
-* an impulse u^0 δ (3.6) is an arrow of fixed height (not on the scale of u: a Dirac has no
-  value there) labelled ``impulse (stop) = 1.5`` where there is room;
+* an impulse u^0 δ (3.6) is a dashed dark arrow through the whole u panel (not on the scale of
+  u: a Dirac has no value there; not in a pair's colour: it is not a line of u) labelled
+  ``impulse (stop) = 1.5`` where there is room;
 * events are dashed vertical lines labelled with the mode change (``∅→{0}``, ``start→{1}`` at
   t = 0, ``∅→∅ via {0}`` for an impact with immediate lift-off) above the first panel, on up to
   four rows, where the measured text has room (the others stay marked by their line; the
@@ -49,9 +50,10 @@ from flint import arb, ctx, fmpq_mat
 
 from .convergence import plot_convergence
 from .errors import InvalidArgument, LCSError
-from .figlabels import Rows, derived_outputs, mode_colors, mode_texts, text_width
+from .figlabels import (Rows, derived_outputs, event_text, impulse_label, mode_colors, mode_texts, pair_label,
+                        state_label, text_width)
 from .interfaces import SystemLike
-from .mapplot import default_names, plot_mode_map
+from .mapplot import plot_mode_map
 from .modes import format_mode, mode_order
 from .vectors import ProjectedVector
 
@@ -60,32 +62,6 @@ __all__ = ["plot_trajectory", "plot_mode_map", "plot_convergence", "phase_interv
 #: the panels a trajectory figure can have, top to bottom, and their axis labels
 PANELS = ("x", "w", "u", "y")
 _LINEAR = ("w", "u", "y")
-
-
-def _impulse_label(lcs: SystemLike, i: int) -> str:
-    """``impulse (stop)``: named as the pair's force in the legend (``force (stop)``)."""
-    names = getattr(lcs, "constraint_names", None) or tuple(str(j) for j in range(lcs.k))
-    if default_names(names, "") and getattr(lcs, "roles", None) is None:
-        return f"impulse u_{i}"
-    return f"impulse ({names[i]})"
-
-
-def _pair_label(lcs: SystemLike, which: str, i: int) -> str:
-    roles = getattr(lcs, "roles", None)
-    if roles is not None:  # the builder's words: "force (floor)", "i(D1)"
-        return roles[i][0 if which == "u" else 1]
-    names = getattr(lcs, "constraint_names", None) or tuple(str(j) for j in range(lcs.k))
-    if default_names(names, ""):
-        return f"${which}_{{{i}}}$"
-    return f"{which} ({names[i]})"
-
-
-def _state_label(lcs: SystemLike, i: int) -> str:
-    names = getattr(lcs, "state_names", None) or tuple(f"x_{j}" for j in range(lcs.n))
-    nm = names[i]
-    if default_names(names, "x_"):
-        return f"$x_{{{i}}}$"
-    return nm
 
 
 def _certainly_different(a, b, digits: int = 20) -> bool:
@@ -263,19 +239,11 @@ def _apply(F, rows: list, zero: Sequence[int] = ()) -> list[list[float]]:
     return out
 
 
+#: the colour of impulse arrows and their texts (not a pair's colour: they are not lines of u)
+_IMPULSE = "0.2"
+
 #: line styles after the 10 colours of the default cycle are used up (q_0 and q_10 must differ)
 _STYLES = ("-", "--", ":", "-.")
-
-
-def _event_text(e) -> str:
-    """``∅→{0}``; ``start→{1}`` at t = 0; ``∅→∅ via {0}`` when the state jumped through modes
-    other than the one entered (an impact followed by lift-off, a chain (4.9))."""
-    before = "start" if e.mode_before is None else format_mode(e.mode_before)
-    text = f"{before}→{format_mode(e.mode_after)}"
-    chain = tuple(getattr(e, "modes", ()) or ())
-    if chain and (len(chain) > 1 or chain[-1] != e.mode_after):
-        text += " via " + ", ".join(format_mode(m) for m in chain)
-    return text
 
 
 def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: Sequence[Any] | None = None,
@@ -311,7 +279,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     What is drawn: each continuous phase is its own line (no segment joins x(τ-) to x(τ+));
     where a state, u, y or w jumps, an open circle marks the left limit and a filled one the
     right limit (drawn only when the two are certainly different); an impulse u^0 δ (3.6) is an
-    arrow of fixed height labelled ``impulse (name) = weight``; events are dashed lines labelled
+    arrow through the u panel labelled ``impulse (name) = weight``; events are dashed lines labelled
     with the mode change where there is room (``∅→{0}``; ``start→{1}`` for a jump at t = 0;
     ``∅→∅ via {0}`` for an impact followed by lift-off: the re-initialization chain when it
     differs from the mode entered); each phase is shaded with its mode's colour, one legend
@@ -402,20 +370,20 @@ class _Canvas:
     any_jump: bool = False
     any_free: bool = False
     free_of: dict = field(default_factory=dict)  # mode -> inputs undetermined on its phases
-    impulses: list = field(default_factory=list)  # (t drawn, text, colour) of each impulse arrow
+    equal: dict = field(default_factory=dict)  # (panel, pos, pos') -> modes where the two lines are equal
+    impulses: list = field(default_factory=list)  # (t drawn, text) of each impulse arrow
     stopped: float | None = None  # where a partial run stopped (its mark takes room above the axes)
 
     def line(self, which: str, pos: int, tt, vals) -> None:
-        """The pos-th line of a panel (a state, an output, or a pair's u or y) over the times tt;
-        outputs (relays: often equal, +-1 or 0) get widths decreasing with pos so that a line
-        under another stays visible."""
+        """The pos-th line of a panel (a state, an output, or a pair's u or y) over the times tt."""
         color, ls = self.pens[pos]
         self.ax_of[which].plot(tt, vals, color=color, ls=ls, lw=self.width(which, pos))
 
     def width(self, which: str, pos: int) -> float:
-        """The line width of the pos-th line of a panel."""
+        """The width of the pos-th line of a panel: the outputs' (relays, often equal: both at +1
+        or 0) decrease with pos, so that a line drawn over an equal one leaves it visible."""
         m = len(self.comps[which])
-        return 1.6 + (1.6 * (m - 1 - pos) / (m - 1) if which == "w" and m > 1 else 0.0)
+        return 1.6 + (1.6 * (m - 1 - pos) / (m - 1) if which == "w" and 1 < m <= 8 else 0.0)
 
     def jump(self, which: str, pos: int, t: float, left, right, sizes: tuple) -> None:
         """A jump of the pos-th line of a panel at t: an open circle at the left limit, a filled
@@ -474,6 +442,10 @@ def _draw_linear_panels(cv: _Canvas, ph: PhaseInterval, tt: list, first, last, b
                 cv.any_free = True
                 continue
             cv.line(p, pos, tt, [v[i] for v in vals])
+            row = [M[i, j] for j in range(M.ncols())]
+            for before, h in enumerate(cv.comps[p][:pos]):  # equal on the whole phase (rows of M), not 0
+                if h not in frees[p] and any(row) and row == [M[h, j] for j in range(M.ncols())]:
+                    cv.equal.setdefault((p, before, pos), set()).add(ph.mode)
     return ends
 
 
@@ -543,23 +515,23 @@ def _draw_events(cv: _Canvas, evs: list) -> None:
 
 
 def _draw_impulses(cv: _Canvas, e, te: float) -> None:
-    """The impulses u^0 δ at an event (3.6): dashed arrows through the whole u panel (a Dirac has
-    no value on the scale of u), their texts ``impulse (stop) = 1.5`` placed last."""
+    """The impulses u^0 δ at an event (3.6): dashed dark arrows through the whole u panel (a Dirac
+    has no value on the scale of u, and the arrows are not lines of u), their texts
+    ``impulse (stop) = 1.5`` placed last."""
     u0 = (getattr(e, "impulse", None) or {}).get(0)
     if u0 is None or "u" not in cv.ax_of:
         return
     shown = 0
-    for pos, i in enumerate(cv.comps["u"]):
+    for i in cv.comps["u"]:
         v, nonzero = _component(u0, i)
         if not nonzero:
             continue
-        color = cv.pens[pos][0]
         x = te + 0.004 * cv.t_hi * shown  # side by side when several constraints act at once
         cv.ax_of["u"].annotate("", xy=(x, 0.97), xycoords=("data", "axes fraction"), xytext=(x, 0.0),
                                textcoords=("data", "axes fraction"),
-                               arrowprops=dict(arrowstyle="-|>,head_length=0.6,head_width=0.3", color=color, lw=1.5,
-                                               ls=(0, (4, 2)), shrinkA=0, shrinkB=0), zorder=4)
-        cv.impulses.append((x, f"{_impulse_label(cv.lcs, i)} = {v:.3g}", color))
+                               arrowprops=dict(arrowstyle="-|>,head_length=0.6,head_width=0.3", color=_IMPULSE,
+                                               lw=1.4, ls=(0, (4, 2)), shrinkA=0, shrinkB=0), zorder=4)
+        cv.impulses.append((x, f"{impulse_label(cv.lcs, i)} = {v:.3g}"))
         shown += 1
 
 
@@ -592,19 +564,23 @@ def _draw_legends(cv: _Canvas) -> None:
     for p, ax in cv.ax_of.items():
         ax.set_ylabel({"x": "state", "w": getattr(cv.outputs, "symbol", "w")}.get(p, p))
         if p == "x":
-            labels = [_state_label(lcs, i) for i in cv.comps["x"]]
+            labels = [state_label(lcs, i) for i in cv.comps["x"]]
         elif p == "w":
             labels = list(cv.outputs.names)
         else:
-            labels = [_pair_label(lcs, p, i) for i in cv.comps[p]]
+            labels = [pair_label(lcs, p, i) for i in cv.comps[p]]
         handles = [Line2D([], [], color=cv.pens[pos][0], ls=cv.pens[pos][1], lw=cv.width(p, pos), label=text)
                    for pos, text in enumerate(labels)]
         if p == "x" and cv.hidden:
             handles.append(Line2D([], [], color="none", label=f"(not drawn: {', '.join(cv.hidden)};\n"
                                                               " sources=True draws them)"))
         if p == "u" and cv.impulses:
-            handles.append(Line2D([], [], color="0.3", ls=(0, (4, 2)), marker="^", ms=5,
+            handles.append(Line2D([], [], color=_IMPULSE, ls=(0, (4, 2)), marker="^", ms=5,
                                   label="impulse δ (arrow not to scale)"))
+        for (panel, a, b), modes in sorted(cv.equal.items()):
+            if panel == p:  # the later line hides the earlier: say so
+                handles.append(Line2D([], [], color="none", label=f"({labels[b]} = {labels[a]} in "
+                                      + ", ".join(format_mode(m) for m in sorted(modes, key=mode_order)) + ")"))
         if p != "x" and cv.any_free:
             handles.append(Line2D([], [], color="none", label="(gaps: not determined by the state)"))
         if ax is cv.axes[0]:
@@ -677,7 +653,7 @@ def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
     for e in evs:
         if labelled == label_events:
             break
-        text = _event_text(e)
+        text = event_text(e)
         spot = place(top, rows, float(e.time), text)
         if spot is None:
             continue
@@ -688,12 +664,12 @@ def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
     if "u" in cv.ax_of and cv.impulses:
         ax_u, rows_u = cv.ax_of["u"], Rows(3)
         halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]
-        for x, text, color in sorted(cv.impulses):
-            spot = place(ax_u, rows_u, x, text, 4, [a for a, _, _ in cv.impulses if a != x])
+        for x, text in sorted(cv.impulses):
+            spot = place(ax_u, rows_u, x, text, 4, [a for a, _ in cv.impulses if a != x])
             if spot is not None:
                 ax_u.annotate(text, xy=(x, 0.86), xycoords=("data", "axes fraction"),
                               xytext=(4 if spot[1] == "left" else -4, -11 * spot[0]), textcoords="offset points",
-                              fontsize=8, ha=spot[1], va="center", color=color, path_effects=halo, zorder=7)
+                              fontsize=8, ha=spot[1], va="center", color=_IMPULSE, path_effects=halo, zorder=7)
     notes = [f"{len(evs)} events (dashed), {labelled} labelled above"] if labelled < len(evs) else []
     accs = [a for a in getattr(cv.traj, "accumulations", ()) or () if hasattr(a, "time")]
     notes += [f"infinitely many events before t = {float(a.time):.4g}" for a in accs]
