@@ -128,6 +128,27 @@ class Rows:
                 return r
         return None
 
+    def place_text(self, X: float, w: float, W: float, off: float = 3, avoid: Iterable[float] = (),
+                   left: bool = False, beyond: float = 0.0) -> tuple[int, str, bool] | None:
+        """A text ``w`` points wide that labels the position X of an axis W points long: ``off``
+        points to the right of X (to its left if ``left``, or when it would end more than
+        ``beyond`` points past W, or when that keeps it off the positions ``avoid``: lines that
+        cross every row).  Returns (row, its alignment ``"left"`` or ``"right"``, True when it
+        ends past W), or None when no row has room.
+
+        >>> rows = Rows(2)
+        >>> rows.place_text(10, 50, 100), rows.place_text(90, 50, 100), rows.place_text(90, 50, 100, beyond=60)
+        ((0, 'left', False), (1, 'right', False), (0, 'left', True))
+        """
+        sides = [(lo, ha) for lo, ha in ((X + off, "left"), (X - off - w, "right"))[::-1 if left else 1]
+                 if lo >= 0 and lo + w <= W + beyond]
+        sides.sort(key=lambda s: any(s[0] - 3 < a < s[0] + w + 3 for a in avoid))
+        for lo, ha in sides:
+            row = self.place(lo, lo + w)
+            if row is not None:
+                return row, ha, lo + w > W
+        return None
+
 
 def mode_colors(lcs: Any, modes: Iterable) -> dict:
     """One colour per mode, the same in every figure of the same system: nonempty modes get the

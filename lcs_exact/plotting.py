@@ -615,7 +615,7 @@ def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
     """The texts placed last, measured against the axes' final width: the events' labels above
     the first panel (four rows), the impulses' texts beside their arrows (three rows from the
     arrows' tips down); a text with no room is left out (its event or arrow stays drawn), and the
-    axis label says how many events are labelled."""
+    axis label says how many events are labelled (:class:`~lcs_exact.figlabels.Rows`)."""
     from matplotlib import patheffects
 
     fig, top = cv.fig, cv.axes[0]
@@ -628,19 +628,11 @@ def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
 
     x_lo, x_hi = top.get_xlim()
 
-    def place(ax, rows: Rows, x: float, text: str, off: float = 3, avoid=(), left=False) -> tuple[int, str] | None:
-        """(row, alignment) of a text at x, ``off`` points to its right (to its left if ``left``,
-        near the right end, or where that keeps the text off the lines at ``avoid``)."""
+    def place(ax, rows: Rows, x: float, text: str, off: float = 3, avoid=(), left=False, beyond: float = 0.0):
+        """:meth:`Rows.place_text` of a text at the data coordinate x of the axes ax."""
         W = width_pt(ax)
-        X, w = (x - x_lo) / (x_hi - x_lo) * W, text_width(text, 8)
-        sides = [(lo, ha) for lo, ha in ((X + off, "left"), (X - off - w, "right"))[::-1 if left else 1]
-                 if lo >= 0 and lo + w <= W]
-        sides.sort(key=lambda s: any(s[0] - 3 < (a - x_lo) / (x_hi - x_lo) * W < s[0] + w + 3 for a in avoid))
-        for lo, ha in sides:
-            row = rows.place(lo, lo + w)
-            if row is not None:
-                return row, ha
-        return None
+        return rows.place_text((x - x_lo) / (x_hi - x_lo) * W, text_width(text, 8), W, off,
+                               [(a - x_lo) / (x_hi - x_lo) * W for a in avoid], left, beyond)
 
     rows = Rows(4, gap=8)
     if cv.stopped is not None:  # "run stopped", right-aligned at the stop, in the lowest row
@@ -649,18 +641,26 @@ def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
             top.annotate("run stopped", xy=(cv.stopped, 1.0), xycoords=("data", "axes fraction"),
                          xytext=(3 if stop[1] == "left" else -3, 2 + 10 * stop[0]), textcoords="offset points",
                          ha=stop[1], va="bottom", fontsize=8, color="#c44e52")
-    labelled = 0
+    # a label starts at its event's line; near the right end it reaches over the legends' column
+    # (above the first legend), kept out of the layout so that the axes keep their width
+    room = (1 - top.get_position().x1) * fig.get_figwidth() * 72 - 6
+    labelled, in_layout_rows, outside_rows = 0, {-1}, set()
     for e in evs:
         if labelled == label_events:
             break
         text = event_text(e)
-        spot = place(top, rows, float(e.time), text)
+        spot = place(top, rows, float(e.time), text, beyond=room)
         if spot is None:
             continue
         labelled += 1
-        top.annotate(text, xy=(float(e.time), 1.0), xycoords=("data", "axes fraction"),
-                     xytext=(3 if spot[1] == "left" else -3, 2 + 10 * spot[0]), textcoords="offset points",
-                     fontsize=8, ha=spot[1], va="bottom", color="0.2")
+        label = top.annotate(text, xy=(float(e.time), 1.0), xycoords=("data", "axes fraction"),
+                             xytext=(3 if spot[1] == "left" else -3, 2 + 10 * spot[0]), textcoords="offset points",
+                             fontsize=8, ha=spot[1], va="bottom", color="0.2")
+        label.set_in_layout(not spot[2])
+        (outside_rows if spot[2] else in_layout_rows).add(spot[0])
+    if max(outside_rows, default=-1) > max(in_layout_rows):  # the layout still makes room for that row
+        top.annotate(" ", xy=(x_lo, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2 + 10 * max(outside_rows)),
+                     textcoords="offset points", fontsize=8, va="bottom", alpha=0)
     if "u" in cv.ax_of and cv.impulses:
         ax_u, rows_u = cv.ax_of["u"], Rows(3)
         halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]

@@ -353,9 +353,13 @@ def test_event_labels_of_a_dense_run_never_overlap_and_every_event_is_marked():
     assert_no_overlaps(labels + [t for t in fig.texts if t.get_text() == fig.get_suptitle()])
     assert fig.axes[-1].get_xlabel() == f"t    ({n} events (dashed), {len(labels)} labelled above)"
     top = fig.axes[0].get_window_extent()
-    assert all(t.get_window_extent().y0 >= top.y1 for t in labels)  # above the data
-    fig_box = fig.bbox
-    assert all(fig_box.x0 <= t.get_window_extent().x0 and t.get_window_extent().x1 <= top.x1 + 1 for t in labels)
+    assert all(t.get_window_extent().y0 >= top.y1 for t in labels)  # above the data, inside the figure
+    assert all(fig.bbox.x0 <= t.get_window_extent().x0 and t.get_window_extent().x1 <= fig.bbox.x1 for t in labels)
+    # each label starts at its event's line (the first ones, left of the last 15 % of the axis)
+    x_of = fig.axes[0].transData.transform
+    for t in labels:
+        if t.xy[0] < 0.85 * float(tr.events[-1].time):
+            assert t.get_ha() == "left" and 0 < t.get_window_extent().x0 - x_of((t.xy[0], 0))[0] < 6
     for ax in fig.axes:
         dashed = sorted(ln.get_xdata()[0] for ln in ax.get_lines()
                         if ln.get_linestyle() == "--" and len(set(ln.get_xdata())) == 1)
