@@ -26,8 +26,8 @@ def convergence_slope(steps: Sequence[float], errors: Sequence[float]) -> float:
 
     Parameters
     ----------
-    steps, errors : sequences of positive floats, of the same length (at least 2, with two
-        different steps)
+    steps, errors : sequences of positive floats
+        Of the same length: at least 2 points, with two different steps.
 
     Returns
     -------
@@ -90,6 +90,8 @@ def plot_convergence(reports: Sequence[Any], steps: Sequence[Any] | None = None,
     title : str, optional
         The axes' title (default ``"order of convergence"`` on a new figure).
 
+    Notes
+    -----
     The points are the errors; the dashed line is the least-squares fit C h^p
     (:func:`convergence_slope`, the same as ``convergence_order(reports, steps)``), with p in
     the legend.
