@@ -616,8 +616,6 @@ def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
     the first panel (four rows), the impulses' texts beside their arrows (three rows from the
     arrows' tips down); a text with no room is left out (its event or arrow stays drawn), and the
     axis label says how many events are labelled (:class:`~lcs_exact.figlabels.Rows`)."""
-    from matplotlib import patheffects
-
     fig, top = cv.fig, cv.axes[0]
     engine = fig.get_layout_engine()
     if engine is not None:
@@ -663,13 +661,13 @@ def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
                      textcoords="offset points", fontsize=8, va="bottom", alpha=0)
     if "u" in cv.ax_of and cv.impulses:
         ax_u, rows_u = cv.ax_of["u"], Rows(3)
-        halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]
         for x, text in sorted(cv.impulses):
             spot = place(ax_u, rows_u, x, text, 4, [a for a, _ in cv.impulses if a != x])
             if spot is not None:
                 ax_u.annotate(text, xy=(x, 0.86), xycoords=("data", "axes fraction"),
                               xytext=(4 if spot[1] == "left" else -4, -11 * spot[0]), textcoords="offset points",
-                              fontsize=8, ha=spot[1], va="center", color=_IMPULSE, path_effects=halo, zorder=7)
+                              fontsize=8, ha=spot[1], va="center", color=_IMPULSE, zorder=7,
+                              bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.85))
     notes = [f"{len(evs)} events (dashed), {labelled} labelled above"] if labelled < len(evs) else []
     accs = [a for a in getattr(cv.traj, "accumulations", ()) or () if hasattr(a, "time")]
     notes += [f"infinitely many events before t = {float(a.time):.4g}" for a in accs]
