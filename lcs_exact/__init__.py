@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from .compare import ComparisonReport, compare, convergence_order
+from .convergence import plot_convergence
 from .errors import (Deadlock, FixtureMismatch, FormatError, HorizonExceeded, IllPosed, InvalidArgument, LCSError,
                      LimitExceeded, NotAutonomous, NotRational, ShapeError, Undetermined, UnresolvedSign,
                      TimeLimitExceeded, Unsupported, WorkerDied, ZenoDetected)
@@ -28,7 +29,7 @@ __all__ = [
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",
     "Unsupported", "InvalidArgument", "Undetermined", "WorkerDied", "HorizonExceeded", "TimeLimitExceeded",
-    "read_fixture", "validate_fixture", "compare", "convergence_order", "ComparisonReport",
+    "read_fixture", "validate_fixture", "compare", "convergence_order", "plot_convergence", "ComparisonReport",
     "FixtureTrajectory", "ModeMap", "Region", "read_model", "examples", "models", "sources", "zoo",
 ]
 

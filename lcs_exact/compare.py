@@ -27,6 +27,7 @@ from typing import Any, Sequence
 
 from flint import arb, ctx, fmpq
 
+from .convergence import convergence_slope
 from .errors import FormatError, InvalidArgument, ShapeError
 from .fixnumbers import ball_number, number_rational, short_text, to_fraction
 from .fixturereader import read_fixture
@@ -519,14 +520,4 @@ def convergence_order(reports: Sequence[ComparisonReport], steps: Sequence[Any] 
     hs = [r.step for r in reports] if steps is None else [float(to_fraction(h, "step")) for h in steps]
     if len(hs) != len(reports):
         raise ShapeError(f"{len(reports)} reports but {len(hs)} steps")
-    if len(reports) < 2:
-        raise FormatError("the order of convergence needs at least 2 solutions")
-    errs = [float(r.max_error.mid()) for r in reports]
-    if any(e <= 0 or not math.isfinite(e) for e in errs) or any(h <= 0 for h in hs):
-        raise FormatError(f"the order of convergence needs positive errors and steps, got errors {errs}")
-    xs, ys = [math.log(h) for h in hs], [math.log(e) for e in errs]
-    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
-    sxx = sum((x - mx) ** 2 for x in xs)
-    if sxx == 0:
-        raise FormatError("the order of convergence needs solutions with different steps")
-    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
+    return convergence_slope(hs, [float(r.max_error.mid()) for r in reports])

@@ -1,30 +1,41 @@
-"""Figures: a trajectory (states, u, y against t); the 2-D mode map (Figure 8.2 style) is drawn by
-:mod:`lcs_exact.mapplot` (:func:`plot_mode_map`, importable from here too).
+"""Figures: a trajectory (states, the declared outputs w, u, y against t); the 2-D mode map
+(Figure 8.2 style) is drawn by :mod:`lcs_exact.mapplot` (:func:`plot_mode_map`), the order of
+convergence of other solvers by :mod:`lcs_exact.convergence` (:func:`plot_convergence`); both are
+importable from here too.
 
 matplotlib is imported inside the functions, so ``import lcs_exact`` stays light.  This module
 sits below :mod:`lcs_exact.trajectory` and never imports it: a trajectory is used through its
 public interface only (``lcs``, ``x0``, ``t_end``, ``events``, ``partial``, ``state(t)``,
-``u(t)``, ``y(t)``; an event's ``time``, ``mode_before``, ``mode_after``, ``state_before``,
-``state_after``, ``impulse``).  :func:`plot_trajectory` draws in steps named after what they draw
-(each phase with its states panel and u/y panels, accumulation windows, events with the jumps and
-impulses at them, u/y jumps, legends, the title), sharing one ``_Canvas``.
+``u(t)``, ``y(t)``, ``outputs(t)``; an event's ``time``, ``mode_before``, ``mode_after``,
+``state_before``, ``state_after``, ``impulse``).  :func:`plot_trajectory` draws in steps named
+after what they draw (each phase with its states panel and linear panels, accumulation windows,
+events with the jumps and impulses at them, jumps of u, y, w, legends, the title, then the texts
+placed where there is room), sharing one ``_Canvas``.
 
 What a reader needs to see, and how it is drawn:
 
 * jumps are discontinuities: each continuous phase is its own line (no segment joins x(τ-) to
   x(τ+)); at a jump an open circle marks x(τ-) and a filled one x(τ+) (the trajectory is
   right-continuous); a component is drawn as jumping only when its two values are certainly
-  different (disjoint balls); the same for u and y, which jump where the mode changes (their
-  values at the phase ends are exact: u = F_I x, y = C x + D u with the phase's F_I);
-* an impulse u^0 δ (3.6) is a dotted arrow whose height grows with its weight (written next to
-  it when there are few), never a segment that reads as part of u;
+  different (disjoint balls); the same for u, y and w, which jump where the mode changes (their
+  values at the phase ends are exact: u = F_I x, y = C x + D u, w = W_x x + W_u u with the
+  phase's F_I); an input the state leaves undetermined is not drawn (a gap), nor its jumps;
+* the system's own states are drawn; the states a builder appended for its sources (``1``,
+  ``sin(t)``, ``cos(t)``, a relay's level ``c``: ``lcs.sources``) only when asked
+  (``sources=True``); the outputs a builder declared (a relay's w_j in Sgn(C_j x)) are drawn
+  instead of its internal pairs' u and y;
+* an impulse u^0 δ (3.6) is a dashed dark arrow through the whole u panel (not on the scale of
+  u: a Dirac has no value there; not in a pair's colour: it is not a line of u) labelled
+  ``impulse (stop) = 1.5`` where there is room;
 * events are dashed vertical lines labelled with the mode change (``∅→{0}``, ``start→{1}`` at
-  t = 0, ``∅→∅ via {0}`` for an impact with immediate lift-off), on up to four lines so that
-  close events do not overwrite each other; each phase is shaded with the colour of its mode
-  (read from the events: the ``mode_before`` of the event that ends it, else the last
-  ``mode_after``);
-* names come from ``lcs.state_names`` / ``lcs.constraint_names``; legends sit outside the data
-  (in columns when long); a partial run is drawn up to where it stopped, marked;
+  t = 0, ``∅→∅ via {0}`` for an impact with immediate lift-off) above the first panel, on up to
+  four rows, where the measured text has room (the others stay marked by their line; the
+  axis label says how many are labelled); each phase is shaded with its mode's colour (read
+  from the events: the ``mode_before`` of the event that ends it, else the last ``mode_after``),
+  one colour and one legend text per mode (:mod:`lcs_exact.figlabels`);
+* names come from ``lcs.state_names`` / ``lcs.constraint_names`` / the outputs' names; legends
+  sit outside the data (in columns when long); a partial run is drawn up to where it stopped,
+  marked;
 * sampling is cheap (``traj.sample``: one exponential sum per point), so 800 points by default.
 
 Numbers are evaluated exactly (certified balls) and only then rounded to floats for drawing.
@@ -37,42 +48,20 @@ from typing import Any, Sequence
 
 from flint import arb, ctx, fmpq_mat
 
+from .convergence import plot_convergence
 from .errors import InvalidArgument, LCSError
+from .figlabels import (Rows, derived_outputs, event_text, impulse_label, mode_colors, mode_texts, pair_label,
+                        state_label, text_width)
 from .interfaces import SystemLike
-from .mapplot import MODE_COLORS, default_names, plot_mode_map
+from .mapplot import plot_mode_map
 from .modes import format_mode, mode_order
 from .vectors import ProjectedVector
 
-__all__ = ["plot_trajectory", "plot_mode_map", "phase_intervals", "PhaseInterval"]
+__all__ = ["plot_trajectory", "plot_mode_map", "plot_convergence", "phase_intervals", "PhaseInterval"]
 
-
-def _pair_label(lcs: SystemLike, which: str, i: int) -> str:
-    roles = getattr(lcs, "roles", None)
-    if roles is not None:  # the builder's words: "force (floor)", "i(D1)"
-        return roles[i][0 if which == "u" else 1]
-    names = getattr(lcs, "constraint_names", None) or tuple(str(j) for j in range(lcs.k))
-    if default_names(names, ""):
-        return f"${which}_{{{i}}}$"
-    return f"{which} ({names[i]})"
-
-
-def _mode_label(lcs: SystemLike, m, free=frozenset()) -> str:
-    """The legend text of a mode: the builder's words when it gave roles (a long text is cut);
-    ``free``: inputs left undetermined on its phases."""
-    if m is None:
-        return "mode ?"
-    if getattr(lcs, "roles", None) is None or not hasattr(lcs, "describe_mode"):
-        return f"mode {format_mode(m)}" + (f" ({format_mode(free)} undetermined)" if free else "")
-    text = lcs.describe_mode(m, free)
-    return text if len(text) <= 48 else f"mode {format_mode(m)}: " + text[:40] + "…"
-
-
-def _state_label(lcs: SystemLike, i: int) -> str:
-    names = getattr(lcs, "state_names", None) or tuple(f"x_{j}" for j in range(lcs.n))
-    nm = names[i]
-    if default_names(names, "x_"):
-        return f"$x_{{{i}}}$"
-    return nm
+#: the panels a trajectory figure can have, top to bottom, and their axis labels
+PANELS = ("x", "w", "u", "y")
+_LINEAR = ("w", "u", "y")
 
 
 def _certainly_different(a, b, digits: int = 20) -> bool:
@@ -198,18 +187,33 @@ def _component(v, i: int) -> tuple[float, bool]:
     return float(c), not c.ball(20).contains(0)
 
 
-def _pair_maps(lcs: SystemLike, mode):
-    """(F_u, F_y) with u = F_u x, y = F_y x on a phase of ``mode``: u_I = F_I x, zero off I
-    (section 4.1), y = C x + D u.  None for an unknown mode (a deadlock at the start)."""
+def _linear_maps(cv: "_Canvas", mode) -> dict | None:
+    """{panel: M} with panel(t) = M x(t) on a phase of ``mode``: u_I = F_I x, zero off I
+    (section 4.1), y = C x + D u, w = W_x x + W_u u.  None for an unknown mode (a deadlock at
+    the start)."""
     if mode is None:
         return None
+    lcs = cv.lcs
     Fu = fmpq_mat(lcs.k, lcs.n)
     if mode:
         F = lcs.mode(mode).feedback()  # rows follow the indices of I in increasing order
         for r, i in enumerate(sorted(mode)):
             for j in range(lcs.n):
                 Fu[i, j] = F[r, j]
-    return Fu, lcs.C + lcs.D * Fu
+    maps = {"u": Fu, "y": lcs.C + lcs.D * Fu}
+    if cv.outputs is not None:
+        maps["w"] = cv.outputs.Wx + cv.outputs.Wu * Fu
+    return maps
+
+
+def _free_rows(cv: "_Canvas", free: frozenset) -> dict:
+    """{panel: components that depend on the undetermined inputs ``free``}."""
+    lcs = cv.lcs
+    out = {"u": set(free), "y": {i for i in range(lcs.k) if any(lcs.D[i, j] != 0 for j in free)}}
+    if cv.outputs is not None:
+        Wu = cv.outputs.Wu
+        out["w"] = {r for r in range(Wu.nrows()) if any(Wu[r, j] != 0 for j in free)}
+    return out
 
 
 def _undetermined(traj, ph) -> frozenset:
@@ -235,67 +239,51 @@ def _apply(F, rows: list, zero: Sequence[int] = ()) -> list[list[float]]:
     return out
 
 
+#: the colour of impulse arrows and their texts (not a pair's colour: they are not lines of u)
+_IMPULSE = "0.2"
+
 #: line styles after the 10 colours of the default cycle are used up (q_0 and q_10 must differ)
 _STYLES = ("-", "--", ":", "-.")
 
 
-def _event_text(e) -> str:
-    """``∅→{0}``; ``start→{1}`` at t = 0; ``∅→∅ via {0}`` when the state jumped through modes
-    other than the one entered (an impact followed by lift-off, a chain (4.9))."""
-    before = "start" if e.mode_before is None else format_mode(e.mode_before)
-    text = f"{before}→{format_mode(e.mode_after)}"
-    chain = tuple(getattr(e, "modes", ()) or ())
-    if chain and (len(chain) > 1 or chain[-1] != e.mode_after):
-        text += " via " + ", ".join(format_mode(m) for m in chain)
-    return text
-
-
-def _label_levels(xs: list[float], widths: list[float], max_levels: int = 4) -> list[int | None]:
-    """Stack labels (left ends ``xs``, estimated ``widths``, both in axes fractions, sorted by
-    x) on lines above the axes, greedily in the lowest line where they do not overlap the label
-    before them; None when all ``max_levels`` lines are taken there (the event stays marked)."""
-    ends: list[float] = []
-    out: list[int | None] = []
-    for x, w in zip(xs, widths):
-        level = next((i for i, e in enumerate(ends) if e < x), None)
-        if level is None and len(ends) < max_levels:
-            level = len(ends)
-            ends.append(-1.0)
-        if level is not None:
-            ends[level] = x + w
-        out.append(level)
-    return out
-
-
 def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: Sequence[Any] | None = None,
-                    panels: Sequence[str] = ("x", "u", "y"), points: int = 800, label_events: int = 24,
-                    figsize: tuple | None = None, title: str | None = None, components=None):
-    """Plot a trajectory: states, u and y on separate axes sharing t.  Returns the Figure.
+                    panels: Sequence[str] | None = None, points: int = 800, label_events: int = 60,
+                    figsize: tuple | None = None, title: str | None = None, components=None,
+                    sources: bool = False):
+    """Plot a trajectory: states, outputs, u and y on separate axes sharing t.  Returns the Figure.
 
     Parameters
     ----------
     traj : Trajectory
         The result of :func:`lcs_exact.simulate` (or anything with its public interface).
     states : sequence of int or str, optional
-        Which states to draw (indices or names); all by default.  ``components`` is an alias.
+        Which states to draw (indices or names); by default the system's own states (the
+        sources' states appended by a builder are left out unless ``sources``).
+        ``components`` is an alias.
     constraints : sequence of int or str, optional
         Which complementarity pairs to draw in the u and y panels; all by default.
-    panels : subset of ("x", "u", "y")
+    panels : subset of ("x", "w", "u", "y"), optional
+        ``"w"`` is the outputs the builder declared (a relay's w_j: ``traj.outputs``).  Default
+        ``("x", "w")`` for a system with declared outputs, ``("x", "u", "y")`` otherwise.
     points : int
         Approximate number of sample times in total (spread over the phases by length, at least
         six per phase); each is a certified evaluation (``traj.sample``: 800 points take a
         fraction of a second).
     label_events : int
-        Events beyond this number are marked but not labelled.
+        At most this many events are labelled (where their labels have room); every event is
+        marked by its line.
     figsize, title : optional
+    sources : bool
+        Draw the states of the sources too (``lcs.sources``: ``1``, ``sin(t)``, a relay's level).
 
     What is drawn: each continuous phase is its own line (no segment joins x(τ-) to x(τ+));
-    where a state, u or y jumps, an open circle marks the left limit and a filled one the right
-    limit (drawn only when the two are certainly different); an impulse u^0 δ (3.6) is a dotted
-    arrow labelled with its weight; events are dashed lines labelled with the mode change
-    (``∅→{0}``; ``start→{1}`` for a jump at t = 0; ``∅→∅ via {0}`` for an impact followed by
-    lift-off: the re-initialization chain when it differs from the mode entered); each phase is
-    shaded with its mode's colour.
+    where a state, u, y or w jumps, an open circle marks the left limit and a filled one the
+    right limit (drawn only when the two are certainly different); an impulse u^0 δ (3.6) is an
+    arrow through the u panel labelled ``impulse (name) = weight``; events are dashed lines labelled
+    with the mode change where there is room (``∅→{0}``; ``start→{1}`` for a jump at t = 0;
+    ``∅→∅ via {0}`` for an impact followed by lift-off: the re-initialization chain when it
+    differs from the mode entered); each phase is shaded with its mode's colour, one legend
+    entry per mode (``{0}: stop contact``).
 
     Examples
     --------
@@ -310,13 +298,25 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     import matplotlib.pyplot as plt
 
     lcs = traj.lcs
+    outputs = derived_outputs(lcs)
     if components is not None and states is None:
         states = components
+    hidden: list[int] = []
+    if states is None and not sources and getattr(lcs, "sources", None) is not None:
+        hidden = sorted(lcs.sources.states)
+        states = [i for i in range(lcs.n) if i not in hidden]
     sidx = _indices(states, getattr(lcs, "state_names", ()), lcs.n, "state")
     cidx = _indices(constraints, getattr(lcs, "constraint_names", ()), lcs.k, "constraint")
-    panels = [p for p in ("x", "u", "y") if p in panels]
+    if panels is None:
+        panels = ("x", "w") if outputs is not None else ("x", "u", "y")
+    if isinstance(panels, str) or any(p not in PANELS for p in panels):
+        raise InvalidArgument(f"panels must be a subset of {PANELS}, got {panels!r}")
+    panels = [p for p in PANELS if p in panels]
     if not panels:
-        raise InvalidArgument("panels must contain at least one of 'x', 'u', 'y'")
+        raise InvalidArgument(f"panels must contain at least one of {PANELS}")
+    if "w" in panels and outputs is None:
+        raise InvalidArgument("panel 'w' draws the outputs a builder declared (models.relay does); "
+                              "this system declares none")
     if isinstance(points, bool) or not isinstance(points, int) or points < 1:
         raise InvalidArgument(f"points must be a positive integer, got {points!r}")
     phases = phase_intervals(traj)
@@ -324,51 +324,66 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
                              figsize=figsize or (9, 2.4 * len(panels) + 0.8), layout="constrained")
     axes = list(axes[:, 0])
     palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    cv = _Canvas(traj, lcs, fig, axes, dict(zip(panels, axes)), sidx, cidx,
+    m = len(outputs.names) if outputs is not None else 0
+    cv = _Canvas(traj, lcs, fig, axes, dict(zip(panels, axes)),
+                 {"x": sidx, "u": cidx, "y": cidx, "w": list(range(m))},
                  pens=[(palette[i % len(palette)], _STYLES[(i // len(palette)) % len(_STYLES)])
-                       for i in range(max(lcs.n, lcs.k))],
-                 colors=_mode_colors(phases))
+                       for i in range(max(lcs.n, lcs.k, m))],
+                 colors=mode_colors(lcs, [ph.mode for ph in phases]), outputs=outputs,
+                 hidden=[lcs.state_names[i] for i in hidden])
     total = sum(float(p.end) - float(p.start) for p in phases) or 1.0
-    # per phase: (u, y) at its start and at its end, exact, for the jump markers
-    pair_ends = [_draw_phase(cv, ph, max(6, int(points * (float(ph.end) - float(ph.start)) / total)))
-                 for ph in phases]
+    # per phase: u, y, w at its start and at its end, exact, for the jump markers
+    ends = [_draw_phase(cv, ph, max(6, int(points * (float(ph.end) - float(ph.start)) / total)))
+            for ph in phases]
     t_hi = float(phases[-1].end) if phases else float(traj.t_end)
-    t_hi = t_hi if t_hi > 0 else 1.0
-    _draw_events(cv, sorted(traj.events, key=lambda e: float(e.time)), t_hi, label_events)
-    _draw_pair_jumps(cv, phases, pair_ends)
+    cv.t_hi = t_hi if t_hi > 0 else 1.0
+    evs = sorted(traj.events, key=lambda e: float(e.time))
+    _draw_events(cv, evs)
+    _draw_linear_jumps(cv, phases, ends)
     for ax in axes:
-        ax.set_xlim(-0.015 * t_hi, 1.015 * t_hi)
+        ax.set_xlim(-0.015 * cv.t_hi, 1.015 * cv.t_hi)
         ax.grid(True, lw=0.3, alpha=0.5)
-    axes[-1].set_xlabel("t")
     _draw_legends(cv)
     _draw_title(cv, phases, title)
+    _place_texts(cv, evs, label_events)
     return fig
 
 
 @dataclass
 class _Canvas:
     """What the parts of a trajectory figure share: the trajectory, the panels (``ax_of``: "x",
-    "u", "y" to their axes), the states and pairs drawn and their pens (colour, line style of
-    the pos-th line), the shade of each mode, and what was drawn (for the legends)."""
+    "w", "u", "y" to their axes), the components drawn in each (``comps``) and their pens (colour,
+    line style of the pos-th line), the colour of each mode, the declared outputs, the names of
+    the states left out (sources), and what was drawn (for the legends and the texts placed last)."""
 
     traj: Any
     lcs: Any
     fig: Any
     axes: list
     ax_of: dict
-    sidx: list
-    cidx: list
+    comps: dict
     pens: list
     colors: dict
+    outputs: Any = None
+    hidden: list = field(default_factory=list)
+    t_hi: float = 1.0
     any_jump: bool = False
-    any_impulse: bool = False
     any_free: bool = False
     free_of: dict = field(default_factory=dict)  # mode -> inputs undetermined on its phases
+    equal: dict = field(default_factory=dict)  # (panel, pos, pos') -> modes where the two lines are equal
+    impulses: list = field(default_factory=list)  # (t drawn, text) of each impulse arrow
+    stopped: float | None = None  # where a partial run stopped (its mark takes room above the axes)
 
     def line(self, which: str, pos: int, tt, vals) -> None:
-        """The pos-th line of a panel (a state, or a pair's u or y) over the times tt."""
+        """The pos-th line of a panel (a state, an output, or a pair's u or y) over the times tt."""
         color, ls = self.pens[pos]
-        self.ax_of[which].plot(tt, vals, color=color, ls=ls, lw=1.6)
+        self.ax_of[which].plot(tt, vals, color=color, ls=ls, lw=self.width(which, pos))
+
+    def width(self, which: str, pos: int) -> float:
+        """The width of the pos-th line of a panel: the outputs' (relays, often equal: both at +1
+        or 0) decrease with pos, so that a line drawn over an equal one leaves it visible."""
+        m = len(self.comps[which])
+        return 1.6 + (1.6 * (m - 1 - pos) / (m - 1) if which == "w" and 1 < m <= 8 else 0.0)
 
     def jump(self, which: str, pos: int, t: float, left, right, sizes: tuple) -> None:
         """A jump of the pos-th line of a panel at t: an open circle at the left limit, a filled
@@ -378,24 +393,17 @@ class _Canvas:
         self.ax_of[which].plot([t], [float(right)], "o", color=color, ms=sizes[1], zorder=6)
 
 
-def _mode_colors(phases: list) -> dict:
-    """One colour per mode, the same whatever the order of the phases: the free mode grey."""
-    ordered = sorted({ph.mode for ph in phases if ph.mode}, key=mode_order)
-    colors = {m: MODE_COLORS[i % len(MODE_COLORS)] for i, m in enumerate(ordered)}
-    colors.update({m: "#9a9a9a" for ph in phases for m in (ph.mode,) if not m})
-    return colors
-
-
-def _draw_phase(cv: _Canvas, ph: PhaseInterval, npts: int) -> tuple:
+def _draw_phase(cv: _Canvas, ph: PhaseInterval, npts: int) -> dict | None:
     """A continuous phase: shaded with its mode's colour in every panel, its ``npts`` certified
-    samples drawn in the states panel and the u/y panels (an accumulation window: its flights).
-    Returns the exact (u, y) at its start and its end ((None, None) when it has none)."""
+    samples drawn in the states panel and the linear panels (an accumulation window: its
+    flights).  Returns {panel: (value at its start, value at its end, undetermined components)},
+    exact, or None when it has none."""
     fa, fb = float(ph.start), float(ph.end)
     for ax in cv.axes:
         ax.axvspan(fa, fb, color=cv.colors[ph.mode], alpha=0.10, lw=0)
     if ph.window is not None:  # infinitely many events: a line per scaled flight, exact values
         _draw_window(cv, ph, npts)
-        return (None, None)
+        return None
     traj = cv.traj
     ts = [_frac(fa + (fb - fa) * (j + 0.5) / npts) for j in range(npts)]  # inside the phase
     tt = [fa] + [float(t) for t in ts] + [fb]
@@ -403,51 +411,52 @@ def _draw_phase(cv: _Canvas, ph: PhaseInterval, npts: int) -> tuple:
         (traj.state(ph.start) if float(ph.start) > 0 else traj.x0)  # after an accumulation: x(T*)
     last = ph.end_event.state_before if ph.end_event is not None else traj.state(ph.end)
     balls = traj.sample(ts, 10)  # certified, one exponential sum per point
-    _draw_states_panel(cv, tt, first, last, balls)
-    return _draw_pair_panels(cv, ph, tt, first, last, balls)
+    if "x" in cv.ax_of:
+        rows = [[float(b.mid()) for b in row] for row in balls]
+        for pos, i in enumerate(cv.comps["x"]):
+            cv.line("x", pos, tt, [float(first[i])] + [r[i] for r in rows] + [float(last[i])])
+    return _draw_linear_panels(cv, ph, tt, first, last, balls)
 
 
-def _draw_states_panel(cv: _Canvas, tt: list, first, last, balls: list) -> None:
-    """The states on one phase: the exact x(start+), the sampled balls, the exact x(end-)."""
-    if "x" not in cv.ax_of:
-        return
-    rows = [[float(b.mid()) for b in row] for row in balls]
-    for pos, i in enumerate(cv.sidx):
-        cv.line("x", pos, tt, [float(first[i])] + [r[i] for r in rows] + [float(last[i])])
-
-
-def _draw_pair_panels(cv: _Canvas, ph: PhaseInterval, tt: list, first, last, balls: list) -> tuple:
-    """u and y on one phase: linear in x there (u = F_u x, y = F_y x), from the same balls and
-    exactly at the two ends (u(τ+) at the start, u(τ-) at the end: the values the jump markers
-    compare); inputs the state leaves free are not drawn (no value).  Returns those ends."""
-    maps = _pair_maps(cv.lcs, ph.mode)
+def _draw_linear_panels(cv: _Canvas, ph: PhaseInterval, tt: list, first, last, balls: list) -> dict | None:
+    """w, u and y on one phase: linear in x there (:func:`_linear_maps`), from the same balls and
+    exactly at the two ends (the values after the event that starts it and before the one that
+    ends it: the values the jump markers compare); components that depend on inputs the state
+    leaves free are not drawn (they have no value).  Returns those ends."""
+    maps = _linear_maps(cv, ph.mode)
     if maps is None:  # no mode: u and y are not defined there
-        return (None, None)
-    ends = tuple((ProjectedVector(maps[0], z), ProjectedVector(maps[1], z)) for z in (first, last))
+        return None
     free = _undetermined(cv.traj, ph)  # inputs the state leaves free here
     cv.free_of[ph.mode] = cv.free_of.get(ph.mode, frozenset()) | free
-    free_y = {i for i in range(cv.lcs.k) if any(cv.lcs.D[i, j] != 0 for j in free)}
-    for w, which in enumerate(("u", "y")):
-        if which in cv.ax_of:
-            vals = ([[float(c) for c in ends[0][w]]] + _apply(maps[w], balls, ph.mode if w else ())
-                    + [[float(c) for c in ends[1][w]]])
-            for pos, i in enumerate(cv.cidx):
-                if i in (free if w == 0 else free_y):
-                    cv.any_free = True
-                    continue
-                cv.line(which, pos, tt, [v[i] for v in vals])
+    frees = _free_rows(cv, free)
+    ends = {}
+    for p in _LINEAR:
+        if p not in cv.ax_of:
+            continue
+        M = maps[p]
+        a, b = ProjectedVector(M, first), ProjectedVector(M, last)
+        ends[p] = (a, b, frees[p])
+        vals = [[float(c) for c in a]] + _apply(M, balls, ph.mode if p == "y" else ()) + [[float(c) for c in b]]
+        for pos, i in enumerate(cv.comps[p]):
+            if i in frees[p]:
+                cv.any_free = True
+                continue
+            cv.line(p, pos, tt, [v[i] for v in vals])
+            row = [M[i, j] for j in range(M.ncols())]
+            for before, h in enumerate(cv.comps[p][:pos]):  # equal on the whole phase (rows of M), not 0
+                if h not in frees[p] and any(row) and row == [M[h, j] for j in range(M.ncols())]:
+                    cv.equal.setdefault((p, before, pos), set()).add(ph.mode)
     return ends
 
 
 def _draw_window(cv: _Canvas, ph: PhaseInterval, npts: int) -> None:
     """An accumulation window [t_k, T*): the scaled cycles of the proven law, each flight its own
     line (no segment across an event), until the flights are shorter than the plot resolves;
-    states, u and y are the exact values of the law (``traj.state``, ``traj.u``, ``traj.y``)."""
+    states, u, y and w are the exact values of the law (``traj.state``, ``traj.u``, ...)."""
     fa, fb = float(ph.start), float(ph.end)
     width = fb - fa
     cuts = [fa]
-    for t in ph.window.event_times(400):
-        ft = float(t)
+    for ft in _flight_times(ph.window, 400):
         if ft >= fb or ft - cuts[-1] < width * 5e-3:
             break
         cuts.append(ft)
@@ -458,132 +467,134 @@ def _draw_window(cv: _Canvas, ph: PhaseInterval, npts: int) -> None:
         tt = [float(t) for t in ts]
         if "x" in cv.ax_of:
             rows = [[float(v.mid()) for v in row] for row in cv.traj.sample(ts, 10)]
-            for pos, i in enumerate(cv.sidx):
+            for pos, i in enumerate(cv.comps["x"]):
                 cv.line("x", pos, tt, [r[i] for r in rows])
-        for which in ("u", "y"):
-            if which in cv.ax_of:
-                vals = [[float(c) for c in getattr(cv.traj, which)(t)] for t in ts]
-                for pos, i in enumerate(cv.cidx):
-                    cv.line(which, pos, tt, [v[i] for v in vals])
+        for p in _LINEAR:
+            if p in cv.ax_of:
+                get = cv.traj.outputs if p == "w" else getattr(cv.traj, p)
+                vals = [[float(c) for c in get(t)] for t in ts]
+                for pos, i in enumerate(cv.comps[p]):
+                    cv.line(p, pos, tt, [v[i] for v in vals])
 
 
-def _draw_events(cv: _Canvas, evs: list, t_hi: float, label_events: int) -> None:
-    """Every event: its dashed line, its label, the jumps of the states and the impulses."""
-    # event labels: horizontal, on up to four lines above the first panel, never on top of
-    # each other (widths estimated from the text: ~4.7 pt per character at 8 pt)
-    texts = [_event_text(e) for e in evs[:label_events]]
-    axes_pt = cv.fig.get_figwidth() * 72 * 0.78
-    x_lo, x_span = -0.015 * t_hi, 1.03 * t_hi
-    levels = _label_levels([(float(e.time) - x_lo) / x_span for e in evs[:label_events]],
-                           [(4.7 * len(tx) + 6) / axes_pt for tx in texts])
-    levels += [None] * (len(evs) - len(levels))  # the events beyond label_events have no label line
-    many = len(evs) > 2 * label_events  # a dense run: thin light event lines, not a hatching
-    impulses = _impulses(cv, evs)
-    w_max = max((abs(v) for lst in impulses.values() for _, _, v in lst), default=1.0) or 1.0
-    # weights are written next to their arrows when there are few (else the arrows' heights and
-    # the event table tell them)
-    label_weights = sum(len(lst) for lst in impulses.values()) <= 12
-    for num, e in enumerate(evs):
+def _flight_times(window, count: int):
+    """The first ``count`` event times of an accumulation window as floats, for cutting its lines
+    (the law's cycles: cycle m starts at t_k + T (rho + ... + rho^m) and repeats the reference
+    cycle's offsets scaled by rho^(m+1), as ``window.event_times``, whose exact sums grow with
+    every cycle: 400 of a bouncing ball's took a minute); the samples inside each flight are
+    exact."""
+    law = getattr(window, "law", None)
+    if law is None or not getattr(window, "offsets", ()):
+        yield from (float(t) for t in window.event_times(count))
+        return
+    rho, T = float(law.ratio), float(law.cycle_length)
+    offsets = [float(d) for d in window.offsets]
+    start, scale, n = float(window.t_k), rho, 0
+    while n < count:
+        for d in offsets:
+            yield start + d * scale
+            n += 1
+        start, scale = start + T * scale, scale * rho
+
+
+def _draw_events(cv: _Canvas, evs: list) -> None:
+    """Every event: its dashed line, the jumps of the states and the impulses (their texts and
+    the events' labels are placed last, when the axes have their size)."""
+    many = len(evs) > 48  # a dense run: thin light event lines, not a hatching
+    for e in evs:
         te = float(e.time)
         for ax in cv.axes:
             ax.axvline(te, color="0.35", lw=0.4 if many else 0.8, ls="--", alpha=0.35 if many else 1.0, zorder=1)
-        if num < label_events and levels[num] is not None:
-            cv.axes[0].annotate(texts[num], xy=(te, 1.0), xycoords=("data", "axes fraction"),
-                                xytext=(1, 2 + 10 * levels[num]), textcoords="offset points", fontsize=8,
-                                ha="left", va="bottom", color="0.2")
-        _draw_state_jumps(cv, e, te)
-        _draw_impulses(cv, impulses.get(num, ()), te, t_hi, w_max, (levels[num] or 0) if label_weights else None)
+        if "x" in cv.ax_of:  # the states that certainly jump: x(τ-) open, x(τ+) filled
+            for pos, i in enumerate(cv.comps["x"]):
+                xb, xa = e.state_before[i], e.state_after[i]
+                if _certainly_different(xb, xa):
+                    cv.any_jump = True
+                    cv.jump("x", pos, te, xb, xa, (6, 5))
+        _draw_impulses(cv, e, te)
 
 
-def _draw_state_jumps(cv: _Canvas, e, te: float) -> None:
-    """The states that certainly jump at the event: x(τ-) open, x(τ+) filled."""
-    if "x" not in cv.ax_of:
+def _draw_impulses(cv: _Canvas, e, te: float) -> None:
+    """The impulses u^0 δ at an event (3.6): dashed dark arrows through the whole u panel (a Dirac
+    has no value on the scale of u, and the arrows are not lines of u), their texts
+    ``impulse (stop) = 1.5`` placed last."""
+    u0 = (getattr(e, "impulse", None) or {}).get(0)
+    if u0 is None or "u" not in cv.ax_of:
         return
-    for pos, i in enumerate(cv.sidx):
-        xb, xa = e.state_before[i], e.state_after[i]
-        if _certainly_different(xb, xa):
-            cv.any_jump = True
-            cv.jump("x", pos, te, xb, xa, (6, 5))
+    shown = 0
+    for i in cv.comps["u"]:
+        v, nonzero = _component(u0, i)
+        if not nonzero:
+            continue
+        x = te + 0.004 * cv.t_hi * shown  # side by side when several constraints act at once
+        cv.ax_of["u"].annotate("", xy=(x, 0.97), xycoords=("data", "axes fraction"), xytext=(x, 0.0),
+                               textcoords=("data", "axes fraction"),
+                               arrowprops=dict(arrowstyle="-|>,head_length=0.6,head_width=0.3", color=_IMPULSE,
+                                               lw=1.4, ls=(0, (4, 2)), shrinkA=0, shrinkB=0), zorder=4)
+        cv.impulses.append((x, f"{impulse_label(cv.lcs, i)} = {v:.3g}"))
+        shown += 1
 
 
-def _impulses(cv: _Canvas, evs: list) -> dict:
-    """Event number -> [(position, pair, weight of u^0)] for the drawn pairs with an impulse."""
-    out: dict = {}
-    for num, e in enumerate(evs):
-        u0 = (getattr(e, "impulse", None) or {}).get(0)
-        if u0 is not None:
-            for pos, i in enumerate(cv.cidx):
-                v, nonzero = _component(u0, i)
-                if nonzero:
-                    out.setdefault(num, []).append((pos, i, v))
-    return out
-
-
-def _draw_impulses(cv: _Canvas, arrows, te: float, t_hi: float, w_max: float, level: int | None) -> None:
-    """The impulses u^0 δ at an event (3.6): dotted arrows whose height grows with the weight
-    (the largest reaches the top), not values of u; their weights written beside them unless
-    ``level`` is None (the event label's line, which the text steps below)."""
-    if "u" not in cv.ax_of:
-        return
-    for shown, (pos, i, v) in enumerate(arrows):
-        cv.any_impulse = True
-        color = cv.pens[pos][0]
-        dx = 0.004 * t_hi * shown  # side by side when several constraints act at once
-        top = 0.03 + 0.94 * (0.15 + 0.85 * abs(v) / w_max)
-        cv.ax_of["u"].annotate("", xy=(te + dx, top), xycoords=("data", "axes fraction"),
-                               xytext=(te + dx, 0.03), textcoords=("data", "axes fraction"),
-                               arrowprops=dict(arrowstyle="-|>", color=color, lw=1.2, ls=":", alpha=0.8), zorder=4)
-        if level is not None:
-            cv.ax_of["u"].annotate(f"{v:.4g}·δ", xy=(te + dx, min(0.6, top - 0.05) - 0.1 * (shown + level)),
-                                   xycoords=("data", "axes fraction"), xytext=(4, 0),
-                                   textcoords="offset points", fontsize=8, color=color)
-
-
-def _draw_pair_jumps(cv: _Canvas, phases: list, pair_ends: list) -> None:
-    """u and y jump wherever the mode changes: open/closed markers as for the state."""
-    for (prev, ends), ph in zip(zip(pair_ends, pair_ends[1:]), phases[1:]):
-        if prev[1] is None or ends[0] is None:
+def _draw_linear_jumps(cv: _Canvas, phases: list, ends: list) -> None:
+    """u, y and w jump wherever the mode changes: open/closed markers as for the state, for the
+    components determined on both sides."""
+    for prev, cur, ph in zip(ends, ends[1:], phases[1:]):
+        if prev is None or cur is None:
             continue
         te = float(ph.start)
-        for w, which in enumerate(("u", "y")):
-            if which not in cv.ax_of:
-                continue
-            for pos, i in enumerate(cv.cidx):
-                left, right = prev[1][w][i], ends[0][w][i]
+        for p, (start, _, free_here) in cur.items():
+            end_before, free_before = prev[p][1], prev[p][2]
+            for pos, i in enumerate(cv.comps[p]):
+                if i in free_here or i in free_before:
+                    continue
+                left, right = end_before[i], start[i]
                 if _certainly_different(left, right):
                     cv.any_jump = True
-                    cv.jump(which, pos, te, left, right, (5, 4))
+                    cv.jump(p, pos, te, left, right, (5, 4))
 
 
 def _draw_legends(cv: _Canvas) -> None:
     """Each panel's label and legend outside the data: its lines (names), the impulses and the
-    gaps where they occur; in the first panel the jump markers and the modes' shades."""
+    gaps where they occur, the states not drawn; in the first panel the jump markers and the
+    modes' shades, one entry per mode."""
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     lcs = cv.lcs
     for p, ax in cv.ax_of.items():
-        ax.set_ylabel({"x": "state"}.get(p, p))
+        ax.set_ylabel({"x": "state", "w": getattr(cv.outputs, "symbol", "w")}.get(p, p))
         if p == "x":
-            handles = [Line2D([], [], color=cv.pens[pos][0], ls=cv.pens[pos][1], lw=1.6, label=_state_label(lcs, i))
-                       for pos, i in enumerate(cv.sidx)]
+            labels = [state_label(lcs, i) for i in cv.comps["x"]]
+        elif p == "w":
+            labels = list(cv.outputs.names)
         else:
-            handles = [Line2D([], [], color=cv.pens[pos][0], ls=cv.pens[pos][1], lw=1.6,
-                              label=_pair_label(lcs, p, i)) for pos, i in enumerate(cv.cidx)]
-            if p == "u" and cv.any_impulse:
-                handles.append(Line2D([], [], color="0.3", ls=":", marker="^", ms=5, label="impulse (weight·δ)"))
-            if cv.any_free:
-                handles.append(Line2D([], [], color="none", label="(gaps: not determined by the state)"))
+            labels = [pair_label(lcs, p, i) for i in cv.comps[p]]
+        handles = [Line2D([], [], color=cv.pens[pos][0], ls=cv.pens[pos][1], lw=cv.width(p, pos), label=text)
+                   for pos, text in enumerate(labels)]
+        if p == "x" and cv.hidden:
+            handles.append(Line2D([], [], color="none", label=f"(not drawn: {', '.join(cv.hidden)};\n"
+                                                              " sources=True draws them)"))
+        if p == "u" and cv.impulses:
+            handles.append(Line2D([], [], color=_IMPULSE, ls=(0, (4, 2)), marker="^", ms=5,
+                                  label="impulse δ (arrow not to scale)"))
+        for (panel, a, b), modes in sorted(cv.equal.items()):
+            if panel == p:  # the later line hides the earlier: say so
+                handles.append(Line2D([], [], color="none", label=f"({labels[b]} = {labels[a]} in "
+                                      + ", ".join(format_mode(m) for m in sorted(modes, key=mode_order)) + ")"))
+        if p != "x" and cv.any_free:
+            handles.append(Line2D([], [], color="none", label="(gaps: not determined by the state)"))
         if ax is cv.axes[0]:
             if cv.any_jump:
                 handles += [Line2D([], [], ls="", marker="o", mfc="white", mec="0.3", label="left limit (τ−)"),
                             Line2D([], [], ls="", marker="o", color="0.3", label="right limit (τ+)")]
-            handles += [Patch(color=cv.colors[m], alpha=0.3, label=_mode_label(lcs, m, cv.free_of.get(m, frozenset())))
-                        for m in sorted(cv.colors, key=lambda m: (m is None, mode_order(m or ())))]
+            modes = sorted(cv.colors, key=lambda m: (m is None, mode_order(m or ())))
+            texts, notes = mode_texts(lcs, modes, cv.free_of)
+            handles += [Patch(color=cv.colors[m], alpha=0.3, label=texts[m]) for m in modes]
+            handles += [Line2D([], [], color="none", label=f"({note})") for note in notes]
         # a long legend in columns: it must not be taller than its panel
-        ncol = 1 + (len(handles) - 1) // 12
+        lines = sum(h.get_label().count("\n") + 1 for h in handles)
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False,
-                  ncol=ncol)
+                  ncol=1 + (lines - 1) // 14)
 
 
 def _draw_title(cv: _Canvas, phases: list, title: str | None) -> None:
@@ -594,12 +605,73 @@ def _draw_title(cv: _Canvas, phases: list, title: str | None) -> None:
         status = getattr(getattr(traj, "status", None), "value", None)
         name += f" (partial: {status})" if status else " (partial)"
         if phases:  # where the run stopped
+            cv.stopped = float(phases[-1].end)
             for ax in cv.axes:
-                ax.axvline(float(phases[-1].end), color="#c44e52", lw=1.2, ls=":", zorder=2)
-            cv.axes[0].annotate("run stopped", xy=(float(phases[-1].end), 1.0), xycoords=("data", "axes fraction"),
-                                xytext=(-2, 2), textcoords="offset points", ha="right", va="bottom", fontsize=8,
-                                color="#c44e52")
+                ax.axvline(cv.stopped, color="#c44e52", lw=1.2, ls=":", zorder=2)
     cv.fig.suptitle(name, fontsize=11)
+
+
+def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
+    """The texts placed last, measured against the axes' final width: the events' labels above
+    the first panel (four rows), the impulses' texts beside their arrows (three rows from the
+    arrows' tips down); a text with no room is left out (its event or arrow stays drawn), and the
+    axis label says how many events are labelled (:class:`~lcs_exact.figlabels.Rows`)."""
+    fig, top = cv.fig, cv.axes[0]
+    engine = fig.get_layout_engine()
+    if engine is not None:
+        engine.execute(fig)  # the layout with legends and titles: the axes' width is final
+
+    def width_pt(ax) -> float:
+        return ax.get_position().width * fig.get_figwidth() * 72
+
+    x_lo, x_hi = top.get_xlim()
+
+    def place(ax, rows: Rows, x: float, text: str, off: float = 3, avoid=(), left=False, beyond: float = 0.0):
+        """:meth:`Rows.place_text` of a text at the data coordinate x of the axes ax."""
+        W = width_pt(ax)
+        return rows.place_text((x - x_lo) / (x_hi - x_lo) * W, text_width(text, 8), W, off,
+                               [(a - x_lo) / (x_hi - x_lo) * W for a in avoid], left, beyond)
+
+    rows = Rows(4, gap=8)
+    if cv.stopped is not None:  # "run stopped", right-aligned at the stop, in the lowest row
+        stop = place(top, rows, cv.stopped, "run stopped", left=True)
+        if stop is not None:
+            top.annotate("run stopped", xy=(cv.stopped, 1.0), xycoords=("data", "axes fraction"),
+                         xytext=(3 if stop[1] == "left" else -3, 2 + 10 * stop[0]), textcoords="offset points",
+                         ha=stop[1], va="bottom", fontsize=8, color="#c44e52")
+    # a label starts at its event's line; near the right end it reaches over the legends' column
+    # (above the first legend), kept out of the layout so that the axes keep their width
+    room = (1 - top.get_position().x1) * fig.get_figwidth() * 72 - 6
+    labelled, in_layout_rows, outside_rows = 0, {-1}, set()
+    for e in evs:
+        if labelled == label_events:
+            break
+        text = event_text(e)
+        spot = place(top, rows, float(e.time), text, beyond=room)
+        if spot is None:
+            continue
+        labelled += 1
+        label = top.annotate(text, xy=(float(e.time), 1.0), xycoords=("data", "axes fraction"),
+                             xytext=(3 if spot[1] == "left" else -3, 2 + 10 * spot[0]), textcoords="offset points",
+                             fontsize=8, ha=spot[1], va="bottom", color="0.2")
+        label.set_in_layout(not spot[2])
+        (outside_rows if spot[2] else in_layout_rows).add(spot[0])
+    if max(outside_rows, default=-1) > max(in_layout_rows):  # the layout still makes room for that row
+        top.annotate(" ", xy=(x_lo, 1.0), xycoords=("data", "axes fraction"), xytext=(0, 2 + 10 * max(outside_rows)),
+                     textcoords="offset points", fontsize=8, va="bottom", alpha=0)
+    if "u" in cv.ax_of and cv.impulses:
+        ax_u, rows_u = cv.ax_of["u"], Rows(3)
+        for x, text in sorted(cv.impulses):
+            spot = place(ax_u, rows_u, x, text, 4, [a for a, _ in cv.impulses if a != x])
+            if spot is not None:
+                ax_u.annotate(text, xy=(x, 0.86), xycoords=("data", "axes fraction"),
+                              xytext=(4 if spot[1] == "left" else -4, -11 * spot[0]), textcoords="offset points",
+                              fontsize=8, ha=spot[1], va="center", color=_IMPULSE, zorder=7,
+                              bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.85))
+    notes = [f"{len(evs)} events (dashed), {labelled} labelled above"] if labelled < len(evs) else []
+    accs = [a for a in getattr(cv.traj, "accumulations", ()) or () if hasattr(a, "time")]
+    notes += [f"infinitely many events before t = {float(a.time):.4g}" for a in accs]
+    cv.axes[-1].set_xlabel("t" + (f"    ({'; '.join(notes)})" if notes else ""))
 
 
 def _indices(sel, names, count: int, what: str) -> list[int]:

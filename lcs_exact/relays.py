@@ -28,6 +28,11 @@ not "wj-" are not autonomous (the row of y_+ in G_II(s) vanishes).  They are nev
 when c != 0 (y_+ = 0 and u_- = 0 give 2c = 0), which mode selection proves
 (:mod:`lcs_exact.rcpfamily`).  In mode terms: relay j with z_j > 0 (w = 1) is {2j, 2j+1}; with
 z_j < 0 (w = -1) neither index; sliding (z_j = 0 with |w_j| < 1) is {2j} alone.
+
+Outputs.  The relays' outputs w_j = u_{2j} - c are what a user of the relay system asks for, not
+the pairs: the builder declares them as :class:`RelayOutputs` (a linear map w = W_x x + W_u u)
+carried by the LCS's embedding (:class:`LevelEmbedding`), so that ``traj.outputs(t)``,
+``traj.to_pandas(t)`` and ``traj.plot()`` give w(t) under the relays' names.
 """
 from __future__ import annotations
 
@@ -40,25 +45,90 @@ from .rational import to_matrix, to_vector
 from .sources import AppendedStates
 from .system import LCS
 
-__all__ = ["relay", "LevelEmbedding"]
+__all__ = ["relay", "LevelEmbedding", "LinearOutputs", "RelayOutputs"]
+
+
+class LinearOutputs:
+    """Outputs a builder derives from the state and the inputs: w = W_x x + W_u u (exact).
+
+    Parameters
+    ----------
+    names : sequence of m str
+        The outputs' names (columns of ``traj.to_pandas``, lines of ``traj.plot``).
+    Wx : m x n matrix
+        Coefficients of the LCS's state x (all n states, appended ones included).
+    Wu : m x k matrix
+        Coefficients of the inputs u.
+    symbol : str
+        The outputs' symbol (the label of their panel in a figure), ``"w"`` by default.
+
+    An LCS carries them on its embedding (``lcs.embedding.outputs``, set by the builder): a
+    trajectory evaluates them exactly (``traj.outputs(t)``: w = W_x x(t) + W_u u(t) on the phase
+    holding t).
+
+    Examples
+    --------
+    >>> out = LinearOutputs(["w"], [[0, -1]], [[1, 0]])
+    >>> out.names, out.Wx, out.Wu
+    (('w',), [0, -1], [1, 0])
+    """
+
+    def __init__(self, names: Any, Wx: Any, Wu: Any, symbol: str = "w"):
+        if isinstance(names, str) or not hasattr(names, "__iter__"):
+            raise InvalidArgument(f"names must be a sequence of str, got {type(names).__name__}")
+        self.names = tuple(str(nm) for nm in names)
+        m = len(self.names)
+        if m == 0 or len(set(self.names)) != m or not all(self.names):
+            raise InvalidArgument(f"output names must be distinct nonempty strings, got {self.names!r}")
+        self.Wx = to_matrix(Wx, "Wx", (m, None))
+        self.Wu = to_matrix(Wu, "Wu", (m, None))
+        self.symbol = str(symbol)
+
+    def describe_mode(self, I: Any) -> str | None:
+        """The outputs in a mode, in words (None: the outputs do not say)."""
+        return None
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self.names!r})"
+
+
+class RelayOutputs(LinearOutputs):
+    """The outputs w_j = u_{2j} - c of the relays of :func:`relay` (the module docstring), whose
+    mode description says each relay's level: ``+1`` (z_j > 0), ``-1`` (z_j < 0) or sliding.
+
+    >>> out = relay([[0, 0], [0, 0]], [[-1, 2], [-2, -1]], [[1, 0], [0, 1]]).embedding.outputs
+    >>> out.names, out.describe_mode({0, 1}), out.describe_mode({0, 2})
+    (('w_0', 'w_1'), 'w_0 = +1, w_1 = -1', 'w_0 sliding, w_1 sliding')
+    """
+
+    def describe_mode(self, I: Any) -> str:
+        """Each relay's level in mode I: ``"w_0 = +1, w_1 sliding"``."""
+        I = frozenset(I)
+        words = []
+        for j, nm in enumerate(self.names):
+            lo, hi = 2 * j in I, 2 * j + 1 in I
+            words.append(f"{nm} " + ("= +1" if lo and hi else "sliding" if lo else "= -1" if not hi else "not admissible"))
+        return ", ".join(words)
 
 
 class LevelEmbedding(AppendedStates):
     """x -> (x, 1): the full initial state of a relay LCS (the appended relay level c = 1, a
-    constant source).
+    constant source); ``outputs`` are the relays' outputs (:class:`RelayOutputs`).
 
     >>> LevelEmbedding(2)([3, "1/2"]).transpose()
     [3, 1/2, 1]
     """
 
-    def __init__(self, n: int):
+    def __init__(self, n: int, outputs: LinearOutputs | None = None):
         super().__init__(n, [1], ("c",))
+        self.outputs = outputs
 
     def __repr__(self):
         return f"LevelEmbedding({self.n})"
 
 
-def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any = None) -> LCS:
+def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any = None,
+          relay_names: Any = None) -> LCS:
     """The LCS of the relay system x' = A x + B w, w in Sgn(C x) (componentwise, Sgn(0) = [-1, 1]).
 
     Parameters
@@ -69,13 +139,18 @@ def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any =
     name : str, optional
     state_names : sequence of n str, optional
         Names of x; the appended constant state is called ``"c"``.  Default ``x_0, ..., x_{n-1}``.
+    relay_names : sequence of m str, optional
+        Names of the relays' outputs w_j.  Default ``w_0, ..., w_{m-1}``.
 
     Returns
     -------
     LCS
         State (x, c) of dimension n + 1, 2m complementarity pairs named ``"w0-", "w0+", "w1-", ...``
-        (see the module docstring for the formulation).  ``lcs.embed(x)`` returns (x, 1), the full
-        initial state of the relay system's state x.
+        (``"s-", "s+"`` for a relay named ``"s"``; see the module docstring for the formulation).
+        ``lcs.embed(x)`` returns (x, 1), the full initial state of the relay system's state x.
+        The relays' outputs w are declared on the embedding (:class:`RelayOutputs`): a
+        trajectory gives them by ``traj.outputs(t)``, as columns of ``traj.to_pandas(t)`` and in
+        the panel ``"w"`` of ``traj.plot()``, which it draws instead of the pairs' u and y.
 
     Examples
     --------
@@ -94,6 +169,9 @@ def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any =
     [[0, 1]]
     >>> sorted(sorted(I) for I in lcs.select_modes(lcs.embed([0])))   # x = 0: sliding, w = 0
     [[0]]
+    >>> out = lcs.embedding.outputs      # w_0 = u_0 - c
+    >>> out.names, out.Wx, out.Wu
+    (('w_0',), [0, -1], [1, 0])
     """
     A = to_matrix(A, "A")
     n = A.nrows()
@@ -132,6 +210,20 @@ def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any =
         Cf[2 * j + 1, n] = 2
         Df[2 * j, 2 * j + 1] = 1
         Df[2 * j + 1, 2 * j] = -1
-    cnames = tuple(f"w{j}{sign}" for j in range(m) for sign in "-+")
+    if relay_names is not None:
+        if isinstance(relay_names, str) or not hasattr(relay_names, "__iter__"):
+            raise InvalidArgument(f"relay_names must be a sequence of {m} strings, got {type(relay_names).__name__}")
+        relay_names = tuple(str(nm) for nm in relay_names)
+        if len(relay_names) != m:
+            raise ShapeError(f"relay_names has {len(relay_names)} names, expected {m} (one per column of B)")
+        cnames = tuple(f"{nm}{sign}" for nm in relay_names for sign in "-+")
+    else:
+        relay_names = tuple(f"w_{j}" for j in range(m))
+        cnames = tuple(f"w{j}{sign}" for j in range(m) for sign in "-+")
+    Wx, Wu = fmpq_mat(m, N), fmpq_mat(m, k)
+    for j in range(m):  # w_j = u_{2j} - c
+        Wx[j, n] = -1
+        Wu[j, 2 * j] = 1
+    outputs = RelayOutputs(relay_names, Wx, Wu)
     return LCS(Af, Bf, Cf, Df, name=name, state_names=names, constraint_names=cnames,
-               embedding=LevelEmbedding(n))
+               embedding=LevelEmbedding(n, outputs))

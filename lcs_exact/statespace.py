@@ -24,6 +24,7 @@ import re
 from typing import Any
 
 from .errors import InvalidArgument, ShapeError
+from .figlabels import pair_label
 from .rational import as_list, to_fmpq
 
 __all__ = ["signal_names", "to_statespace", "read_statespace", "time_response"]
@@ -43,15 +44,8 @@ def signal_names(lcs: Any) -> tuple[tuple, tuple, tuple]:
     >>> signal_names(LCS([[0]], [[1]], [[1]], [[0]], state_names=["q"], constraint_names=["stop"]))
     (('q',), ('u (stop)',), ('y (stop)',))
     """
-    names, roles = tuple(lcs.constraint_names), getattr(lcs, "roles", None)
-    default = names == tuple(str(j) for j in range(lcs.k))
-
-    def pair(kind: str, j: int) -> str:
-        if roles is not None:
-            return roles[j][0 if kind == "u" else 1]
-        return f"{kind}_{j}" if default else f"{kind} ({names[j]})"
-    return (tuple(lcs.state_names), tuple(pair("u", j) for j in range(lcs.k)),
-            tuple(pair("y", j) for j in range(lcs.k)))
+    return (tuple(lcs.state_names), tuple(pair_label(lcs, "u", j, latex=False) for j in range(lcs.k)),
+            tuple(pair_label(lcs, "y", j, latex=False) for j in range(lcs.k)))
 
 
 def _control(what: str):

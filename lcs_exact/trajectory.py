@@ -18,12 +18,13 @@ from .balls import DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, digits_to_
 from .errors import InvalidArgument, LCSError, Undetermined
 from .fixture import fixture_dict
 from .modes import format_mode, latex_mode
+from .figlabels import derived_outputs
 from .plotting import plot_trajectory
 from .rational import as_list, to_fmpq, to_int
 from .reals import Real, as_real
 from .sources import source_block
 from .statespace import signal_names, time_response
-from .vectors import ExactVector, ProjectedVector
+from .vectors import ComponentsVector, ExactVector, ProjectedVector
 
 __all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA", "Branches"]
 
@@ -241,6 +242,51 @@ class Trajectory:
         free = frozenset(i for i in range(lcs.k) if any(lcs.D[i, j] != 0 for j in rec.undetermined))
         return PartlyUndetermined(v, free, "y") if free else v
 
+    @property
+    def output_names(self) -> tuple:
+        """The names of the outputs the builder declared (a relay's ``w_0, w_1, ...``), or ()."""
+        out = derived_outputs(self.lcs)
+        return () if out is None else tuple(out.names)
+
+    def outputs(self, t: Any) -> ExactVector:
+        """The outputs the builder declared, exact at t: w = W_x x + W_u u on the phase holding t
+        (at an event time, the right limit: the values on the phase after it, as for :meth:`state`).  A relay system
+        (:func:`lcs_exact.models.relay`) declares its relays' outputs w_j in Sgn(C_j x); their
+        names are :attr:`output_names`.  An output that depends on an undetermined input is
+        undetermined.
+
+        >>> from lcs_exact.models import relay
+        >>> from lcs_exact import simulate
+        >>> lcs = relay([[0]], [[-1]], [[1]])        # x' = -w, w in Sgn(x)
+        >>> tr = simulate(lcs, lcs.embed([1]), 2)    # x = 1 - t, then x = 0 sliding
+        >>> tr.output_names, tr.outputs("1/2"), tr.outputs(1), tr.outputs(2)   # w = sgn(x), 0 sliding
+        (('w_0',), (1), (0), (0))
+        """
+        out = derived_outputs(self.lcs)
+        if out is None:
+            raise InvalidArgument("this system declares no outputs (models.relay declares its relays' w); "
+                                  "use u(t), y(t) or state(t)")
+        t = as_real(t, self.policy)
+        i, at_end = self._locate(t)
+        rec = self.phases[i + 1] if at_end and i + 1 < len(self.phases) else self.phases[i]
+        if at_end and hasattr(rec.phase, "output") and rec is self.phases[i]:
+            raise InvalidArgument(f"the outputs at the accumulation time {t.label()} itself: the trajectory "
+                                  "ends there, and the inputs have no limit from the left (the state does)")
+        W = fmpq_mat(out.Wx.nrows(), self.lcs.n + self.lcs.k)
+        for r in range(W.nrows()):
+            for j in range(self.lcs.n):
+                W[r, j] = out.Wx[r, j]
+            for j in range(self.lcs.k):
+                W[r, self.lcs.n + j] = out.Wu[r, j]
+        if hasattr(rec.phase, "output"):  # an accumulation window: its exact x and u
+            u = rec.phase.output(t - rec.t0, "u")
+            v = ProjectedVector(W, ComponentsVector(list(self.state(t)) + list(u)))
+            free = frozenset()
+        else:
+            v = ProjectedVector(out.Wx + out.Wu * full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
+            free = frozenset(r for r in range(W.nrows()) if any(out.Wu[r, j] != 0 for j in rec.undetermined))
+        return PartlyUndetermined(v, free, "w") if free else v
+
     def undetermined(self, t: Any) -> frozenset:
         """The inputs u_j that the state does not determine at t (empty unless the mode there
         is not autonomous but the state is unique: a floating diode bridge).
@@ -325,18 +371,20 @@ class Trajectory:
         return fixture_dict(self, digits, sample, closed_forms, provenance)
 
     def plot(self, **kw):
-        """States and u/y against t, events and jumps marked.
+        """States and u/y (or the declared outputs w) against t, events and jumps marked.
 
         Keywords (:func:`lcs_exact.plotting.plot_trajectory`): ``states`` and ``constraints``
-        (indices or names to draw), ``panels`` (a subset of ``("x", "u", "y")``), ``points``
-        (about 800 certified sample times in total), ``label_events`` (how many events get a
-        label), ``figsize``, ``title``.  Returns the matplotlib Figure."""
+        (indices or names to draw), ``panels`` (a subset of ``("x", "w", "u", "y")``; ``"w"``:
+        the outputs a builder declared, :meth:`outputs`, drawn instead of u and y by default),
+        ``points`` (about 800 certified sample times in total), ``label_events`` (at most how
+        many events get a label), ``figsize``, ``title``, ``sources`` (draw the states the
+        builder appended for its sources, hidden by default).  Returns the matplotlib Figure."""
         return plot_trajectory(self, **kw)
 
     # --- arrays and data frames ---------------------------------------------------------------
-    def _columns(self, t: Any, u: bool, y: bool) -> tuple[list, list[str], list[list[float]]]:
+    def _columns(self, t: Any, u: bool, y: bool, w: bool = False) -> tuple[list, list[str], list[list[float]]]:
         """(times as fmpq, column names, rows of floats): the states at t (right limits), then
-        u and y when asked (an undetermined input is NaN)."""
+        u and y when asked (an undetermined input is NaN), then the declared outputs (``w``)."""
         if hasattr(t, "tolist"):
             t = as_list(t)
         if isinstance(t, (str, bytes)) or not hasattr(t, "__iter__"):
@@ -351,6 +399,10 @@ class Trajectory:
             for row, tq in zip(rows, ts):
                 vec = getattr(self, kind)(tq)
                 row += [float(c) for c in vec]
+        if w:
+            names += list(self.output_names)
+            for row, tq in zip(rows, ts):
+                row += [float(c) for c in self.outputs(tq)]
         return ts, names, rows
 
     def to_numpy(self, t: Any, *, u: bool = False, y: bool = False):
@@ -367,15 +419,26 @@ class Trajectory:
         _, _, rows = self._columns(t, u, y)
         return np.array(rows, dtype=np.float64)
 
-    def to_pandas(self, t: Any, *, u: bool = False, y: bool = False):
+    def to_pandas(self, t: Any, *, u: bool = False, y: bool = False, outputs: bool | None = None):
         """A pandas DataFrame indexed by t (name ``t``) with the state names as columns (then u
         and y when asked, named as in plots: the builder's words, ``u_0``, or ``u (stop)``;
-        :func:`~lcs_exact.statespace.signal_names`): :meth:`to_numpy` with labels."""
+        :func:`~lcs_exact.statespace.signal_names`), then the outputs the builder declared, e.g. a
+        relay's ``w_0`` (by default when there are any): :meth:`to_numpy` with labels.
+
+        >>> from lcs_exact.models import relay
+        >>> from lcs_exact import simulate
+        >>> lcs = relay([[0]], [[-1]], [[1]])        # x' = -w, w in Sgn(x)
+        >>> df = simulate(lcs, lcs.embed([1]), 2).to_pandas([0, "1/2", "3/2"])
+        >>> list(df.columns), df["w_0"].tolist(), df["x_0"].tolist()
+        (['x_0', 'c', 'w_0'], [1.0, 1.0, 0.0], [1.0, 0.5, 0.0])
+        """
         try:
             import pandas as pd
         except ImportError:
             raise InvalidArgument("to_pandas needs pandas: pip install pandas (or lcs_exact[data])") from None
-        ts, names, rows = self._columns(t, u, y)
+        if outputs is None:
+            outputs = bool(self.output_names)
+        ts, names, rows = self._columns(t, u, y, outputs)
         return pd.DataFrame(rows, index=pd.Index([float(v) for v in ts], name="t"), columns=names)
 
     def to_control(self, t: Any):

@@ -277,7 +277,7 @@ def test_table_names_are_the_plots_names():
     named one (it was u_0 in tables whatever the name), the builder's words with roles."""
     tr = simulate(LCS(**OSC, constraint_names=["stop"]), [1, 0], 1)
     assert list(tr.to_pandas([0], u=True, y=True).columns) == ["x_0", "x_1", "u (stop)", "y (stop)"]
-    from lcs_exact.plotting import _pair_label
-    assert _pair_label(tr.lcs, "u", 0) == "u (stop)" and _pair_label(tr.lcs, "y", 0) == "y (stop)"
+    from lcs_exact.figlabels import pair_label  # the plots' legend names: one rule
+    assert pair_label(tr.lcs, "u", 0) == "u (stop)" and pair_label(tr.lcs, "y", 0) == "y (stop)"
     plain = simulate(LCS(**OSC), [1, 0], 1)
     assert list(plain.to_pandas([0], u=True, y=True).columns) == ["x_0", "x_1", "u_0", "y_0"]

@@ -58,8 +58,8 @@ def test_no_import_cycles():
 
 
 #: every module in one order (DESIGN.md section 3 for the core): each imports only modules before it
-LAYERS = ["interfaces", "errors", "rational", "ratfunc", "subspaces", "lcp", "polyhedra", "balls", "flintlib", "calcium",
-          "forms", "expm", "nodes", "reals", "vectors", "modes", "ldcp", "rcpfamily", "selection", "mapplot", "plotting",
+LAYERS = ["interfaces", "errors", "rational", "convergence", "ratfunc", "subspaces", "lcp", "polyhedra", "balls", "flintlib", "calcium",
+          "forms", "expm", "nodes", "reals", "vectors", "modes", "ldcp", "rcpfamily", "selection", "mapplot", "figlabels", "plotting",
           "modemap", "sources", "modelformat", "statespace", "wellposedness", "system", "impacts", "guesses", "roots", "polyroots", "closedforms", "phase", "clock", "flow", "fixnumbers", "fixture",
           "trajectory", "accumulation", "taylormodels", "cascade", "simulate", "fixturereader", "exosystems",
           "mechanics", "circuits", "relays", "examples", "models", "solverevents", "compare", "testing", "sweep", "zoo", "modelfile",

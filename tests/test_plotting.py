@@ -72,15 +72,17 @@ def test_trajectory_figure(impact):
     # events labelled with the mode change; the impulse of the impact (u = 1 delta)
     texts = [t.get_text() for t in ax_x.texts]
     assert "∅→{0}" in texts and "{0}→∅" in texts
-    assert any("1·δ" == t.get_text() for t in ax_u.texts)
+    assert "impulse (stop) = 1" in [t.get_text() for t in ax_u.texts]
     # phases shaded (one span per phase and axes), names from the builder, legends outside
     spans = sorted((round(p.get_x(), 9), round(p.get_x() + p.get_width(), 9)) for p in ax_x.patches
                    if isinstance(p, Rectangle))
     assert spans == [(0.0, 1.0), (1.0, round(events[1], 9)), (round(events[1], 9), 3.0)]
     labels = [t.get_text() for t in ax_x.get_legend().get_texts()]
-    # modes and pairs in the builder's words (mechanical: contact forces and gaps)
-    assert labels[:4] == ["q_0", "q_1", "q_0'", "q_1'"] and "stop contact" in labels and "left limit (τ−)" in labels
-    assert [t.get_text() for t in ax_u.get_legend().get_texts()] == ["force (stop)", "impulse (weight·δ)"]
+    # modes (index set, then the builder's words) and pairs in the builder's words (mechanical:
+    # contact forces and gaps)
+    assert labels[:4] == ["q_0", "q_1", "q_0'", "q_1'"] and "left limit (τ−)" in labels
+    assert labels[-2:] == ["∅: stop open", "{0}: stop contact"]
+    assert [t.get_text() for t in ax_u.get_legend().get_texts()] == ["force (stop)", "impulse δ (arrow not to scale)"]
     # u jumps from u(1-) = 0 to u(1+) = cos(0) = 1 when the stop engages, and is continuous at the
     # lift-off (u(1 + pi/2) = cos(pi/2) = 0 on both sides): markers at t = 1 only
     u_marks = [(ln.get_xdata()[0], ln.get_ydata()[0], ln.get_markerfacecolor())
@@ -88,9 +90,9 @@ def test_trajectory_figure(impact):
     assert sorted((round(x, 9), round(y, 9), fc == "white") for x, y, fc in u_marks) == [(1, 0, True), (1, 1, False)]
     # y = q_0 is continuous: no marker
     assert not [ln for ln in ax_y.get_lines() if ln.get_marker() == "o"]
-    # the impulse is a dotted arrow, not a solid segment that reads as part of u
+    # the impulse is a dashed arrow through the panel, not a solid segment that reads as part of u
     arrows = [t for t in ax_u.texts if t.arrow_patch is not None]
-    assert len(arrows) == 1 and arrows[0].arrow_patch.get_linestyle() == ":"
+    assert len(arrows) == 1 and arrows[0].arrow_patch.get_linestyle() not in ("-", "solid")
     fig.canvas.draw()
     for ax in (ax_x, ax_u, ax_y):
         assert ax.get_legend().get_window_extent().x0 >= ax.get_window_extent().x1
@@ -115,28 +117,36 @@ def test_default_resolution_and_exact_phase_ends(impact):
     assert set(held.get_ydata()) == {0.0}
 
 
-def test_impulse_arrows_scale_with_their_weights():
-    """Example 8.3 from (1/10, 1/10, -2, 1): the hook's impulse 3/2 at t = 0, then the stop's
-    impulse at the second impact, smaller: arrow heights in proportion, weights written."""
+def test_impulse_arrows_are_labelled_and_not_to_scale():
+    """Example 8.3 from (1/10, 1/10, -2, 1): the hook's impulse 3/2 at t = 0 (W = E M^-1 E^T = 2
+    on the hook, y'(0-) = -3, lambda = 3/2), then the stop's impulse at the second impact,
+    smaller.  A Dirac has no value on the scale of u: both arrows reach the same height (the top
+    of the panel), dashed, and each is labelled with its pair's name and weight."""
     tr = L.simulate(two_carts_with_hook(), ["1/10", "1/10", -2, 1], 1)
-    w = [float(e.impulse[0][i, 0]) if hasattr(e.impulse[0], "nrows") else float(e.impulse[0][i])
-         for e in tr.events for i in range(2) if e.impulse]
-    w = [v for v in w if v]
-    assert w[0] == 1.5 and 0 < w[1] < 1.5
-    ax_u = tr.plot(points=40).axes[1]
-    tops = [t.xy[1] for t in ax_u.texts if t.arrow_patch is not None]
-    assert tops[0] == pytest.approx(0.97) and tops[1] == pytest.approx(0.03 + 0.94 * (0.15 + 0.85 * w[1] / 1.5))
-    assert [t.get_text() for t in ax_u.texts if t.arrow_patch is None] == [f"{w[0]:.4g}·δ", f"{w[1]:.4g}·δ"]
+    stop = [float(e.impulse[0][0]) for e in tr.events if e.impulse and float(e.time) > 0]
+    assert len(stop) == 1 and 0 < stop[0] < 1.5
+    fig = tr.plot(points=40)
+    ax_u = fig.axes[1]
+    arrows = [t for t in ax_u.texts if t.arrow_patch is not None]
+    assert len(arrows) == 2 and {t.xy[1] for t in arrows} == {0.97}
+    assert all(t.arrow_patch.get_linestyle() not in ("-", "solid") for t in arrows)
+    texts = [t.get_text() for t in ax_u.texts if t.arrow_patch is None]
+    assert texts == ["impulse (hook) = 1.5", f"impulse (stop) = {stop[0]:.3g}"]
+    # each text starts at its arrow and keeps off the other texts
+    fig.canvas.draw()
+    boxes = [t.get_window_extent() for t in ax_u.texts if t.arrow_patch is None]
+    assert not boxes[0].overlaps(boxes[1])
 
 
 def test_impulse_at_an_unlabelled_event_keeps_its_weight():
     """With fewer event labels than events (label_events=1), the impulse 3/2 of the hook at t = 0
-    (Example 8.3: W = E M^-1 E^T = 2 on the hook, y'(0-) = -3, lambda = 3/2) and the stop's later
-    impulse are still written; drawing them used to fail on the missing label line."""
+    and the stop's later impulse are still written."""
     tr = L.simulate(two_carts_with_hook(), ["1/10", "1/10", -2, 1], 1)
-    ax_u = tr.plot(points=40, label_events=1).axes[1]
-    weights = [t.get_text() for t in ax_u.texts if t.arrow_patch is None and t.get_text().endswith("·δ")]
-    assert weights[0] == "1.5·δ" and len(weights) == 2
+    fig = tr.plot(points=40, label_events=1)
+    weights = [t.get_text() for t in fig.axes[1].texts if t.get_text().startswith("impulse")]
+    assert weights[0] == "impulse (hook) = 1.5" and len(weights) == 2
+    assert len([t for t in fig.axes[0].texts if "→" in t.get_text()]) == 1
+    assert fig.axes[-1].get_xlabel() == "t    (2 events (dashed), 1 labelled above)"
 
 
 @pytest.mark.slow
@@ -260,3 +270,139 @@ def test_import_does_not_load_matplotlib():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=str(pathlib.Path(L.__file__).parent.parent))
     assert out.stdout.split() == ["False", "False"]
+
+
+# ---------------------------------------------------------------------------------------------
+# modes, event labels, sources (the diode bridges: many events, floating networks, a sine source)
+# ---------------------------------------------------------------------------------------------
+
+def mode_entries(ax) -> dict:
+    """Legend text -> RGB of the mode patches of a panel's legend."""
+    from matplotlib.colors import to_rgb
+    return {t.get_text(): to_rgb(h.get_facecolor()) for t, h in zip(ax.get_legend().get_texts(),
+                                                                     ax.get_legend().legend_handles)
+            if isinstance(h, Rectangle)}
+
+
+@pytest.fixture(scope="module")
+def full_wave():
+    rect = L.examples.sine_rectifier(full_wave=True)
+    return L.simulate(rect, rect.embed([0]), 20)
+
+
+def test_each_mode_has_one_legend_entry_with_its_own_words_and_one_colour(full_wave):
+    """The full-wave bridge visits ∅ and {0} with D1's input left undetermined by the state (a
+    floating source, docs/extensions.md), {3} and {0, 1, 2}: four modes, four legend entries,
+    each led by its index set (as the event labels) and all different; every phase is shaded
+    with the colour of its own mode's entry (read from the run's phases, not from the figure)."""
+    from matplotlib.colors import to_rgb
+    from lcs_exact.modes import format_mode
+
+    fig = full_wave.plot(points=200)
+    ax = fig.axes[0]
+    entries = mode_entries(ax)
+    modes = {rec.mode for rec in full_wave.phases}
+    assert modes == {frozenset(), frozenset({0}), frozenset({3}), frozenset({0, 1, 2})}
+    assert len(entries) == len(modes)
+    by_mode = {m: [text for text in entries if text.startswith(format_mode(m) + ":")] for m in modes}
+    assert all(len(v) == 1 for v in by_mode.values()), by_mode
+    assert len(set(entries.values())) == len(modes)  # distinct colours
+    floating = [rec for rec in full_wave.phases if rec.undetermined]
+    assert {rec.mode for rec in floating} == {frozenset(), frozenset({0})}
+    for m in (frozenset(), frozenset({0})):
+        assert "D1 undetermined" in by_mode[m][0]
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(text.startswith("(∅ and {0} differ only in") for text in legend)
+    spans = {(round(p.get_x(), 9), round(p.get_x() + p.get_width(), 9)): to_rgb(p.get_facecolor())
+             for p in ax.patches if isinstance(p, Rectangle)}
+    for rec in full_wave.phases:
+        color = spans[(round(float(rec.t0), 9), round(float(rec.t1), 9))]
+        assert color == entries[by_mode[rec.mode][0]], rec
+
+
+def test_a_mode_keeps_its_colour_in_every_figure_of_its_system():
+    """The LC bridge from (0, -1) conducts through D1, D4 ({0, 3}) first, from (0, 1) through D2, D3
+    ({1, 2}) first: {1, 2} has the same colour in both figures."""
+    bridge = L.examples.diode_bridge()
+    figs = [L.simulate(bridge, x0, 5).plot(points=50) for x0 in ([0, -1], [0, 1])]
+    colors = [{text.split(":")[0]: c for text, c in mode_entries(f.axes[0]).items()} for f in figs]
+    assert set(colors[0]) == set(colors[1]) == {"{0, 3}", "{1, 2}"}
+    assert colors[0] == colors[1]
+    assert figs[1].axes[0].patches[0].get_facecolor()[:3] == pytest.approx(colors[0]["{1, 2}"])
+
+
+def assert_no_overlaps(texts):
+    boxes = [t.get_window_extent() for t in texts]
+    for i in range(len(boxes)):
+        for j in range(i + 1, len(boxes)):
+            assert not boxes[i].overlaps(boxes[j]), (texts[i].get_text(), texts[j].get_text())
+
+
+def test_event_labels_of_a_dense_run_never_overlap_and_every_event_is_marked():
+    """Siconos' bridge with a capacitor filter has 40 events in 5 ms: the labels that have room are
+    drawn above the axes, none over another nor over the title; every event keeps its dashed
+    line in every panel, and the axis label says how many are labelled."""
+    bridge = L.examples.diode_bridge_cap_filter()
+    tr = L.simulate(bridge, [10, 0, 0], "1/200")
+    n = len(tr.events)
+    assert n == 40
+    fig = tr.plot(panels=("x", "u"), points=300)
+    fig.canvas.draw()
+    labels = [t for t in fig.axes[0].texts if "→" in t.get_text()]
+    assert 10 <= len(labels) < n
+    assert_no_overlaps(labels + [t for t in fig.texts if t.get_text() == fig.get_suptitle()])
+    assert fig.axes[-1].get_xlabel() == f"t    ({n} events (dashed), {len(labels)} labelled above)"
+    top = fig.axes[0].get_window_extent()
+    assert all(t.get_window_extent().y0 >= top.y1 for t in labels)  # above the data, inside the figure
+    assert all(fig.bbox.x0 <= t.get_window_extent().x0 and t.get_window_extent().x1 <= fig.bbox.x1 for t in labels)
+    # each label starts at its event's line (the first ones, left of the last 15 % of the axis)
+    x_of = fig.axes[0].transData.transform
+    for t in labels:
+        if t.xy[0] < 0.85 * float(tr.events[-1].time):
+            assert t.get_ha() == "left" and 0 < t.get_window_extent().x0 - x_of((t.xy[0], 0))[0] < 6
+    for ax in fig.axes:
+        dashed = sorted(ln.get_xdata()[0] for ln in ax.get_lines()
+                        if ln.get_linestyle() == "--" and len(set(ln.get_xdata())) == 1)
+        assert dashed == pytest.approx(sorted(float(e.time) for e in tr.events), abs=1e-15)
+
+
+def test_event_labels_of_the_full_wave_bridge_never_overlap(full_wave):
+    fig = full_wave.plot(points=200)
+    fig.canvas.draw()
+    labels = [t for t in fig.axes[0].texts if "→" in t.get_text()]
+    assert len(labels) >= 10
+    assert_no_overlaps(labels + [t for t in fig.texts if t.get_text() == fig.get_suptitle()])
+
+
+def test_sources_are_hidden_unless_asked(full_wave):
+    """The full-wave rectifier's states are v(C1) and the source's sin(t), cos(t): by default one
+    line per phase (v(C1)), the legend says which states are left out; with sources=True the
+    lines of sin(t) and cos(t) are there, equal to sin and cos (numpy) at their times."""
+    import numpy as np
+
+    fig = full_wave.plot(points=200)
+    ax = fig.axes[0]
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "v(C1)" in legend and "sin(t)" not in legend and "cos(t)" not in legend
+    assert any("not drawn: sin(t), cos(t)" in text for text in legend)
+    assert len(state_lines(ax)) == len(full_wave.phases)
+    fig = full_wave.plot(points=200, sources=True)
+    ax = fig.axes[0]
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert legend[:3] == ["v(C1)", "sin(t)", "cos(t)"]
+    lines = state_lines(ax)
+    assert len(lines) == 3 * len(full_wave.phases)
+    for fn, pos in ((np.sin, 1), (np.cos, 2)):
+        mine = lines[pos::3]
+        assert all(np.allclose(ln.get_ydata(), fn(ln.get_xdata()), atol=1e-12) for ln in mine)
+    # an explicit selection draws what it names
+    fig = full_wave.plot(points=50, states=["sin(t)"])
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()][0] == "sin(t)"
+
+
+def test_panels_are_checked():
+    tr = L.simulate(two_carts(), [0, 1, -1, 0], 1)
+    with pytest.raises(L.InvalidArgument, match="declares none"):
+        tr.plot(panels=("x", "w"))
+    with pytest.raises(L.InvalidArgument, match="subset"):
+        tr.plot(panels="x")

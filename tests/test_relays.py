@@ -313,3 +313,100 @@ def test_coulomb_friction_oscillator_sticks_after_two_half_turns():
     x = tr.state(Fr(1, 2))  # the first phase: (1 + 3 cos(1/2), -3 sin(1/2)), mpmath at 60 digits
     half = mp.mpf(1) / 2
     assert close(num(x[0]), 1 + 3 * mp.cos(half)) and close(num(x[1]), -3 * mp.sin(half))
+
+
+# ---------------------------------------------------------------------------------------------
+# the relays' outputs w (declared by the builder: traj.outputs, to_pandas, the figure)
+# ---------------------------------------------------------------------------------------------
+
+def w_values(v) -> tuple:
+    """An exact vector of outputs as Fractions (each proven rational)."""
+    return tuple(qtime(c) for c in v)
+
+
+def test_single_relay_outputs_by_hand():
+    """x' = -w, w in Sgn(x), from x0 = 1: x = 1 - t > 0 gives w = 1 on [0, 1); from t = 1 on
+    x = 0 slides with x' = 0, so w = 0 (Filippov's equivalent control); at t = 1 itself the
+    right limit 0.  From x0 = -1 the mirror image: w = -1, then 0."""
+    for x0 in (1, -1):
+        lcs = relay([[0]], [[-1]], [[1]])
+        tr = L.simulate(lcs, lcs.embed([x0]), 3)
+        assert tr.output_names == ("w_0",)
+        for t, w in ((0, x0), (Fr(1, 3), x0), (Fr(99, 100), x0), (1, 0), (Fr(3, 2), 0), (3, 0)):
+            assert w_values(tr.outputs(t)) == (w,), (x0, t)
+        df = tr.to_pandas([0, Fr(1, 2), 2])
+        assert list(df.columns) == ["x_0", "c", "w_0"]
+        assert df["w_0"].tolist() == [x0, x0, 0] and df["x_0"].tolist() == [x0, x0 / 2, 0]
+        assert list(tr.to_pandas([0], outputs=False).columns) == ["x_0", "c"]
+        assert tr.to_numpy([0]).shape == (1, 2)   # the numeric formats read by compare keep the states only
+
+
+def test_relay_names_name_the_outputs_and_the_pairs():
+    lcs = relay([[0]], [[-1]], [[1]], relay_names=["friction"])
+    assert lcs.constraint_names == ("friction-", "friction+")
+    tr = L.simulate(lcs, lcs.embed([1]), 2)
+    assert tr.output_names == ("friction",) and list(tr.to_pandas([0]).columns) == ["x_0", "c", "friction"]
+    with pytest.raises(ShapeError, match="relay_names"):
+        relay([[0]], [[-1]], [[1]], relay_names=["a", "b"])
+    with pytest.raises(InvalidArgument, match="relay_names"):
+        relay([[0]], [[-1]], [[1]], relay_names="a")
+    # a system without declared outputs says so
+    no_outputs = L.simulate(L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]]), [1, 0], 1)
+    assert no_outputs.output_names == ()
+    with pytest.raises(InvalidArgument, match="declares no outputs"):
+        no_outputs.outputs(0)
+
+
+def test_spiral_outputs_are_the_signs_of_the_state_by_hand():
+    """(4.12) from (1, 2): w_j = sgn(x_j) on every open phase, read from the hand-derived switching
+    law (the midpoint of each phase between two switches lies in an open quadrant), through the
+    accumulation window up to 3/2 (phases 7..10 are inside it); both relays slide after 3/2,
+    w = (0, 0)."""
+    lcs = filippov_spiral()
+    tr = L.simulate(lcs, lcs.embed([1, 2]), 2)
+    assert tr.output_names == ("w_0", "w_1")
+    x, t = (Fr(1), Fr(2)), Fr(0)
+    for k, (t1, x1) in enumerate(hand_spiral([Fr(1), Fr(2)], 10)):
+        mid = (t + t1) / 2
+        xm = tuple(a + (b - a) * (mid - t) / (t1 - t) for a, b in zip(x, x1))  # straight lines
+        assert all(c != 0 for c in xm)
+        assert w_values(tr.outputs(mid)) == tuple(1 if c > 0 else -1 for c in xm), k
+        t, x = t1, x1
+    assert w_values(tr.outputs(Fr(7, 4))) == (0, 0) and w_values(tr.outputs(2)) == (0, 0)
+
+
+def test_relay_figure_draws_the_outputs_not_the_pairs():
+    """The default figure of a relay system has the panels state and w (no u, no y), the outputs'
+    names in the legend, the level c left out; the w line is 1 before t = 1 and 0 after (the
+    single relay by hand)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    lcs = relay([[0]], [[-1]], [[1]])
+    tr = L.simulate(lcs, lcs.embed([1]), 2)
+    fig = tr.plot(points=40)
+    try:
+        ax_x, ax_w = fig.axes
+        assert [a.get_ylabel() for a in fig.axes] == ["state", "w"]
+        assert [t.get_text() for t in ax_w.get_legend().get_texts()] == ["w_0"]
+        assert [t.get_text() for t in ax_x.get_legend().get_texts()][0] == "x_0"
+        assert not any(t.get_text() == "c" for t in ax_x.get_legend().get_texts())
+        lines = [ln for ln in ax_w.get_lines() if len(ln.get_xdata()) > 2]  # one per phase
+        assert len(lines) == 2
+        for ln in lines:
+            before = max(ln.get_xdata()) <= 1   # [0, 1] (its end: the left limit) or [1, 2]
+            assert before or min(ln.get_xdata()) >= 1
+            assert set(ln.get_ydata()) == ({1.0} if before else {0.0})
+        # w jumps at t = 1: open circle at w(1-) = 1, filled at w(1+) = 0
+        marks = sorted((ln.get_ydata()[0], ln.get_markerfacecolor() == "white") for ln in ax_w.get_lines()
+                       if ln.get_marker() == "o")
+        assert marks == [(0.0, False), (1.0, True)]
+        # the mode in the relays' words
+        labels = [t.get_text() for t in ax_x.get_legend().get_texts()]
+        assert "{0, 1}: w_0 = +1" in labels and "{0}: w_0 sliding" in labels
+        both = tr.plot(points=20, panels=("x", "w", "u", "y"), sources=True)
+        assert [a.get_ylabel() for a in both.axes] == ["state", "w", "u", "y"]
+        assert [t.get_text() for t in both.axes[0].get_legend().get_texts()][:2] == ["x_0", "c"]
+    finally:
+        plt.close("all")
