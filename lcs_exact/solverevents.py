@@ -47,9 +47,10 @@ def implied_events(acc: Any, w: float) -> tuple[list, float] | None:
         return None  # a live Accumulation carries its law as ``cycle``, a fixture's as ``law``
     t_star = float(_mid(acc.time))
     resolution = max(2 * w, 2.0 ** -50 * max(1.0, abs(t_star)))
+    at = getattr(acc, "event_time_ball", acc.event_time)  # a live law's balls: its exact times cost more
     out = []
     for k in range(100_000):
-        tk = float(_mid(acc.event_time(k)))
+        tk = float(_mid(at(k)))
         out.append(tk)
         if t_star - tk <= resolution:
             break

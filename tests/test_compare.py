@@ -448,6 +448,9 @@ def _ball_state(t: float) -> list[float]:
 def test_windows_cover_the_implied_impacts_and_the_solvers_late_switch():
     tr = _ball_half()
     assert [float(e.time) for e in tr.events] == [1.0, 2.0, 2.5] and len(tr.accumulations) == 1
+    acc = tr.accumulations[0]  # impacts 3 - 2^-(k+2) after the listed ones: exactly, and as balls
+    assert [acc.event_time(k).known_rational() for k in (0, 5)] == [fmpq(11, 4), fmpq(3) - fmpq(1, 2 ** 7)]
+    assert acc.event_time_ball(5).contains(arb(fmpq(383, 128))) and acc.event_time_ball(5).rad() < 1e-30
     h, delay = 1e-3, 3e-3  # a solver three steps late at every impact: X(t) = x(t - delay)
     t = np.arange(4001) * h
     X = np.array([_ball_state(max(0.0, s - delay)) for s in t])
