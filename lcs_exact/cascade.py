@@ -41,7 +41,6 @@ not hold (or that the models cannot decide) makes the proof fail, never guess.
 """
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 from math import factorial
 from typing import Sequence
@@ -53,7 +52,7 @@ from .balls import dyadic_lower, dyadic_upper, workprec
 from .rational import hstack, submatrix, vstack
 from .selection import admissibility_forms
 from .subspaces import image, intersection, kernel, rank
-from .taylormodels import (Box, Model, NoProof, Space, interval, ipow, positive_on, series_root, shift, terms,
+from .taylormodels import (Box, Model, NoProof, Space, WorkBudget, interval, ipow, positive_on, series_root, shift, terms,
                            truncate)
 
 def _row(M: fmpq_mat, i: int) -> list:
@@ -345,7 +344,7 @@ class CascadeBound:
 
 def cascade_bound(lcs, events: Sequence, *, prec: int = 128, max_prec: int = 4096,
                   orders: Sequence[int] = (7, 12, 40), check=None, tried: set | None = None,
-                  background_order: int = 12, budget: float | None = None) -> CascadeBound | None:
+                  background_order: int = 12, budget: int | None = None) -> CascadeBound | None:
     """A certified enclosure of the accumulation time of the cascade the last events start, or
     None when no proof is found (the module docstring).
 
@@ -356,23 +355,15 @@ def cascade_bound(lcs, events: Sequence, *, prec: int = 128, max_prec: int = 409
     called between the steps; ``tried`` (a set kept by the caller) skips the starts a previous
     call tried already; ``background_order`` caps the order of the models for a family with a
     background (they grow fast: a caller that can wait for more events tries 7 first);
-    ``budget`` (seconds) ends the attempt with None when spent (checked before every product of
-    the models).  Requires Theorem 6.3 (unique initial solutions) and the paper's
+    ``budget`` (coefficient products of the Taylor models, :class:`~lcs_exact.taylormodels.WorkBudget`:
+    work, not seconds, so that the outcome is the same on every machine) ends the attempt with None
+    when spent.  Requires Theorem 6.3 (unique initial solutions) and the paper's
     re-initialization (no restitution)."""
     if getattr(lcs, "restitution", None) is not None or not lcs.well_posedness():
         return None
     K = len(events) - 1
     tried = set() if tried is None else tried
-    started = time.monotonic()
-
-    def spent() -> bool:
-        return budget is not None and time.monotonic() - started > budget
-
-    def guard():
-        if check is not None:
-            check()
-        if spent():
-            raise NoProof("the proof's time budget is spent")
+    guard = WorkBudget(budget, check)
 
     for p in range(1, 9):
         if K - 2 * p + 1 < 0:
@@ -395,7 +386,7 @@ def cascade_bound(lcs, events: Sequence, *, prec: int = 128, max_prec: int = 409
                     return _certify_cycle(lcs, ev, k0, pattern, N, prec, max_prec, check=guard,
                                           background_order=background_order)
                 except NoProof as e:
-                    if spent():
+                    if guard.exhausted:
                         return None
                     if not e.order:
                         break

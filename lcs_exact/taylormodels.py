@@ -23,6 +23,30 @@ class NoProof(Exception):
         self.order = order  # True when a higher order of the models might decide it
 
 
+class WorkBudget:
+    """The work a proof may do, counted in coefficient products of its Taylor models (the
+    products are its cost), and the run's deadline: calling it checks the deadline,
+    :meth:`charge` counts work and raises :class:`NoProof` when ``units`` are spent.  Work, not
+    seconds: the same proof ends at the same point on every machine and under any load, so the
+    run's outcome does not depend on the wall clock (``time_limit`` only cuts a run short)."""
+
+    def __init__(self, units: int | None, deadline=None):
+        self.units, self.deadline, self.spent = units, deadline, 0
+
+    def __call__(self) -> None:
+        if self.deadline is not None:
+            self.deadline()
+
+    @property
+    def exhausted(self) -> bool:
+        return self.units is not None and self.spent > self.units
+
+    def charge(self, units: int) -> None:
+        self.spent += units
+        if self.exhausted:
+            raise NoProof(f"the proof's work budget ({self.units} coefficient products) is spent")
+
+
 def ipow(x: arb, k: int) -> arb:
     """x^k for an integer k >= 0 by multiplication (python-flint 0.9's ``arb ** k`` is nan for a
     ball centred at 0)."""
@@ -242,6 +266,8 @@ class Box:
     def mul(self, a: Model, b: Model) -> Model:
         if self.check is not None:
             self.check()
+            if isinstance(self.check, WorkBudget):
+                self.check.charge(max(1, len(a.p)) * max(1, len(b.p)))
         va, vb = self.val(a), self.val(b)
         n = min(a.n + vb, b.n + va)
         low, (k, R) = self.tail(a.p * b.p, n)

@@ -379,3 +379,27 @@ def test_the_proof_does_not_follow_a_wrong_cycle():
     assert cascade_bound(lcs, swapped) is None
     assert cascade_bound(lcs, events, budget=0) is None  # a spent budget ends the attempt: no proof, no error
     assert isinstance(cascade_bound(lcs, events).lower, type(fmpq(0)))
+
+
+@pytest.mark.slow
+def test_the_proof_budget_counts_work_not_seconds(monkeypatch):
+    """The cascade proof of the three carts at the wall, given the run's events: with a budget of
+    work it succeeds or gives up at the same point whatever the clock says (a loaded machine),
+    and a budget too small for it gives up (None) on every machine."""
+    from lcs_exact.taylormodels import NoProof, WorkBudget
+    lcs = mechanical(*CARTS, STOPS)
+    with pytest.raises(L.ZenoDetected) as info:
+        L.simulate(lcs, [0, Fraction(1, 100), Fraction(1, 100), 0, -1, -1], 1)
+    events = info.value.trajectory.events
+    proven = cascade_bound(lcs, events, budget=None)
+    assert proven is not None and proven.lower < proven.upper
+    assert cascade_bound(lcs, events, budget=10) is None  # too little work for any proof
+    import time
+    ticks = iter(range(0, 10 ** 9, 1000))  # a clock that jumps 1000 s at every look
+    monkeypatch.setattr(time, "monotonic", lambda: next(ticks))
+    again = cascade_bound(lcs, events, budget=80_000_000)
+    assert (again.lower, again.upper, again.period) == (proven.lower, proven.upper, proven.period)
+    b = WorkBudget(5)
+    b.charge(5)
+    with pytest.raises(NoProof, match="work budget"):
+        b.charge(1)
