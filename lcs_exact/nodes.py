@@ -18,7 +18,7 @@ from flint import arb
 
 from .balls import DEFAULT_POLICY, Policy, workprec
 
-__all__ = ["Node", "evaluate", "ANCHOR_SLACK"]
+__all__ = ["Node", "evaluate", "in_dependency_order", "derive_closed", "closed_ready", "ANCHOR_SLACK"]
 
 
 #: an anchor computed at >= prec - ANCHOR_SLACK bits serves a request for prec bits
@@ -36,6 +36,13 @@ class Node:
     def _deps(self) -> tuple:
         """The nodes whose balls at the same precision :meth:`_compute` reads."""
         return ()
+
+    def _closed_ready(self) -> bool:
+        """True when the node's closed form is derived and cached (exact reals and vectors say)."""
+        return False
+
+    def _derive_closed(self) -> None:
+        """Derive and cache the node's closed form, if it keeps one (see :func:`in_dependency_order`)."""
 
     def __getstate__(self):
         # Calcium numbers do not pickle: drop the caches that hold them (rebuilt on demand)
@@ -98,3 +105,44 @@ def evaluate(node: Node, prec: int) -> None:
         for d in cur._deps():
             if d._prec < prec - ANCHOR_SLACK or d._ball is None:
                 stack.append((d, False))
+
+
+def in_dependency_order(node: Node, visit, done) -> None:
+    """Call ``visit(d)`` on every definition ``d`` that ``node`` depends on, deepest first, in a
+    loop over an explicit stack; the walk does not go past a definition that is ``done(d)``.
+
+    What a definition derives from its dependencies (a closed form from the closed forms of the
+    event times and states before it, a Calcium number from theirs) is computed by recursion in
+    its own code; derived first for everything it needs, in this order, that recursion stops
+    one level down, so that the last event of a run of 10,000 gets its closed form without
+    exhausting the Python stack.  The policy's deadline is checked every 64 nodes."""
+    stack: list = [(node, False)]
+    seen: set = set()
+    steps = 0
+    while stack:
+        steps += 1
+        if steps % 64 == 0:
+            node.policy.check_deadline(" while deriving a long definition")
+        cur, ready = stack.pop()
+        if ready:
+            if cur is not node:
+                visit(cur)
+            continue
+        if id(cur) in seen:
+            continue
+        seen.add(id(cur))
+        stack.append((cur, True))
+        for d in cur._deps():
+            if id(d) not in seen and not done(d):
+                stack.append((d, False))
+
+
+def derive_closed(node: Node) -> None:
+    """``node._derive_closed()``: for :func:`in_dependency_order` over closed forms."""
+    node._derive_closed()
+
+
+def closed_ready(node: Node) -> bool:
+    """``node._closed_ready()``: for :func:`in_dependency_order` over closed forms."""
+    return node._closed_ready()
+

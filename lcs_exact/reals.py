@@ -24,7 +24,7 @@ from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_fo
                     decimal_of_fmpq, digits_to_bits, dyadic_lower, dyadic_upper, workprec)
 from .errors import LCSError, NotRational, UnresolvedSign
 from .forms import Closed, ca_of_sympy
-from .nodes import Node
+from .nodes import Node, closed_ready, derive_closed, in_dependency_order
 from .rational import to_fmpq, to_int
 
 __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
@@ -62,9 +62,17 @@ class Real(Node):
                 self._cf = None
             else:
                 with self.policy.deadline.query():  # a query after the run: its time_limit holds
+                    # the closed forms it is derived from first, in a loop (no deep recursion)
+                    in_dependency_order(self, derive_closed, closed_ready)
                     self._cf = self._closed()
             self._cf_done = True
         return self._cf
+
+    def _closed_ready(self) -> bool:
+        return self._cf_done
+
+    def _derive_closed(self) -> None:
+        self.closed  # noqa: B018 -- derived and cached on access
 
     def _closed(self) -> Closed | None:
         expr = self._closed_form()  # subclasses that build SymPy expressions

@@ -24,7 +24,7 @@ from .balls import Policy, decide_sign
 from .errors import ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of, symbolic_expm, t_symbol
 from .interfaces import SystemLike
-from .nodes import Node
+from .nodes import Node, closed_ready, derive_closed, in_dependency_order
 from .rational import as_list, format_form, is_zero, matrix_to_sympy, to_matrix, to_vector, vector_entries, zeros
 from .reals import ComponentReal, Real, ScaledReal, as_real, ca_from_state, ca_state, is_sympy, radical_form, rational_ca
 from .subspaces import RowSpan, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
@@ -401,6 +401,12 @@ class ExpVector(ExactVector):
             return None
         return None if qs is None or any(x is None for x in qs) else fmpq_mat(self.n, 1, qs)
 
+    def _closed_ready(self) -> bool:
+        return "_sym" in self.__dict__ or self._twin is not None
+
+    def _derive_closed(self) -> None:
+        self.closed_form(True)
+
     def closed_form(self, derive: bool = True):
         if self._twin is not None:
             return self._twin.closed_form(derive)
@@ -410,6 +416,8 @@ class ExpVector(ExactVector):
         if q is not None:
             return self._twin.closed_form()
         if "_sym" not in self.__dict__:
+            # the closed forms of the times and states before it first, in a loop (no deep recursion)
+            in_dependency_order(self, derive_closed, closed_ready)
             self._sym = None
             tc = self.t.closed_form
             vc = self.v.closed_form(derive) if tc is not None else None

@@ -379,3 +379,31 @@ def test_bad_run_arguments_are_named():
         args.update(kw)
         with pytest.raises((ValueError, L.LCSError), match=word):
             L.simulate(carts(), args.pop("x0"), args.pop("t_end"), **args)
+
+
+@pytest.mark.slow
+def test_closed_forms_of_a_long_run_are_derived_in_a_loop():
+    """Two balls (masses 1 and 2, radii 1/10) stacked over a floor, restitution 19/20: each event
+    time's closed form is derived from the state after the event before it, so the derivation
+    of the last of 45 events used to recurse through all of them (RecursionError after about 90
+    events at Python's default limit; here the limit is lowered to 250).  The earlier closed forms
+    are derived first, in a loop."""
+    import sys
+
+    import sympy
+    from lcs_exact import models, sources
+    lcs = models.mechanical([[1, 0], [0, 2]], [[0, 0], [0, 0]], [[1, 0], [-1, 1]],
+                            force=[sources.constant("-981/100"), sources.constant("-981/50")],
+                            gap=["-1/10", "-1/5"], restitution="19/20")
+    tr = L.simulate(lcs, lcs.embed([1, 2, 0, 0]), 6, digits=20)
+    assert len(tr.events) > 40
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(250)
+    try:
+        tr.events[-1].time.closed_form  # noqa: B018 -- derived (or proven absent) without recursing 45 deep
+        tr.state(tr.events[-1].time).closed_form()
+    finally:
+        sys.setrecursionlimit(limit)
+    # the first impact, ball 0 from height 1 onto the floor at 1/10: sqrt(2 (9/10) / g)
+    first = sympy.sqrt(2 * sympy.Rational(9, 10) / sympy.Rational(981, 100))
+    assert sympy.simplify(tr.events[0].time.closed_form - first) == 0
