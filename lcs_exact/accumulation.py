@@ -263,7 +263,7 @@ def _acting(events: Sequence, k: int) -> frozenset:
 
 
 def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int = 8,
-                  enclose=None) -> GeometricLaw | None:
+                  enclose=None, horizon: Real | None = None) -> GeometricLaw | None:
     """The geometric law that the last events satisfy, proven exactly, or None.
 
     ``events`` are :class:`~lcs_exact.trajectory.Event` objects; their times and states must be
@@ -271,7 +271,9 @@ def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int 
     no symmetry but the constraints acting in the cycle do (a ball bouncing on a floor below a
     ceiling it no longer reaches), the law is proven for those, provided every other constraint
     is certified positive on all the scaled cycles: ``enclose(form, t0, t1)``, an arb enclosure of
-    form . x(t) over [t0, t1] of the computed run, bounds it over the reference cycle."""
+    form . x(t) over [t0, t1] of the computed run, bounds it over the reference cycle.
+    ``horizon``: a law whose accumulation time would certainly come after it is not proven
+    (balls of the times say so first: the exact check forms a Calcium number of every time)."""
     K = len(events) - 1
     for p in range(1, max_period + 1):
         if K - 2 * p < 0:
@@ -282,7 +284,7 @@ def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int 
         active = _acting(events[K - 2 * p:], lcs.k)
         if (sym is None or lcs.k > len(active)) and enclose is not None and active:
             sym = symmetry_exponents(lcs, active) if sym is None or len(active) < lcs.k else sym
-        if sym is None:
+        if sym is None or _ratios_differ(events[K - 2 * p:], p, horizon):
             continue
         times = [_exact_number(events[K - 2 * p + j].time) for j in range(2 * p + 1)]
         if any(t is None for t in times):
@@ -319,6 +321,28 @@ def geometric_law(lcs, events: Sequence, symmetry: dict | None, max_period: int 
         T_star = t_end + length * (rho / (1 - rho))
         return GeometricLaw(p, rho, tuple(exps), K - p + 1, t_ref, length, T_star, limit, tuple(ua), tuple(yb), T)
     return None
+
+
+def _ratios_differ(events: Sequence, p: int, horizon: Real | None = None, prec: int = 256) -> bool:
+    """Balls of the event times prove that no law of period p can hold, or that its accumulation
+    would come after ``horizon``: the durations of the second cycle are not one ratio rho in
+    (0, 1) times those of the first (disjoint balls), or t_K + T2 rho / (1 - rho) > horizon.
+    Then the exact check (a Calcium number of every time) is skipped; False when balls cannot
+    tell."""
+    with workprec(prec):
+        t = [e.time.arb(prec) for e in events]
+        d = [b - a for a, b in zip(t, t[1:])]
+        if any(x.contains(0) for x in d):
+            return False
+        r = [d[p + j] / d[j] for j in range(p)]
+        if any(x <= 0 or x >= 1 for x in r):
+            return True
+        if any(not r[0].overlaps(x) for x in r[1:]):
+            return True
+        if horizon is None:
+            return False
+        T2 = sum(d[p:], arb(0))
+        return bool(t[-1] + T2 * r[0] / (1 - r[0]) > horizon.arb(prec))
 
 
 def _sign(x) -> int | None:

@@ -96,6 +96,11 @@ class Real(Node):
         """The value as a Calcium number (exact), or None when no closed form is known."""
         return None
 
+    def known_exactly(self) -> bool:
+        """True when :meth:`known_ca` gives the value (a rational, or an algebraic number known
+        or pending as a combination of such), without forming any Calcium number."""
+        return self.known_rational() is not None or _algebraic(self) or self.known_ca() is not None
+
     def known_ca(self):
         """The value as a Calcium number when it is already known exactly as a rational or an
         algebraic number (cheap: never derives a closed form), else None."""
@@ -149,6 +154,10 @@ class Real(Node):
         q = self.known_rational()
         if q is not None:
             return (q > 0) - (q < 0)
+        if getattr(self, "_kca_parts", None) is not None:  # Calcium could decide, but a ball is cheaper
+            b = self.arb(max(64, self._prec))
+            if not b.contains(0):
+                return 1 if b > 0 else -1
         c = self.known_ca()
         if c is not None:  # an algebraic number: Calcium decides its sign exactly
             s = c.sign(real=True)
@@ -283,30 +292,57 @@ def linear_terms(r: Real) -> tuple[fmpq, list[tuple[fmpq, Real]]]:
 class _Linear(Real):
     """A rational linear combination of reals (sums and multiples): closed forms, Calcium numbers
     and rationality are derived from :func:`linear_terms`, never by recursion.  When the parts
-    are exact algebraic numbers, so is the combination: its Calcium number is formed at
-    construction from theirs (``_kca``, O(1) per node, so a sum of 10,000 event times costs no
-    recursion)."""
+    are exact algebraic numbers, so is the combination: its Calcium number is formed from theirs
+    on first use (``known_ca``), the pending combinations it needs deepest first in a loop (a sum
+    of 10,000 event times costs no recursion).  On first use, not at construction: compacting
+    sums of square roots of growing degree cost a ball between a floor and a ceiling 7 s for 16
+    events, and a sign that a ball decides needs none of it."""
 
     _q = None
     _kca = None
+    _kca_parts = None  # (parts, combine) while the Calcium number is not formed
 
     def known_rational(self):
         return self._q
 
     def known_ca(self):
+        if self._kca is None and self._kca_parts is not None:
+            self._form_known_ca()
         if self._kca is not None:
             return self._kca
         return super().known_ca()
 
     def _set_known_ca(self, parts: list, combine) -> None:
-        """Set ``_kca`` from the known Calcium numbers of ``parts`` when one of them is an
-        algebraic irrational (rational-only combinations stay rational and need none)."""
-        if self._q is not None or all(getattr(x, "_kca", None) is None and not isinstance(x, AlgebraicReal)
-                                      for x in parts):
+        """Record that the combination of ``parts`` is an exact algebraic number when one of them
+        is (rational-only combinations stay rational and need none); formed on first use."""
+        if self._q is not None or not any(_algebraic(x) for x in parts):
             return
-        cas = [x.known_ca() for x in parts]
-        if all(c is not None for c in cas):
-            self._kca = combine(*cas).compact()
+        self._kca_parts = (tuple(parts), combine)
+
+    def _form_known_ca(self) -> None:
+        """Form the Calcium numbers of this combination and of the pending ones it is made of,
+        deepest first, in a loop over an explicit stack."""
+        order, stack, seen = [], [(self, False)], set()
+        while stack:
+            cur, ready = stack.pop()
+            if ready:
+                order.append(cur)
+                continue
+            if id(cur) in seen:
+                continue
+            seen.add(id(cur))
+            stack.append((cur, True))
+            for x in cur._kca_parts[0]:
+                if isinstance(x, _Linear) and x._kca_parts is not None and id(x) not in seen:
+                    stack.append((x, False))
+        for node in order:
+            if node._kca_parts is None:
+                continue
+            parts, combine = node._kca_parts
+            node._kca_parts = None
+            cas = [x.known_ca() for x in parts]
+            if all(c is not None for c in cas):
+                node._kca = combine(*cas).compact()
 
     def rational(self):
         if self._q is None and self._kca is not None:
@@ -341,6 +377,12 @@ class _Linear(Real):
                 return None
             out = out + cx * calcium.Ca(c)
         return out.compact()
+
+
+def _algebraic(x: Real) -> bool:
+    """x is known to be an exact algebraic number (formed, or pending in a combination)."""
+    return isinstance(x, AlgebraicReal) or getattr(x, "_kca", None) is not None or \
+        getattr(x, "_kca_parts", None) is not None
 
 
 class SumReal(_Linear):

@@ -342,11 +342,11 @@ class _Run:
         """The proven geometric law of the last events when it accumulates before t_end
         (:mod:`lcs_exact.accumulation`), else None; with ``zeno="stop"`` a proven law stops the
         run with ZenoDetected at its exact time."""
-        if len(self.events) < 3 or (t.known_rational() is None and t.known_ca() is None):
+        if len(self.events) < 3 or not t.known_exactly():
             return None
         if self.symmetry is False:
             self.symmetry = symmetry_exponents(self.lcs)
-        law = geometric_law(self.lcs, self.events, self.symmetry, enclose=self.enclose)
+        law = geometric_law(self.lcs, self.events, self.symmetry, enclose=self.enclose, horizon=self.T)
         if law is None or (self.T - law.time).sign() < 0:
             return None
         if self.zeno == "stop":
