@@ -573,9 +573,14 @@ def check_accumulation(durations: list, t_now, t_end) -> None:
     tail = balls[-1] * rho / (1 - rho)
     limit = t_now.arb(64) + tail
     if limit < t_end.arb(64):  # suspected, not proven: lower = the last event (certified), upper None
+        # the geometric tails with the smallest and the largest ratio of the window: their spread
+        # says how many digits of the estimate mean anything (it is no bound: nothing is proven)
+        low = min(ratios, key=lambda r: r.mid())
+        spread = abs(float((tail - balls[-1] * low / (1 - low)).mid()))
         raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically (ratio <= "
-                           f"{float(rho.mid()):.3g}); accumulation point near t = {float(limit.mid()):.15g} < t_end "
-                           "(Remark 4.11)", lower=dyadic_lower(t_now.arb(64)), upper=None, estimate=float(limit.mid()))
+                           f"{float(rho.mid()):.3g}); accumulation point near t = {_estimate(float(limit.mid()), spread)} "
+                           "< t_end (Remark 4.11; an estimate, not a bound)", lower=dyadic_lower(t_now.arb(64)),
+                           upper=None, estimate=float(limit.mid()))
 
 
 #: the work a cascade proof may do, in coefficient products of its Taylor models (while the run can go
@@ -590,6 +595,19 @@ def _num(q, digits: int = 20, *, down: bool = False) -> str:
     with decimal.localcontext() as ctx:
         ctx.prec, ctx.rounding = digits, (decimal.ROUND_FLOOR if down else decimal.ROUND_CEILING)
         return str(decimal.Decimal(int(q.p)) / decimal.Decimal(int(q.q)))
+
+
+def _estimate(x: float, spread: float) -> str:
+    """x with the digits its spread leaves meaningful (two more than the spread's leading digit,
+    at least 2 and at most 15 significant digits).
+
+    >>> _estimate(0.87791234567, 7.6e-3), _estimate(0.87791234567, 0.0)
+    ('0.878', '0.87791234567')
+    """
+    if spread <= 0 or x == 0:
+        return f"{x:.15g}"
+    digits = max(2, min(15, int(math.floor(math.log10(abs(x)))) - int(math.floor(math.log10(spread))) + 1))
+    return f"{x:.{digits}g}"
 
 
 def _short(r) -> str:

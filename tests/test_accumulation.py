@@ -6,6 +6,8 @@ from fractions import Fraction
 
 from flint import fmpq, fmpq_mat
 
+import pytest
+
 import lcs_exact as L
 from lcs_exact.accumulation import ScaledCycle, geometric_law, symmetry_exponents
 from lcs_exact.reals import RationalReal
@@ -129,3 +131,34 @@ def test_inputs_at_a_crossed_accumulation_time_are_right_limits():
     assert tr.accumulations[0].time.known_rational() == fmpq(3, 2)
     assert list(tr.u("3/2").known_rational().entries()) == [1, 0, 1, 0] == list(tr.u("7/4").known_rational().entries())
     assert list(tr.y("3/2").known_rational().entries()) == [0, 1, 0, 1]
+
+
+def test_a_suspected_accumulation_prints_only_meaningful_digits():
+    """A damped ball (q'' = -10 - q'/10 + u, e = 1/2) dropped from 1: no exact law (damping breaks the
+    symmetry) and no cascade proof, so the run stops with a suspected accumulation whose estimate is
+    printed to the digits its window's ratios agree on.  T* is derived here: flights
+    q(t) = (v0 + g/c)(1 - e^{-ct})/c - g t/c between impacts, summed with mpmath."""
+    import re
+
+    import mpmath as mp
+    from lcs_exact import models, sources
+    lcs = models.mechanical([[1]], [[0]], [[1]], damping=[["1/10"]], force=[sources.constant(-10)], restitution="1/2")
+    with pytest.raises(L.ZenoDetected) as info:
+        L.simulate(lcs, lcs.embed([1, 0]), 5, digits=20)
+    g, c, e = mp.mpf(10), mp.mpf(1) / 10, mp.mpf(1) / 2
+
+    def flight(q0, v0):
+        return (lambda t: q0 + (v0 + g / c) * (1 - mp.exp(-c * t)) / c - g * t / c,
+                lambda t: (v0 + g / c) * mp.exp(-c * t) - g / c)
+    q, v = flight(mp.mpf(1), mp.mpf(0))
+    T = mp.findroot(q, 0.45)
+    t_star, vv = T, v(T)
+    while T > mp.mpf(10) ** -40:
+        q, v = flight(mp.mpf(0), -e * vv)
+        T = mp.findroot(q, -2 * e * vv / g * mp.mpf("0.99"))
+        t_star, vv = t_star + T, v(T)
+    text = re.search(r"near t = ([0-9.]+)", str(info.value)).group(1)
+    decimals = len(text.split(".")[1])
+    assert 4 <= decimals < 14  # not the 15 digits of a float
+    assert abs(mp.mpf(text) - t_star) <= mp.mpf(10) ** -decimals  # every printed digit right (to one unit)
+    assert mp.mpf(int(info.value.lower.p)) / int(info.value.lower.q) <= t_star and info.value.upper is None
