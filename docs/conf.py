@@ -56,8 +56,10 @@ napoleon_use_ivar = True       # "Attributes" sections as fields: no second desc
 napoleon_use_rtype = False
 
 html_theme = "alabaster"
+html_theme_options = {"page_width": "1240px", "sidebar_width": "240px", "body_max_width": "none"}  # room for outputs
 html_title = f"lcs_exact {release}"
-html_static_path: list[str] = []
+html_static_path = ["_static"]
+html_css_files = ["outputs.css"]   # long lines of cell outputs (failure messages) wrap instead of scrolling
 
 
 # ---------------------------------------------------------------------------------------------
