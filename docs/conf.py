@@ -7,7 +7,17 @@ Build (what the tests run, warnings are errors)::
 """
 from __future__ import annotations
 
-import lcs_exact
+import os
+import sys
+from pathlib import Path
+
+# the docs (and the kernels that execute the notebooks, which inherit PYTHONPATH) document the
+# checkout they are built from, not whichever lcs_exact is installed
+ROOT = str(Path(__file__).resolve().parents[1])
+sys.path.insert(0, ROOT)
+os.environ["PYTHONPATH"] = os.pathsep.join([ROOT] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p])
+
+import lcs_exact  # noqa: E402
 
 project = "lcs_exact"
 author = "the lcs_exact authors"
@@ -15,17 +25,25 @@ copyright = "the lcs_exact authors"
 release = version = lcs_exact.__version__
 
 extensions = [
-    "myst_parser",            # the Markdown pages (extensions.md, numerics.md, ...)
+    "myst_nb",                # the Markdown pages (MyST) and the notebooks, executed at build time
     "sphinx.ext.autodoc",     # the API reference from the docstrings
     "sphinx.ext.napoleon",    # numpydoc-style docstrings
 ]
-source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build"]
+exclude_patterns = ["_build", "notebooks/.ipynb_checkpoints"]
 
 # Markdown: the pages write formulas in plain text (no dollar math); headings get anchors
 myst_heading_anchors = 3
 myst_enable_extensions = ["colon_fence"]
+
+# Notebooks (docs/notebooks is a link to the repository's notebooks/) and the getting-started
+# page (a MyST text notebook) are executed at every build: every number and figure shown is the
+# one this checkout computes; a cell that raises fails the build.
+nb_execution_mode = "force"
+nb_execution_timeout = 300          # seconds per cell
+nb_execution_raise_on_error = True
+nb_execution_show_tb = True
+nb_merge_streams = True
 
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_member_order = "bysource"
@@ -38,8 +56,10 @@ napoleon_use_ivar = True       # "Attributes" sections as fields: no second desc
 napoleon_use_rtype = False
 
 html_theme = "alabaster"
+html_theme_options = {"page_width": "1240px", "sidebar_width": "240px", "body_max_width": "none"}  # room for outputs
 html_title = f"lcs_exact {release}"
-html_static_path: list[str] = []
+html_static_path = ["_static"]
+html_css_files = ["outputs.css"]   # long lines of cell outputs (failure messages) wrap instead of scrolling
 
 
 # ---------------------------------------------------------------------------------------------

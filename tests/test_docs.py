@@ -1,6 +1,9 @@
 """The reference docs: the Sphinx build passes with warnings as errors, the API page covers every
 public name, the model-file page says what the reader accepts (its examples load), the docs cite
-no file outside the repository, and the README links every notebook and docs page."""
+no file outside the repository, and the README links every notebook and docs page.  The pages
+that show outputs (the getting-started page, the recipe) and the notebooks are executed by
+MyST-NB at every build, a cell that raises failing it; the built pages are checked to show the
+outputs their prose refers to."""
 from __future__ import annotations
 
 import html
@@ -19,6 +22,8 @@ from lcs_exact.cli import MODEL_KEYS, load_model
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 PAGES = sorted(p for p in DOCS.iterdir() if p.suffix in (".md", ".rst"))
+NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
+EXECUTED = ("getting-started.md", "testing-solvers.md")   # MyST notebooks: their cells run at every build
 
 
 @pytest.fixture(scope="module")
@@ -122,3 +127,72 @@ def test_readme_links_every_notebook_and_docs_page():
     for page in PAGES:
         assert f"docs/{page.name}" in links, page.name
     assert "lcs-exact zoo" in readme and "sphinx-build -W -b html docs" in readme
+
+
+def test_executed_pages_run_every_python_block():
+    """Every Python block of the pages that show outputs is a code cell, run at build time (a plain
+    python fence would be shown unrun); the build executes them, and the notebooks, and fails on
+    an error."""
+    conf = (DOCS / "conf.py").read_text(encoding="utf-8")
+    for setting in ('"myst_nb"', 'nb_execution_mode = "force"', "nb_execution_raise_on_error = True"):
+        assert setting in conf, setting
+    assert '"myst_parser"' not in conf   # myst-nb loads it: not both
+    assert (DOCS / "notebooks").resolve() == (ROOT / "notebooks").resolve()
+    for name in EXECUTED:
+        text = (DOCS / name).read_text(encoding="utf-8")
+        assert text.startswith("---\nfile_format: mystnb\n"), name
+        fences = set(re.findall(r"^```(\S*)", text, re.M))
+        assert "{code-cell}" in fences and fences <= {"{code-cell}", "bash", ""}, (name, fences)
+    index = (DOCS / "index.md").read_text(encoding="utf-8")
+    guide = index.split(":caption: Guide")[1].split("```")[0].split()
+    assert guide[0] == "getting-started" and "testing-solvers" in guide
+
+
+def shown(built: Path, page: str) -> str:
+    """The text of a built page, tags removed and whitespace runs made single spaces."""
+    return " ".join(text_of(built / page).split())
+
+
+@pytest.mark.slow
+def test_notebooks_are_pages_with_their_outputs(built):
+    index = (built / "index.html").read_text(encoding="utf-8")
+    for nb in NOTEBOOKS:
+        page = built / "notebooks" / f"{nb.stem}.html"
+        assert page.is_file() and f'href="notebooks/{nb.stem}.html' in index, nb.name
+        html_text = page.read_text(encoding="utf-8")
+        cells = sum(1 for c in json.loads(nb.read_text(encoding="utf-8"))["cells"] if c["cell_type"] == "code")
+        assert html_text.count('class="cell_output') >= cells - 2, nb.name   # (a cell may print nothing)
+        assert html_text.count("<img") >= 1, nb.name                        # its figures
+        assert "Traceback" not in html_text, nb.name
+
+
+@pytest.mark.slow
+def test_getting_started_shows_what_it_says(built):
+    page = shown(built, "getting-started.html")
+    for text in ("['1', '1 + pi/2']",                                   # the closed forms 1 and 1 + pi/2
+                 "x(1-) = [0, -1, -1, 0] x(1+) = [0, -1, 0, 0]",         # the velocity x_2 from -1 to 0
+                 "x(2) = [0, -cos(1), 0, sin(1)]",
+                 "WELL-POSED", "S(z) = {frozenset({0})}", "u(s)=((s^2 + s + 1)/(s^2 + 1))",
+                 "S(0) = {frozenset(), frozenset({0})} S(-1) = set()", "Deadlock: deadlock at t = 0",
+                 "t* = 190*sqrt(218)/327", "x(9) = (0, 0, 1)", "True",
+                 "closed form: 3*pi/4", "closed form: 11*pi/4", "sources: SourceBlock(states=(1, 2)",
+                 "301 samples", "1 + pi/2", "every compared point inside"):
+        assert text in page, text
+    assert page.count("closed form: -") == 2   # the diode's turn-on times: certified, no closed form claimed
+    assert (built / "getting-started.html").read_text(encoding="utf-8").count("<img") == 3
+
+
+@pytest.mark.slow
+def test_recipe_shows_what_it_says(built):
+    page = shown(built, "testing-solvers.html")
+    assert "7 failed, 7 passed" in page and "4 passed" in page
+    for name in ("bouncing_ball", "ball_column_3", "newtons_cradle_3",   # restitution: inelastic impacts fail
+                 "cart_chain_4", "half_wave_rectifier", "diode_bridge_cap_filter", "filippov_spiral"):
+        assert f"FAILED test_my_solver.py::test_backward_euler[{name}]" in page, name
+    for text in ("integrated: amplitude 0.918978 at t = 13; case.sources: 1.000000",
+                 "{'atol': 0.01} passed", "{'atol': 0.001} AssertionError", "{'atol': 0.01, 'event_tol': 0} AssertionError",
+                 "component q': solver 0.0, exact -3.74845"):
+        assert text in page, text
+    order = float(re.search(r"order (\d\.\d\d)", page).group(1))
+    assert 0.9 <= order <= 1.1
+    assert (built / "testing-solvers.html").read_text(encoding="utf-8").count("<img") == 1
