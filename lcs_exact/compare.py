@@ -299,7 +299,9 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     X : rows of state values, one row per time: all n states, or the plant's states only
         (``lcs.plant``: the sources appended by a builder left out).
     event_tol : the half-width w of the window excluded around each event (default: twice the
-        solution's largest step), the events an accumulation implies included.
+        solution's largest step), the events an accumulation implies included; each window also
+        reaches the solver's own switch for its event (searched within 25 of its steps), so even
+        ``event_tol=0`` leaves out the span between the exact event and the solver's.
     names : the components' names (default: the fixture's state names, ``x_0, x_1, ...``).
     atol, rtol : optional tolerances: the report's ``violation`` is the worst point with
         ``|X - x| > atol + rtol |x|`` (what :func:`lcs_exact.testing.assert_matches_fixture` raises).

@@ -42,7 +42,9 @@ def assert_matches_fixture(fixture: Any, t: Sequence[Any], X: Any, atol: float =
         Tolerances: ``|X - x| <= atol + rtol |x|``, componentwise.
     event_tol : float, optional
         Half-width of the window left out around each exact event (states only); None: twice the
-        solver's largest step, as :func:`lcs_exact.compare`.
+        solver's largest step, as :func:`lcs_exact.compare`.  Each window also reaches the
+        solver's own switch for its event, so ``event_tol=0`` still leaves out the span between
+        the exact event time and the solver's.
     digits : int
         Digits of the exact value printed in the message.
 
