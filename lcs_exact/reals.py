@@ -24,7 +24,7 @@ from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_fo
                     decimal_of_fmpq, digits_to_bits, dyadic_lower, dyadic_upper, workprec)
 from .errors import LCSError, NotRational, UnresolvedSign
 from .forms import Closed, ca_of_sympy
-from .nodes import Node, closed_ready, derive_closed, in_dependency_order
+from .nodes import Node, closed_ready, in_dependency_order
 from .rational import to_fmpq, to_int
 
 __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
@@ -62,8 +62,9 @@ class Real(Node):
                 self._cf = None
             else:
                 with self.policy.deadline.query():  # a query after the run: its time_limit holds
-                    # the closed forms it is derived from first, in a loop (no deep recursion)
-                    in_dependency_order(self, derive_closed, closed_ready)
+                    # the light closed forms of the reals it is derived from first, in a loop (no deep
+                    # recursion); the states' SymPy forms only when a derivation asks for them
+                    in_dependency_order(self, _derive_real_closed, closed_ready)
                     self._cf = self._closed()
             self._cf_done = True
         return self._cf
@@ -377,6 +378,14 @@ class _Linear(Real):
                 return None
             out = out + cx * calcium.Ca(c)
         return out.compact()
+
+
+def _derive_real_closed(x) -> None:
+    """The light closed form of an exact real (:attr:`Real.closed`), for
+    :func:`~lcs_exact.nodes.in_dependency_order`; vectors are passed over (their closed forms are
+    SymPy matrices, derived when a derivation needs them)."""
+    if isinstance(x, Real):
+        x.closed  # noqa: B018 -- derived and cached on access
 
 
 def _algebraic(x: Real) -> bool:
