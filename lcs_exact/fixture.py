@@ -161,6 +161,15 @@ def build_fixture(traj: Any, digits: int | None = None, sample: Any = None, prov
         "partial": bool(traj.partial),
         "stop_reason": traj.stop_reason,
     }
+    sched = getattr(lcs, "schedule", None)
+    if sched is not None:  # data that switch at scheduled times (lcs_exact.schedule): each phase's system
+        out["schedule"] = {
+            "period": None if sched.period is None else str(sched.period),
+            "phases": [{"duration": None if p.duration is None else str(p.duration),
+                        "A": _matrix(p.lcs.A), "B": _matrix(p.lcs.B), "C": _matrix(p.lcs.C), "D": _matrix(p.lcs.D),
+                        "reset": None if p.reset is None else _matrix(p.reset),
+                        **({"restitution": [str(e) for e in p.lcs.restitution]} if p.lcs.restitution else {})}
+                       for p in sched.phases]}
     sb = getattr(traj, "sources", None)
     if sb is not None:  # the exosystem: a solver treats these states as known inputs
         out["sources"] = {"states": list(sb.states), "S": _matrix(sb.S), "z0": [str(sb.z0[i, 0]) for i in range(sb.z0.nrows())],

@@ -25,6 +25,7 @@ from .fixnumbers import ball_text, number_ball, number_exact, number_rational, s
 from .fixture import SCHEMA, check_digest, validate_fixture
 from .modes import format_mode
 from .rational import to_fmpq, to_matrix
+from .schedule import scheduled
 from .simulate import simulate
 from .sources import AppendedStates, SourceBlock
 from .system import LCS
@@ -133,6 +134,8 @@ class FixtureTrajectory:
                        _key(sysd, "D", "system"), name=sysd.get("name"), restitution=sysd.get("restitution"),
                        state_names=sysd.get("state_names") or None,
                        constraint_names=sysd.get("constraint_names") or None, embedding=embedding)
+        if data.get("schedule") is not None:  # the data switch at scheduled times: the same run needs them
+            self.lcs = _scheduled(data["schedule"], self.lcs, source)
         #: Newton's restitution coefficients (one rational per constraint) or None (the paper's P_I)
         self.restitution = self.lcs.restitution
         self.name = self.lcs.name
@@ -425,6 +428,24 @@ def _x0_recipe(provenance: Any, lcs: LCS, balls: tuple):
     with workprec(128):
         ok = all(c.ball(30).overlaps(b) for c, b in zip(x0, balls))
     return x0 if ok else None
+
+
+def _scheduled(d: dict, first: LCS, source: str):
+    """The fixture's schedule as a :class:`~lcs_exact.schedule.ScheduledLCS` (names and embedding
+    of the system read before)."""
+    phases = []
+    for i, p in enumerate(d["phases"]):
+        try:
+            lcs = LCS(p["A"], p["B"], p["C"], p["D"], name=first.name, state_names=first.state_names,
+                      constraint_names=first.constraint_names, embedding=first.embedding,
+                      restitution=p.get("restitution"), roles=first.roles)
+        except LCSError as e:
+            raise FormatError(f"{source}: schedule.phases[{i}]: {e}") from None
+        phases.append((p["duration"], lcs) if p["reset"] is None else (p["duration"], lcs, p["reset"]))
+    try:
+        return scheduled(phases, d["period"], name=first.name)
+    except LCSError as e:
+        raise FormatError(f"{source}: schedule: {e}") from None
 
 
 def _fmt_modes(m) -> str:

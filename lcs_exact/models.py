@@ -7,6 +7,8 @@
 * :func:`circuit`, :func:`circuit_ports` (:mod:`lcs_exact.circuits`): RLC networks with ideal diodes;
 * :func:`relay` (:mod:`lcs_exact.relays`): x' = A x + B w, w in Sgn(C x), with a constant state
   for the relay levels and ``lcs.embed(x)`` = (x, 1);
+* :func:`scheduled`, :func:`sampled` (:mod:`lcs_exact.schedule`): data that switch at scheduled
+  times (a PWM switch), sampled-data control with a held input;
 * the examples of :mod:`lcs_exact.examples` (``two_carts``, ``two_carts_with_hook``, ...), kept
   here under their old names.
 """
@@ -19,7 +21,8 @@ from .examples import (ball_column, ball_on_spring, bouncing_ball, diode_bridge,
                        two_carts_with_hook)
 from .mechanics import mechanical
 from .relays import relay
+from .schedule import sampled, scheduled
 
-__all__ = ["mechanical", "driven", "circuit", "circuit_ports", "relay", "two_carts", "two_carts_with_hook",
+__all__ = ["mechanical", "driven", "circuit", "circuit_ports", "relay", "scheduled", "sampled", "two_carts", "two_carts_with_hook",
            "half_wave_rectifier", "diode_bridge", "filippov_spiral", "bouncing_ball", "ball_on_spring",
            "ball_column", "newtons_cradle", "sine_rectifier", "diode_bridge_cap_filter"]

@@ -38,6 +38,7 @@ from .cascade import cascade_bound
 from .clock import SourceClock
 from .flow import next_event
 from .impacts import newton_impact
+from .schedule import shares_clock
 from .phase import Phase, PhaseFunction
 from .rational import (MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_PREC_BITS, is_zero, submatrix, to_fmpq, to_int, to_short,
                        vector_entries, vstack)
@@ -48,10 +49,9 @@ from .selection import (impulse_forms, initial_solution, initial_solution_groups
 from .modes import format_mode, mode_order
 from .system import LCS
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
+from .zeno import check_accumulation
 
-__all__ = ["simulate", "check_accumulation"]
-
-_ZENO_WINDOW = 24
+__all__ = ["simulate"]
 _CLOSED_FORMS = {"lazy": "lazy", True: "eager", "eager": "eager", False: "off", "off": "off"}
 
 
@@ -273,50 +273,72 @@ class _Run:
         self.bar = None  # a progress bar (simulate(..., progress=True))
         self.cascade_tried: set = set()  # starts of cascade proofs tried (cascade.cascade_bound)
         self.clock = None  # the sources' clock (absolute time of a driven LCS), set by execute
+        self.system = lcs  # the system asked for (a ScheduledLCS: self.lcs is the phase in force)
+        self.schedule = getattr(lcs, "schedule", None)
+        self.segments = self.schedule.segments() if self.schedule is not None else None
+        self.segment_end = None  # the end of the schedule's segment in force (None: t_end)
+        self.pending_reset = None  # a schedule's reset, applied to the state at its switch time
 
     def result(self, z0, digits, status, reason, elapsed) -> Trajectory:
-        return Trajectory(self.lcs, z0, self.T, digits, events=self.events, phases=self.phases,
+        return Trajectory(self.system, z0, self.T, digits, events=self.events, phases=self.phases,
                           status=status, stop_reason=reason, assumptions=self.policy.assumptions,
                           accumulations=self.accumulations, elapsed=elapsed, policy=self.policy,
                           choices=self.choices)
 
     def execute(self, z: ExactVector) -> None:
         policy = self.policy
-        self.clock = SourceClock.of(self.lcs, z)
         t = RationalReal(0, policy)
         mode_before = None
         triggers: tuple = ()
+        if self.schedule is not None:
+            self.next_segment()
+            triggers = ("schedule",) if self.pending_reset is not None else ()
+        self.clock = SourceClock.of(self.lcs, z) if self.schedule is None or shares_clock(self.schedule) else None
         while True:
             state_before = z
+            reset, self.pending_reset = self.pending_reset, None
+            if reset is not None:  # the schedule's reset at its switch time: x := R x
+                z = _apply_forms(reset, z)
             try:
                 mode, chain, z, impulse = self.select_and_reinitialize(z, t)
             except UnresolvedSign as e:
                 self.cascade_or_raise(e, t)
-            if chain or mode_before is not None:
+            if chain or mode_before is not None or (reset is not None and not _same(reset, state_before)):
                 if len(self.events) >= self.max_events:
                     raise LimitExceeded(f"max_events = {self.max_events} reached: the next event is "
                                         f"at t = {t.label()}")
                 self.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
                                          len(chain), impulse, triggers))
-                law = self.geometric_law(t, mode)
+                law = self.geometric_law(t, mode) if self.schedule is None else None
                 if law is not None:  # a proven right-accumulation at law.time <= t_end
                     t, z = self.cross(law, t, mode)
                     mode_before, triggers = None, ("accumulation",)
                     continue
-                if chain and self.cascade_suspected():  # an impact cascade: prove it before the digits run out
+                if chain and self.schedule is None and self.cascade_suspected():  # an impact cascade: prove it first
                     self.stop_at_cascade(None)
             policy.check_deadline(lambda: f" at t = {t.label()}")
             prec = self.event_prec()
             phase = Phase(mode, homogenized(z), policy)
-            H = self.T - t
+            stop = self.stop()  # t_end, or the schedule's next switch before it
+            H = stop - t
             if H.sign() == 0:
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase, self.undetermined))
                 return
             H_search, cap = _phase_horizon(phase, H)
             try:
-                hit = next_event(phase, H_search, prec, self.clock.started(t, self.T if cap is None else None) if self.clock else None)
+                hit = next_event(phase, H_search, prec, self.clock.started(t, stop if cap is None else None) if self.clock else None)
             except (UnresolvedSign, LCSError) as e:
                 self.cascade_or_raise(e, t)
+            if stop is not self.T and cap is None and (hit is None or hit.at_horizon):  # the schedule switches
+                # at `stop`: x carried over, then its reset and the next LCS; constraints at 0 trigger too
+                z = phase.state(H) if hit is None else phase.event_state(hit.theta, vstack(*[c.g for c in hit.constraints]))
+                self.anchor(H, z, prec)
+                self.phases.append(PhaseRecord(t, stop, mode.index_set, phase, self.undetermined))
+                self.durations.clear()  # the dynamics change: no accumulation runs across a switch
+                cons = () if hit is None else tuple(c.name for c in hit.constraints)
+                mode_before, triggers, t = mode.index_set, cons + ("schedule",), stop
+                self.next_segment()
+                continue
             if hit is None:
                 if cap is not None:  # no event within the horizon limit of this phase: stop there
                     end = t + H_search
@@ -337,6 +359,24 @@ class _Run:
                 self.bar.update(float(t_new) - self.bar.n)
             self.check_accumulation(t_new)
             mode_before, triggers, t = mode.index_set, tuple(c.name for c in cons), t_new
+            if stop is not self.T and (t - stop).sign() == 0:  # the event falls on the schedule's switch
+                triggers += ("schedule",)
+                self.durations.clear()
+                self.next_segment()
+
+    # --- scheduled switching (lcs_exact.schedule) ------------------------------------------------
+    def next_segment(self) -> None:
+        """Enter the schedule's next segment: its LCS in force, its end, its reset pending."""
+        start, end, ph = next(self.segments)
+        self.lcs = ph.lcs
+        self.unique_by_theorem = bool(ph.lcs.well_posedness())
+        self.segment_end = end
+        self.pending_reset = ph.reset
+
+    def stop(self):
+        """Where the phase search stops: t_end, or the schedule's next switch when it is before."""
+        end = self.segment_end
+        return self.T if end is None or (self.T - end).sign() <= 0 else RationalReal(end, self.policy)
 
     def geometric_law(self, t, mode):
         """The proven geometric law of the last events when it accumulates before t_end
@@ -556,33 +596,6 @@ class _Run:
                            lower=lower, upper=None, estimate=estimate) from err
 
 
-def check_accumulation(durations: list, t_now, t_end) -> None:
-    """Right-Zeno (Remark 4.11): raise :class:`ZenoDetected` when the last phases shrink
-    geometrically (ratio < 0.95 over a window of 24) with the limit of their sum before t_end."""
-    if len(durations) < _ZENO_WINDOW:
-        return
-    balls = [d.arb(64) for d in durations[-_ZENO_WINDOW:]]
-    ratios = []
-    for a, b in zip(balls, balls[1:]):
-        if not (a > 0 and b > 0):
-            return
-        ratios.append(b / a)
-    rho = max(ratios, key=lambda r: r.mid())
-    if not all(r < arb("0.95") for r in ratios):
-        return
-    tail = balls[-1] * rho / (1 - rho)
-    limit = t_now.arb(64) + tail
-    if limit < t_end.arb(64):  # suspected, not proven: lower = the last event (certified), upper None
-        # the geometric tails with the smallest and the largest ratio of the window: their spread
-        # says how many digits of the estimate mean anything (it is no bound: nothing is proven)
-        low = min(ratios, key=lambda r: r.mid())
-        spread = abs(float((tail - balls[-1] * low / (1 - low)).mid()))
-        raise ZenoDetected(f"event times accumulate: {_ZENO_WINDOW} phases shrinking geometrically (ratio <= "
-                           f"{float(rho.mid()):.3g}); accumulation point near t = {_estimate(float(limit.mid()), spread)} "
-                           "< t_end (Remark 4.11; an estimate, not a bound)", lower=dyadic_lower(t_now.arb(64)),
-                           upper=None, estimate=float(limit.mid()))
-
-
 #: the work a cascade proof may do, in coefficient products of its Taylor models (while the run can go
 #: on, when a decision failed and it cannot): about 2 s and 20 s on a 2-core machine of 2026, but counted
 #: as work so that a run ends the same way on every machine and under any load
@@ -595,19 +608,6 @@ def _num(q, digits: int = 20, *, down: bool = False) -> str:
     with decimal.localcontext() as ctx:
         ctx.prec, ctx.rounding = digits, (decimal.ROUND_FLOOR if down else decimal.ROUND_CEILING)
         return str(decimal.Decimal(int(q.p)) / decimal.Decimal(int(q.q)))
-
-
-def _estimate(x: float, spread: float) -> str:
-    """x with the digits its spread leaves meaningful (two more than the spread's leading digit,
-    at least 2 and at most 15 significant digits).
-
-    >>> _estimate(0.87791234567, 7.6e-3), _estimate(0.87791234567, 0.0)
-    ('0.878', '0.87791234567')
-    """
-    if spread <= 0 or x == 0:
-        return f"{x:.15g}"
-    digits = max(2, min(15, int(math.floor(math.log10(abs(x)))) - int(math.floor(math.log10(spread))) + 1))
-    return f"{x:.{digits}g}"
 
 
 def _short(r) -> str:
@@ -664,6 +664,15 @@ def _in_consistent_subspace(mode, z: ExactVector) -> bool:
     if q is not None:
         return all(v == 0 for v in (W * q).entries()) if W.nrows() else True
     return all(z.sign_of_form(submatrix(W, [r], None)) == 0 for r in range(W.nrows()))
+
+
+def _same(R: fmpq_mat, z: ExactVector) -> bool:
+    """R z = z, proven (a rational state: exactly; else only when R is the identity)."""
+    q = z.known_rational()
+    if q is not None:
+        return R * q == q
+    n = R.nrows()
+    return all(R[i, j] == (1 if i == j else 0) for i in range(n) for j in range(n))
 
 
 def _apply_forms(P, z: ExactVector) -> ExactVector:

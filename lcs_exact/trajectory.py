@@ -237,7 +237,7 @@ class Trajectory:
         rec = self._phase_at(t)
         if hasattr(rec.phase, "output"):  # an accumulation window (accumulation.ScaledCycle)
             return rec.phase.output(t - rec.t0, "y")
-        lcs = self.lcs
+        lcs = rec.phase.mode.lcs  # the phase's own system (a scheduled LCS switches between several)
         v = ProjectedVector(lcs.C + lcs.D * full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
         free = frozenset(i for i in range(lcs.k) if any(lcs.D[i, j] != 0 for j in rec.undetermined))
         return PartlyUndetermined(v, free, "y") if free else v

@@ -195,7 +195,7 @@ def test_unprovable_touch_is_reported_not_guessed():
 def test_accumulation_detector_on_geometric_phases():
     # Remark 4.11: phases 2^-i starting at t = 0 accumulate at t = 2 (< t_end = 3)
     from lcs_exact.reals import RationalReal
-    from lcs_exact.simulate import check_accumulation as _check_accumulation
+    from lcs_exact.zeno import check_accumulation as _check_accumulation
     durations, t = [], RationalReal(0)
     with pytest.raises(L.ZenoDetected, match="accumulate"):
         for i in range(40):
