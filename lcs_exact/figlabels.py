@@ -21,7 +21,7 @@ from .interfaces import SystemLike
 from .mapplot import MODE_COLORS, default_names
 from .modes import format_mode, mode_order
 
-__all__ = ["text_width", "Rows", "mode_colors", "mode_texts", "derived_outputs", "EMPTY_MODE_COLOR", "state_label",
+__all__ = ["draw_schedule", "SCHEDULE_COLORS", "text_width", "Rows", "mode_colors", "mode_texts", "derived_outputs", "EMPTY_MODE_COLOR", "state_label",
            "pair_label", "impulse_label", "event_text"]
 
 #: the colour of the empty mode (every pair out: no contact, no diode conducting) and of unknown modes
@@ -244,3 +244,38 @@ def derived_outputs(lcs: Any) -> Any:
     if out is None or not hasattr(out, "Wx"):
         out = getattr(getattr(lcs, "embedding", None), "outputs", None)
     return out if out is not None and hasattr(out, "Wx") else None
+
+
+#: colours of the schedule's phases in the band over a figure (lcs_exact.schedule)
+SCHEDULE_COLORS = ("#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860")
+
+
+def draw_schedule(ax: Any, schedule: Any, t_hi: float) -> int:
+    """A band along the top of ``ax`` with one coloured segment per segment of ``schedule`` (a
+    :class:`~lcs_exact.schedule.Schedule`) up to ``t_hi``, each labelled with its phase (the
+    phase's system name, else ``phase k``) where it has room; returns the segments drawn.
+
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> from lcs_exact import LCS, models
+    >>> pwm = models.scheduled([("1/2", LCS([[-1]], [[1]], [[1]], [[0]], name="on")),
+    ...                         ("1/2", LCS([[-2]], [[1]], [[1]], [[0]], name="off"))], period=1)
+    >>> fig, ax = plt.subplots()
+    >>> draw_schedule(ax, pwm.schedule, 2.0), sorted({t.get_text() for t in ax.texts})
+    (4, ['off', 'on'])
+    """
+    index = {id(p): k for k, p in enumerate(schedule.phases)}
+    drawn = 0
+    for start, end, ph in schedule.segments():
+        a = float(start)
+        if a >= t_hi:
+            break
+        b = t_hi if end is None else min(float(end), t_hi)
+        k = index[id(ph)]
+        ax.axvspan(a, b, ymin=0.965, ymax=1.0, color=SCHEDULE_COLORS[k % len(SCHEDULE_COLORS)], alpha=0.55, lw=0)
+        if (b - a) > 0.06 * t_hi:
+            ax.text((a + b) / 2, 0.982, ph.lcs.name or f"phase {k}", transform=ax.get_xaxis_transform(),
+                    ha="center", va="center", fontsize=6.5, color="white", clip_on=True)
+        drawn += 1
+    return drawn

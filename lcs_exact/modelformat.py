@@ -97,6 +97,9 @@ def model_data(lcs: Any, x0: Any = None, t_end: Any = None) -> dict:
     >>> d["A"], d["E"], d["w"], d["restitution"], d["states"]
     ([[0, 1], [0, 0]], [[0], ['-981/100']], ['constant(1)'], '9/10', ['q', "q'", '1'])
     """
+    if getattr(lcs, "schedule", None) is not None:
+        raise Unsupported("a model file holds one system: a ScheduledLCS (data that switch at scheduled times) "
+                          "is not written as one; its fixtures (traj.to_fixture) carry the whole schedule")
     plant, J, signals = _appended(lcs)
     n, k = lcs.n, lcs.k
     data: dict = {}

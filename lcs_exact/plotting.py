@@ -50,9 +50,8 @@ from flint import arb, ctx, fmpq_mat
 
 from .convergence import plot_convergence
 from .errors import InvalidArgument, LCSError
-from .figlabels import (Rows, derived_outputs, event_text, impulse_label, mode_colors, mode_texts, pair_label,
+from .figlabels import (Rows, derived_outputs, draw_schedule, event_text, impulse_label, mode_colors, mode_texts, pair_label,
                         state_label, text_width)
-from .interfaces import SystemLike
 from .mapplot import plot_mode_map
 from .modes import format_mode, mode_order
 from .vectors import ProjectedVector
@@ -187,13 +186,12 @@ def _component(v, i: int) -> tuple[float, bool]:
     return float(c), not c.ball(20).contains(0)
 
 
-def _linear_maps(cv: "_Canvas", mode) -> dict | None:
-    """{panel: M} with panel(t) = M x(t) on a phase of ``mode``: u_I = F_I x, zero off I
-    (section 4.1), y = C x + D u, w = W_x x + W_u u.  None for an unknown mode (a deadlock at
-    the start)."""
+def _linear_maps(cv: "_Canvas", mode, lcs) -> dict | None:
+    """{panel: M} with panel(t) = M x(t) on a phase of ``mode`` of ``lcs`` (the system in force:
+    a schedule's phase): u_I = F_I x, zero off I (section 4.1), y = C x + D u, w = W_x x + W_u u.
+    None for an unknown mode (a deadlock at the start)."""
     if mode is None:
         return None
-    lcs = cv.lcs
     Fu = fmpq_mat(lcs.k, lcs.n)
     if mode:
         F = lcs.mode(mode).feedback()  # rows follow the indices of I in increasing order
@@ -204,6 +202,12 @@ def _linear_maps(cv: "_Canvas", mode) -> dict | None:
     if cv.outputs is not None:
         maps["w"] = cv.outputs.Wx + cv.outputs.Wu * Fu
     return maps
+
+
+def _system_in_force(lcs, ph: PhaseInterval):
+    """The LCS whose data hold on the phase: ``lcs``, or its schedule's at the phase's middle."""
+    schedule = getattr(lcs, "schedule", None)
+    return lcs if schedule is None else schedule.system_at((float(ph.start) + float(ph.end)) / 2)
 
 
 def _free_rows(cv: "_Canvas", free: frozenset) -> dict:
@@ -343,6 +347,8 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     for ax in axes:
         ax.set_xlim(-0.015 * cv.t_hi, 1.015 * cv.t_hi)
         ax.grid(True, lw=0.3, alpha=0.5)
+    if getattr(lcs, "schedule", None) is not None:  # the schedule's phases as a band over the first axes
+        draw_schedule(axes[0], lcs.schedule, cv.t_hi)
     _draw_legends(cv)
     _draw_title(cv, phases, title)
     _place_texts(cv, evs, label_events)
@@ -423,7 +429,7 @@ def _draw_linear_panels(cv: _Canvas, ph: PhaseInterval, tt: list, first, last, b
     exactly at the two ends (the values after the event that starts it and before the one that
     ends it: the values the jump markers compare); components that depend on inputs the state
     leaves free are not drawn (they have no value).  Returns those ends."""
-    maps = _linear_maps(cv, ph.mode)
+    maps = _linear_maps(cv, ph.mode, _system_in_force(cv.lcs, ph))
     if maps is None:  # no mode: u and y are not defined there
         return None
     free = _undetermined(cv.traj, ph)  # inputs the state leaves free here

@@ -70,6 +70,14 @@ class Schedule:
             if self.period is None:
                 return
 
+    def system_at(self, t: float) -> LCS:
+        """The LCS in force at a time strictly inside a segment (a float: for drawing, where a
+        phase's middle never lies on a switch)."""
+        for _, end, ph in self.segments():
+            if end is None or t < float(end):
+                return ph.lcs
+        return self.phases[-1].lcs
+
     def switch_times(self, t_end: Any) -> list[fmpq]:
         """The switch times s with 0 < s < t_end (rational t_end, or an exact real's upper bound)."""
         T = to_fmpq(t_end, "t_end")

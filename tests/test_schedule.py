@@ -169,3 +169,20 @@ def test_bad_sampling_is_refused():
         models.sampled(plant, [[0], [1]], [[-1, 0]], 0)
     with pytest.raises(L.ShapeError):
         models.sampled(plant, [[0], [1]], [[-1, 0, 0]], 1)
+
+
+def test_figure_of_a_schedule_uses_each_phases_system():
+    """The u panel of the buck converter's figure: while the diode blocks (switch off, i = 0), u is
+    its reverse voltage v(C) > 0 from the off phase's own data (the on phase's would give v - 2)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    tr = L.simulate(buck(), [0, 0, 1], 2, digits=20)
+    fig = tr.plot(points=400)
+    ax_u = fig.axes[1]
+    t_off = float(tr.events[1].time)  # the diode turns off
+    pts = [(x, y) for line in ax_u.get_lines() if len(line.get_xdata()) > 2  # the phases' lines, not markers
+           for x, y in zip(*line.get_data()) if t_off + 0.01 < x < 0.99]
+    assert pts and all(abs(y - float(tr.u(Fraction(x).limit_denominator(10 ** 12))[0])) < 1e-9 and y > 0.8 for x, y in pts)
+    assert {t.get_text() for t in fig.axes[0].texts} >= {"phase 0", "phase 1"}  # the schedule's band
+    with pytest.raises(L.Unsupported, match="one system"):
+        buck().to_model("unused.json")
