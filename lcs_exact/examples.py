@@ -21,12 +21,15 @@ from .errors import InvalidArgument
 from .mechanics import mechanical
 from .rational import to_fmpq
 from .sources import sine
+from .exosystems import driven
 from .relays import relay
+from .schedule import scheduled
+from .sources import constant
 from .system import LCS
 
 __all__ = ["two_carts", "two_carts_with_hook", "half_wave_rectifier", "diode_bridge", "filippov_spiral",
            "cart_chain", "bouncing_ball", "ball_on_spring", "ball_column", "newtons_cradle", "sine_rectifier",
-           "diode_bridge_cap_filter"]
+           "diode_bridge_cap_filter", "buck_converter"]
 
 
 def two_carts() -> LCS:
@@ -281,3 +284,34 @@ def diode_bridge_cap_filter(L: Any = "1/100", C: Any = "1/1000000", Cf: Any = "3
     net = [("C1", "a", "b", Cq), ("L1", "a", "b", Lq), ("D1", "a", "p"), ("D2", "b", "p"), ("D3", "0", "a"),
            ("D4", "0", "b"), ("Cf", "p", "0", Cfq), ("R1", "p", "0", Rq)]
     return circuit(net, name="diode bridge with capacitor filter (Siconos)")
+
+
+def buck_converter(E: Any = 2, L: Any = "1/10", C: Any = 1, R: Any = 1, period: Any = 1, duty: Any = "1/4") -> LCS:
+    """A buck (step-down) converter: a switch driven by PWM (on for ``duty * period`` of each
+    ``period``), a freewheeling diode, an inductor L and an output capacitor C with a load R,
+    fed by a DC source E.  State (i(L), v(C), 1) (the source's constant), one pair for the diode:
+
+        L i' = s(t) E - v + u,   C v' = i - v / R,   0 <= y = i ⊥ u >= 0
+
+    with s(t) = 1 while the switch is on, 0 while it is off (:func:`lcs_exact.models.scheduled`);
+    u is the diode's reverse voltage: while the switch is off and i > 0 the diode conducts
+    (u = 0); when i reaches 0 it blocks (u = v holds i at 0: discontinuous conduction) until the
+    switch closes again (the switch conducts one way, so i >= 0 in both phases).  The defaults
+    (E = 2, L = 1/10, C = R = 1, duty 1/4 of a period 1) conduct discontinuously from the first
+    period on.  Start from ``buck.embed([i0, v0])``.
+
+    >>> buck = buck_converter()
+    >>> buck.state_names, [p.duration for p in buck.schedule.phases], buck.embed([0, 0]).transpose()
+    (('i(L)', 'v(C)', '1'), [1/4, 3/4], [0, 0, 1])
+    """
+    Eq, Lq, Cq, Rq, T, d = (to_fmpq(v, nm) for v, nm in ((E, "E"), (L, "L"), (C, "C"), (R, "R"), (period, "period"),
+                                                         (duty, "duty")))
+    if Lq <= 0 or Cq <= 0 or Rq <= 0 or T <= 0 or not 0 < d < 1:
+        raise InvalidArgument(f"buck_converter needs L, C, R, period > 0 and 0 < duty < 1, got L = {Lq}, C = {Cq}, "
+                              f"R = {Rq}, period = {T}, duty = {d}")
+    A = [[0, -1 / Lq], [1 / Cq, -1 / (Rq * Cq)]]
+    options = dict(state_names=["i(L)", "v(C)"], constraint_names=["D"],
+                   roles=[("-v(D)", "i(L)", "blocking", "conducting")])
+    on = driven(A, [[1 / Lq], [0]], [[1, 0]], [[0]], E=[[Eq / Lq], [0]], w=[constant(1)], name="switch on", **options)
+    off = driven(A, [[1 / Lq], [0]], [[1, 0]], [[0]], E=[[0], [0]], w=[constant(1)], name="switch off", **options)
+    return scheduled([(d * T, on), ((1 - d) * T, off)], period=T, name="buck converter (PWM, freewheeling diode)")

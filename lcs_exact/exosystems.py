@@ -49,7 +49,7 @@ def extend(A: fmpq_mat, B: fmpq_mat, C: fmpq_mat, D: fmpq_mat, EW: fmpq_mat | No
 
 
 def driven(A: Any, B: Any, C: Any, D: Any, E: Any = None, F: Any = None, *, w: Any, name: str | None = None,
-           state_names: Any = None, constraint_names: Any = None, restitution: Any = None) -> LCS:
+           state_names: Any = None, constraint_names: Any = None, restitution: Any = None, roles: Any = None) -> LCS:
     """x' = A x + B u + E w(t), y = C x + D u + F w(t), 0 <= y ⊥ u >= 0, as an LCS in (x, z).
 
     Parameters
@@ -58,7 +58,7 @@ def driven(A: Any, B: Any, C: Any, D: Any, E: Any = None, F: Any = None, *, w: A
     E : n x m matrix, optional (zero: the sources enter y only)
     F : k x m matrix, optional (zero: the sources enter x' only)
     w : sequence of m sources (:mod:`lcs_exact.sources`, or rationals for constants)
-    name, state_names, constraint_names, restitution : as for LCS (``state_names`` name x only;
+    name, state_names, constraint_names, restitution, roles : as for LCS (``state_names`` name x only;
         the exosystem's states are named after their atoms: ``'1'``, ``'sin(2t)'``, ...)
 
     Returns
@@ -94,7 +94,7 @@ def driven(A: Any, B: Any, C: Any, D: Any, E: Any = None, F: Any = None, *, w: A
     ex = exosystem(srcs)
     return extend(probe.A, probe.B, probe.C, probe.D, None if Em is None else Em * ex.W,
                   None if Fm is None else Fm * ex.W, ex, name=name, state_names=state_names,
-                  constraint_names=constraint_names, restitution=restitution)
+                  constraint_names=constraint_names, restitution=restitution, roles=roles)
 
 
 def _column(M: Any, rows: int, m: int) -> Any:

@@ -46,7 +46,7 @@ from typing import Any, Callable, Sequence
 from .balls import MAX_DIGITS
 from .compare import ComparisonReport, compare
 from .errors import FormatError, InvalidArgument, LCSError
-from .examples import (ball_column, bouncing_ball, cart_chain, diode_bridge, diode_bridge_cap_filter,
+from .examples import (ball_column, bouncing_ball, buck_converter, cart_chain, diode_bridge, diode_bridge_cap_filter,
                        filippov_spiral, half_wave_rectifier, newtons_cradle, sine_rectifier, two_carts,
                        two_carts_with_hook)
 from .fixture import MAX_SAMPLES, SCHEMA, validate_fixture
@@ -62,7 +62,7 @@ __all__ = ["SUITE", "DEFAULT_DIGITS", "DEFAULT_SAMPLES", "INDEX_FILE", "README_F
            "problem", "version", "write_zoo", "ZooCase", "cases", "DATA"]
 
 #: the suite's name and version: the list of problems, their parameters, x0 and t_end
-SUITE = "lcs-exact/zoo/1"
+SUITE = "lcs-exact/zoo/2"
 #: significant digits of the numbers in the fixtures (``--digits``)
 DEFAULT_DIGITS = 20
 #: grid intervals per problem: the sample step is t_end / DEFAULT_SAMPLES (``--sample``)
@@ -76,7 +76,8 @@ README_FILE = "README.md"
 _BUILDERS: dict[str, Callable[..., LCS]] = {
     "lcs_exact.examples." + f.__name__: f
     for f in (two_carts, two_carts_with_hook, bouncing_ball, cart_chain, ball_column, newtons_cradle,
-              half_wave_rectifier, diode_bridge, sine_rectifier, diode_bridge_cap_filter, filippov_spiral)}
+              half_wave_rectifier, diode_bridge, sine_rectifier, diode_bridge_cap_filter, filippov_spiral,
+              buck_converter)}
 _BUILDERS.update({"lcs_exact.models.circuit": circuit, "lcs_exact.models.relay": relay})
 
 
@@ -211,6 +212,10 @@ PROBLEMS: tuple[Problem, ...] = (
        {"netlist": "C1 1 0 1\nR1 1 0 1\nR12 1 2 1\nC2 2 0 1/1000\nR2 2 0 1/1000\nD1 0 2",
         "name": "stiff RC network and a diode"},
        ("state", [-1, 1]), "5", "eigenvalues about -1.001e6 and -1.999; the diode clamps v(C2) at t ~ 7e-6"),
+    _p("buck_converter_dcm", "buck converter, PWM switch (duty 1/4), discontinuous conduction",
+       "examples.buck_converter", {}, ("embed", [0, 0]), "4",
+       "a scheduled LCS (lcs_exact.models.scheduled): the switch's times are exact events; the diode blocks "
+       "before every period ends"),
 )
 
 _BY_NAME = {p.name: p for p in PROBLEMS}
@@ -424,6 +429,11 @@ class ZooCase:
         The fixture's sample step (a solver whose times hit this grid is compared on the samples).
     state_names : tuple of str
         The names of the n states (the component names of a failure message).
+    schedule : tuple or None
+        For a case whose data switch at scheduled times (a PWM switch): the phases in order from
+        t = 0, each ``(duration, A, B, C, D, reset)`` in float64 (reset None or an n x n matrix
+        applied when the phase starts), repeated every ``period`` (a float, or None); A, B, C, D
+        above are the first phase's.  None otherwise.
 
     Examples
     --------
@@ -474,6 +484,19 @@ class ZooCase:
     @property
     def state_names(self) -> tuple:
         return tuple(self.fixture.lcs.state_names)
+
+    @cached_property
+    def _schedule(self) -> tuple:
+        sched = getattr(self.fixture.lcs, "schedule", None)
+        if sched is None:
+            return None, None
+        phases = tuple((None if p.duration is None else float(p.duration), _floats(p.lcs.A), _floats(p.lcs.B),
+                        _floats(p.lcs.C), _floats(p.lcs.D), None if p.reset is None else _floats(p.reset))
+                       for p in sched.phases)
+        return phases, None if sched.period is None else float(sched.period)
+
+    schedule = property(lambda self: self._schedule[0])
+    period = property(lambda self: self._schedule[1])
 
     def compare(self, t: Any, X: Any, **options: Any) -> ComparisonReport:
         """:func:`lcs_exact.compare` of a solution (times t, states X: all n, or the plant's)

@@ -45,22 +45,38 @@ def _pin_sources(x: np.ndarray, case, t: float) -> None:
         x[list(case.sources.states)] = case.sources(t)
 
 
+def _data_at(case, t: float):
+    """(A, B, C, D) in force at t: a scheduled case's phase holding t, else the case's own."""
+    phases = getattr(case, "schedule", None)
+    if not phases:
+        return case.A, case.B, case.C, case.D
+    start = 0.0
+    while True:
+        for duration, A, B, C, D, _ in phases:
+            if duration is None or t < start + duration - 1e-12:
+                return A, B, C, D
+            start += duration
+
+
 def backward_euler(case, h: float, t_end: float | None = None, A=None, B=None, C=None, D=None, x0=None):
-    """The implicit Euler time-stepper with one LCP per step; returns (t, X)."""
-    A = case.A if A is None else A
-    B, C, D = (case.B if B is None else B), (case.C if C is None else C), (case.D if D is None else D)
+    """The implicit Euler time-stepper with one LCP per step; returns (t, X).  A scheduled case
+    (``case.schedule``) steps with the data of the phase in force at each step's start (h must
+    divide its durations)."""
     x = (case.x0 if x0 is None else x0).copy()
     T = case.t_end if t_end is None else t_end
     N = int(round(T / h))
     n = len(x)
-    Winv = np.linalg.inv(np.eye(n) - h * A)
-    M = h * C @ Winv @ B + D
     ts, X = [0.0], [x.copy()]
     for k in range(N):
         t1 = (k + 1) * h
+        if A is None or k == 0 or getattr(case, "schedule", None):
+            Ak, Bk, Ck, Dk = _data_at(case, k * h)
+            Ak, Bk, Ck, Dk = (Ak if A is None else A), (Bk if B is None else B), (Ck if C is None else C), (Dk if D is None else D)
+            Winv = np.linalg.inv(np.eye(n) - h * Ak)
+            M = h * Ck @ Winv @ Bk + Dk
         free = Winv @ x
-        u = solve_lcp(M, C @ free)
-        x = free + h * Winv @ B @ u
+        u = solve_lcp(M, Ck @ free)
+        x = free + h * Winv @ Bk @ u
         _pin_sources(x, case, t1)
         ts.append(t1)
         X.append(x.copy())

@@ -185,9 +185,10 @@ def test_getting_started_shows_what_it_says(built):
 @pytest.mark.slow
 def test_recipe_shows_what_it_says(built):
     page = shown(built, "testing-solvers.html")
-    assert "7 failed, 7 passed" in page and "4 passed" in page
+    assert "8 failed, 7 passed" in page and "4 passed" in page
     for name in ("bouncing_ball", "ball_column_3", "newtons_cradle_3",   # restitution: inelastic impacts fail
-                 "cart_chain_4", "half_wave_rectifier", "diode_bridge_cap_filter", "filippov_spiral"):
+                 "cart_chain_4", "half_wave_rectifier", "diode_bridge_cap_filter", "filippov_spiral",
+                 "buck_converter_dcm"):  # the schedule ignored
         assert f"FAILED test_my_solver.py::test_backward_euler[{name}]" in page, name
     for text in ("integrated: amplitude 0.918978 at t = 13; case.sources: 1.000000",
                  "{'atol': 0.01} passed", "{'atol': 0.001} AssertionError", "{'atol': 0.01, 'event_tol': 0} AssertionError",

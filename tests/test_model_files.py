@@ -147,7 +147,10 @@ def test_round_trip_scenes_have_events():
 
 
 def test_every_example_builder_is_in_the_round_trip():
-    assert all(any(scene.startswith(name) for scene in SCENES) for name in examples.__all__)
+    scheduled = {"buck_converter"}  # data that switch at scheduled times: a model file holds one system
+    assert all(any(scene.startswith(name) for scene in SCENES) for name in examples.__all__ if name not in scheduled)
+    with pytest.raises(L.Unsupported, match="one system"):
+        examples.buck_converter().to_model("unused.json")
 
 
 def test_written_file_reads_as_the_driven_system_it_states(tmp_path):

@@ -42,7 +42,7 @@ def ball():
 
 def test_cases_are_the_problems_in_order():
     names = [c.name for c in zoo.cases()]
-    assert names == [p.name for p in zoo.PROBLEMS] and len(names) == 14
+    assert names == [p.name for p in zoo.PROBLEMS] and len(names) == 15
     assert [c.name for c in zoo.cases("relay, bouncing_ball")] == ["bouncing_ball", "relay"]
     with pytest.raises(L.InvalidArgument, match="no problem 'nope'"):
         zoo.cases(["nope"])
@@ -132,7 +132,7 @@ def test_moreau_jean_with_a_wrong_restitution_fails(name, e):
 @pytest.mark.parametrize("name, frac, atol", [
     ("two_carts", 1e-3, 1e-2), ("half_wave_rectifier", 1e-3, 3e-2), ("diode_bridge", 1e-3, 2e-2),
     ("sine_rectifier_half", 1e-3, 5e-3), ("sine_rectifier_full", 1e-3, 5e-3), ("filippov_spiral", 1e-3, 3e-2),
-    ("relay", 1e-3, 1e-9), ("stiff_rc_diode", 1e-3, 5e-3)])
+    ("relay", 1e-3, 1e-9), ("stiff_rc_diode", 1e-3, 5e-3), ("buck_converter_dcm", 1 / 1600, 3e-2)])
 def test_backward_euler_passes_on_the_cases_it_can_solve(name, frac, atol):
     case = zoo.cases(name)[0]
     t, X = backward_euler(case, frac * case.t_end)
@@ -166,7 +166,7 @@ def test_the_plugin_gives_one_test_per_case(pytester):
             lcs_zoo_case.assert_matches(t, lcs_zoo_case.fixture.to_numpy(t), atol=1e-12, event_tol=0)
     """)
     result = pytester.runpytest("-p", "no:cacheprovider", "-q")
-    result.assert_outcomes(passed=14)
+    result.assert_outcomes(passed=15)
     result = pytester.runpytest("-p", "no:cacheprovider", "-v", "--lcs-zoo", "relay,two_carts")
     result.assert_outcomes(passed=2)
     result.stdout.fnmatch_lines(["*test_solver[[]two_carts[]] PASSED*", "*test_solver[[]relay[]] PASSED*"])
@@ -191,3 +191,19 @@ def test_the_shipped_zoo_is_what_write_zoo_writes(tmp_path):
     shipped = json.loads((zoo.files("lcs_exact") / zoo.DATA / zoo.INDEX_FILE).read_text(encoding="utf-8"))
     assert [(e["name"], e["digest"], e["samples_digest"]) for e in index["problems"]] == \
         [(e["name"], e["digest"], e["samples_digest"]) for e in shipped["problems"]]
+
+
+@pytest.mark.slow
+def test_a_scheduled_case_carries_its_schedule():
+    """The buck converter switches at 1/4 of each period 1: a backward Euler that follows
+    case.schedule passes (above), one that keeps the first phase's data (the switch never opens)
+    fails, and the case says so: the phases' durations and data are the builder's (E = 2, L = 1/10:
+    i' = 20 s(t) - 10 v + 10 u)."""
+    case = zoo.cases("buck_converter_dcm")[0]
+    (d_on, A_on, *_), (d_off, A_off, *_) = case.schedule
+    assert (d_on, d_off, case.period) == (0.25, 0.75, 1.0)
+    assert A_on[0].tolist() == [0, -10, 20] and A_off[0].tolist() == [0, -10, 0]
+    assert case.sources.expressions == ("1",) and case.plant == (0, 1)
+    t, X = backward_euler(case, 1 / 400, A=case.A, B=case.B, C=case.C, D=case.D)
+    with pytest.raises(AssertionError, match="differs from the fixture"):
+        case.assert_matches(t, X, atol=3e-2)
