@@ -19,9 +19,11 @@ D = C_c): a constraint with c_i > 0 is a one-sided spring of stiffness 1/c_i, u_
 P-matrix on the compliant constraints the leading matrices are P-matrices (Theorem 6.3) and no
 compliant constraint ever takes an impulse: every state is consistent for it, and the force is a
 continuous function of the state.  A zero compliance keeps a constraint rigid (its row and column
-of C_c must then be zero).  ``restitution`` is refused with a compliance: Newton's law acts on the
-velocity jump of an impact, which a compliant contact never has (its spring is elastic: the
-energy it stores during contact is given back at lift-off).
+of C_c must then be zero).  Newton's law (``restitution``) acts on the velocity jump of an
+impact, which a compliant contact never has (its spring is elastic: the energy it stores during
+contact is given back at lift-off): with a compliance, ``restitution`` is one entry per
+constraint, None for each compliant one, and acts on the rigid contacts alone (a compliant floor
+under a rigid ceiling with e = 1, as Siconos' BouncingBallTS-CompliantContact).
 """
 from __future__ import annotations
 
@@ -62,7 +64,8 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
     restitution : rational or sequence of k rationals in [0, 1], optional
         Newton's impact law (Moreau's generalisation for simultaneous impacts), see
         :mod:`lcs_exact.impacts`; the default None is the paper's inelastic impact (e = 0 gives
-        the same jumps).  Not with ``compliance`` (a compliant contact has no impacts).
+        the same jumps).  With ``compliance``: one entry per constraint, None for each
+        compliant one (a compliant contact takes no impulse; the law acts on the rigid ones).
     compliance : rational, sequence of k rationals, or k x k matrix, optional
         Compliant contacts: y = E q + gap + compliance u (the LCS's D).  A rational is the
         compliance of every constraint, a sequence one per constraint (the diagonal), a matrix
@@ -157,11 +160,7 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
     forces = _sources(force, m, "force", "coordinate")
     gaps = _sources(gap, k, "gap", "constraint")
     Dc = _compliance(compliance, k, cn)
-    if restitution is not None and any(Dc[i, j] != 0 for i in range(k) for j in range(k)):
-        raise InvalidArgument("compliance and restitution cannot be combined: a compliant contact (compliance > 0) "
-                              "has relative degree 0 and never takes an impulse (its force is u = max(0, -y/c), "
-                              "continuous in the state), so Newton's impact law has no velocity jump to act on; "
-                              "its spring is elastic. Give restitution for rigid contacts or compliance, not both")
+    _check_restitution(restitution, Dc, cn)
     if forces is None and gaps is None:
         return LCS(A, B, C, Dc, name=name, state_names=names, constraint_names=constraint_names,
                    restitution=restitution, roles=roles)
@@ -229,3 +228,24 @@ def _compliance(value: Any, k: int, names: tuple) -> Any:
         raise InvalidArgument(f"compliance must be a P-matrix on the compliant constraints (Theorem 6.3: one force "
                               f"for every state); its principal minor on {which} is <= 0")
     return Dc
+
+
+def _check_restitution(restitution: Any, Dc: Any, names: tuple) -> None:
+    """Restitution with compliant contacts: one coefficient per constraint, None for each compliant
+    one (it never takes an impulse, so Newton's law has nothing to act on there)."""
+    soft = [i for i in range(Dc.nrows()) if Dc[i, i] != 0]
+    if restitution is None or not soft:
+        return
+    listed = isinstance(restitution, (list, tuple)) or hasattr(restitution, "tolist") and \
+        getattr(restitution, "ndim", None) != 0
+    values = list(as_list(restitution) if hasattr(restitution, "tolist") else restitution) if listed else None
+    if values is None or len(values) != Dc.nrows():
+        raise InvalidArgument(f"restitution with compliance: give one coefficient per constraint, None for each "
+                              f"compliant one ({', '.join(repr(names[i]) for i in soft)}): a compliant contact "
+                              f"never takes an impulse (its force u = max(0, -y/c) is continuous in the state), "
+                              f"so Newton's impact law has no velocity jump to act on there")
+    for i in soft:
+        if values[i] is not None:
+            raise InvalidArgument(f"restitution[{i}] must be None: constraint {names[i]!r} is compliant "
+                                  f"(compliance {Dc[i, i]}), it never takes an impulse for Newton's law to act on "
+                                  f"(its spring is elastic)")

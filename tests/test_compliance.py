@@ -169,12 +169,62 @@ def test_compliance_forms_and_their_checks():
         mechanical(M, K, E, compliance=[1, "x"])
 
 
-def test_compliance_with_restitution_is_refused():
-    with pytest.raises(InvalidArgument, match="compliance and restitution"):
+def test_restitution_with_compliance_acts_on_the_rigid_contacts_only():
+    """A compliant contact never takes an impulse, so Newton's law has nothing to act on there:
+    restitution with a compliance is one entry per constraint, None for the compliant ones."""
+    with pytest.raises(InvalidArgument, match="one coefficient per constraint"):
         mechanical([[1]], [[0]], [[1]], force=[-10], compliance="1/100", restitution=1)
-    # a zero compliance is a rigid contact: restitution applies
+    with pytest.raises(InvalidArgument, match=r"restitution\[0\] must be None"):
+        mechanical([[1]], [[0]], [[1]], force=[-10], compliance="1/100", restitution=[1])
+    with pytest.raises(InvalidArgument, match="relative degree 2"):   # nothing rigid to act on
+        mechanical([[1]], [[0]], [[1]], force=[-10], compliance="1/100", restitution=[None])
+    two = dict(force=[-10], gap=[0, 2], constraint_names=["floor", "ceiling"])
+    with pytest.raises(InvalidArgument, match="one coefficient per constraint"):
+        mechanical([[1]], [[0]], [[1], [-1]], compliance=["1/100", 0], restitution="1/2", **two)
+    lcs = mechanical([[1]], [[0]], [[1], [-1]], compliance=["1/100", 0], restitution=[None, "1/2"], **two)
+    assert lcs.restitution == (0, fmpq(1, 2))
+    # the LCS itself: a nonzero coefficient on a row with D_ii > 0 is refused, 0 (None) is not
+    with pytest.raises(InvalidArgument, match="'floor' must be None or 0"):
+        L.LCS(lcs.A, lcs.B, lcs.C, lcs.D, constraint_names=["floor", "ceiling"], restitution=[1, 1])
+    assert L.LCS(lcs.A, lcs.B, lcs.C, lcs.D, restitution=[0, 1]).restitution == (0, 1)
+    # a zero compliance is a rigid contact: restitution applies as without compliance
     ball = mechanical([[1]], [[0]], [[1]], force=[-10], compliance=0, restitution="1/2")
     assert ball.restitution == (fmpq(1, 2),) and ball.D == fmpq_mat(1, 1)
+
+
+def test_compliant_floor_under_an_elastic_ceiling():
+    """Siconos' BouncingBallTS-CompliantContact mixes the two: a compliant floor (here c = 1/100)
+    and a rigid ceiling with Newton's e = 1 (here at q = 2).  From (q, q') = (1, 7), m = 1,
+    g = 10, by hand:
+
+    * the ceiling at t_a = (7 - sqrt 29)/10 (1 + 7t - 5t^2 = 2) with q' = sqrt 29, reflected to
+      -sqrt 29 (an impulse on the ceiling alone);
+    * the floor at t_a + s, 2 - sqrt 29 s - 5 s^2 = 0: s = (sqrt 69 - sqrt 29)/10, q' = -sqrt 69;
+    * the compliant contact (about -1/10, frequency 10, as in the module docstring, with
+      phi = atan2(sqrt(69)/10, 1/10)) lifts off after tau = 2 (pi - phi)/10 at q' = +sqrt 69;
+    * the ceiling again after s, at q' = sqrt 29: the motion is periodic, of period 2 s + tau,
+      and the energy q'^2/2 + 10 q (+ 50 q^2 in contact) is 49/2 + 10 throughout."""
+    lcs = mechanical([[1]], [[0]], [[1], [-1]], force=[-10], gap=[0, 2], compliance=["1/100", 0],
+                     restitution=[None, 1], q_names=["q"], constraint_names=["floor", "ceiling"])
+    tr = L.simulate(lcs, lcs.embed([1, 7]), fmpq(3, 2))
+    assert tr.certified
+    s29, s69 = mp.sqrt(29), mp.sqrt(69)
+    t_a, s = (7 - s29) / 10, (s69 - s29) / 10
+    tau = 2 * (mp.pi - mp.atan2(s69 / 10, mp.mpf(1) / 10)) / 10
+    times = [t_a, t_a + s, t_a + s + tau, t_a + 2 * s + tau, t_a + 3 * s + tau]
+    assert len(tr.events) == 5 and times[-1] < 1.5 < times[-1] + tau
+    for e, t in zip(tr.events, times):
+        assert near(num(e.time), t)
+    ceiling1, land, lift, ceiling2, land2 = tr.events
+    for e in (ceiling1, ceiling2):
+        assert e.modes == (frozenset({1}),)
+        assert near(num(e.state_before[1]), s29) and near(num(e.state_after[1]), -s29)
+    assert land.modes == () and lift.modes == () and land.mode_after == frozenset({0})
+    assert near(num(land.state_after[1]), -s69) and near(num(lift.state_after[1]), s69)
+    for t in (fmpq(1, 10), fmpq(3, 10), fmpq(6, 10), 1, fmpq(3, 2)):
+        x = tr.state(t)
+        q, v = num(x[0]), num(x[1])
+        assert near(v ** 2 / 2 + 10 * q + (50 * q ** 2 if q < 0 else 0), mp.mpf(49) / 2 + 10), t
 
 
 @pytest.mark.parametrize("suffix", [".toml", ".json"])
