@@ -29,6 +29,14 @@ when c != 0 (y_+ = 0 and u_- = 0 give 2c = 0), which mode selection proves
 (:mod:`lcs_exact.rcpfamily`).  In mode terms: relay j with z_j > 0 (w = 1) is {2j, 2j+1}; with
 z_j < 0 (w = -1) neither index; sliding (z_j = 0 with |w_j| < 1) is {2j} alone.
 
+Sources.  x' = A x + B w + E s(t), w in Sgn(C x + F s(t)) (``relay(A, B, C, E, F, sources=...)``:
+a belt's speed inside Coulomb friction's sign, a sine bias): the sources' exosystem z' = S z
+(:func:`~lcs_exact.sources.exosystem`, s = W z) is appended instead of c, with the constant atom
+1 added to it, whose state is the level c (shared with the constant sources).  With e_c that
+state, A' = [[A, E W - B 1 e_c^T], [0, S]], C'_{2j} = (-C_j, -F_j W), C'_{2j+1} = 2 e_c^T; B' and
+D' are as above, so the Markov parameters, the modes and the argument on the non-autonomous
+modes (c = 1) are unchanged.  ``lcs.embed(x)`` = (x, z(0)).
+
 Outputs.  The relays' outputs w_j = u_{2j} - c are what a user of the relay system asks for, not
 the pairs: the builder declares them as :class:`RelayOutputs` (a linear map w = W_x x + W_u u)
 carried by the LCS's embedding (:class:`LevelEmbedding`), so that ``traj.outputs(t)``,

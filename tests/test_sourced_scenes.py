@@ -238,8 +238,10 @@ def test_belt_round_trips_through_a_model_file(tmp_path, suffix):
     back = L.read_model(str(lcs.to_model(tmp_path / f"belt{suffix}", x0=[0, VB], t_end=1)))
     assert (back.A, back.B, back.C, back.D) == (lcs.A, lcs.B, lcs.C, lcs.D)
     assert back.state_names == lcs.state_names and back.embed([0, VB]) == lcs.embed([0, VB])
-    (e,) = L.simulate(back, back.embed([0, VB]), 1).events
+    tr = L.simulate(back, back.embed([0, VB]), 1)
+    (e,) = tr.events
     assert rational(e.time) == fmpq(3, 4)
+    assert tr.output_names == ()   # the file carries the LCS, not the builder's declared outputs
 
 
 # ---------------------------------------------------------------------------------------------
