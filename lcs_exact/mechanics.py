@@ -69,7 +69,7 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
     compliance : rational, sequence of k rationals, or k x k matrix, optional
         Compliant contacts: y = E q + gap + compliance u (the LCS's D).  A rational is the
         compliance of every constraint, a sequence one per constraint (the diagonal), a matrix
-        the whole coupling.  Entries are >= 0; a zero diagonal entry keeps its constraint rigid
+        the whole coupling.  Diagonal entries are >= 0; a zero one keeps its constraint rigid
         (its row and column must then be zero) and the compliant constraints' block must be a
         P-matrix (a symmetric positive definite compliance is one).  A constraint with
         compliance c > 0 is a one-sided spring of stiffness 1/c (u = max(0, -(E q + gap)/c)):

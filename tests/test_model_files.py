@@ -73,7 +73,7 @@ def _driven():
 
 def _compliant():
     return models.mechanical([[1]], [[0]], [[1], [-1]], force=[-10], gap=[0, 2], compliance=[0, "1/100"],
-                             q_names=["q"], constraint_names=["floor", "ceiling"])
+                             restitution=["1/2", None], q_names=["q"], constraint_names=["floor", "ceiling"])
 
 
 def _relay_belt():
