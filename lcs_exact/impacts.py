@@ -21,6 +21,11 @@ Energy: the kinetic energy changes by (1/2) lambda^T (y'(+) + y'(-)); when the c
 share one coefficient e it is (1 - e)/2 lambda^T y'(-) <= 0, zero for e = 1 (an elastic impact
 keeps the energy) and Carnot's loss for e = 0.
 
+Compliant contacts (D_ii > 0: relative degree 0, :func:`lcs_exact.models.mechanical`'s
+``compliance``) take no impulse: their force is a continuous function of the state, so the law
+leaves them out (their coefficient is 0) and acts on the rigid contacts alone; W_JJ and y'_J
+involve rigid rows only (C B = 0 there, so y'_J = C_J A z whatever the compliant forces).
+
 What the law does not cover, and the paper's rule then does: an infeasible state (some y_i < 0:
 the paper jumps the positions too, u^{-1} != 0), and the rare closed constraint that separates
 (y_i' > 0) yet is pushed back below zero velocity by a neighbour's impulse (Newton's law allows
@@ -78,6 +83,8 @@ def newton_impact(lcs: SystemLike, z: Any) -> Impact | None:
     C, CA = lcs.C, lcs.C * lcs.A
     closed = []
     for i in range(k):
+        if lcs.D[i, i] > 0:
+            continue  # a compliant contact (relative degree 0): no impulse, y_i = C_i z + D_i u may be < 0
         s = sign_of_form(submatrix(C, [i], None), z)
         if s < 0:
             return None  # infeasible: the paper's re-initialization (positions jump too)

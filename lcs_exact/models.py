@@ -1,12 +1,15 @@
 """Builders for linear complementarity systems, in one place (docs/paper-to-api.md).
 
 * :func:`mechanical` (:mod:`lcs_exact.mechanics`): M q'' + D q' + K q = f + E^T u, y = E q + g
-  (8.1)-(8.3), with forces and gaps as sources and Newton's impact law (``restitution``);
+  (8.1)-(8.3), with forces and gaps as sources (a source in a gap is a moving obstacle), Newton's
+  impact law (``restitution``) and compliant contacts (``compliance``: y = E q + g + C_c u);
 * :func:`driven` (:mod:`lcs_exact.exosystems`): x' = A x + B u + E w(t), y = C x + D u + F w(t) with
   sources w (:mod:`lcs_exact.sources`) carried by appended exosystem states;
 * :func:`circuit`, :func:`circuit_ports` (:mod:`lcs_exact.circuits`): RLC networks with ideal diodes;
 * :func:`relay` (:mod:`lcs_exact.relays`): x' = A x + B w, w in Sgn(C x), with a constant state
-  for the relay levels and ``lcs.embed(x)`` = (x, 1);
+  for the relay levels and ``lcs.embed(x)`` = (x, 1); with sources x' = A x + B w + E s(t),
+  w in Sgn(C x + F s(t)) (``w=`` the sources, as for :func:`driven`: a belt's speed inside Coulomb
+  friction's sign);
 * :func:`scheduled`, :func:`sampled` (:mod:`lcs_exact.schedule`): data that switch at scheduled
   times (a PWM switch), sampled-data control with a held input;
 * the examples of :mod:`lcs_exact.examples` (``two_carts``, ``two_carts_with_hook``, ...), kept

@@ -29,6 +29,14 @@ when c != 0 (y_+ = 0 and u_- = 0 give 2c = 0), which mode selection proves
 (:mod:`lcs_exact.rcpfamily`).  In mode terms: relay j with z_j > 0 (w = 1) is {2j, 2j+1}; with
 z_j < 0 (w = -1) neither index; sliding (z_j = 0 with |w_j| < 1) is {2j} alone.
 
+Sources.  x' = A x + B w + E s(t), w in Sgn(C x + F s(t)) (``relay(A, B, C, E, F, sources=...)``:
+a belt's speed inside Coulomb friction's sign, a sine bias): the sources' exosystem z' = S z
+(:func:`~lcs_exact.sources.exosystem`, s = W z) is appended instead of c, with the constant atom
+1 added to it, whose state is the level c (shared with the constant sources).  With e_c that
+state, A' = [[A, E W - B 1 e_c^T], [0, S]], C'_{2j} = (-C_j, -F_j W), C'_{2j+1} = 2 e_c^T; B' and
+D' are as above, so the Markov parameters, the modes and the argument on the non-autonomous
+modes (c = 1) are unchanged.  ``lcs.embed(x)`` = (x, z(0)).
+
 Outputs.  The relays' outputs w_j = u_{2j} - c are what a user of the relay system asks for, not
 the pairs: the builder declares them as :class:`RelayOutputs` (a linear map w = W_x x + W_u u)
 carried by the LCS's embedding (:class:`LevelEmbedding`), so that ``traj.outputs(t)``,
@@ -41,8 +49,8 @@ from typing import Any
 from flint import fmpq_mat
 
 from .errors import InvalidArgument, ShapeError
-from .rational import to_matrix, to_vector
-from .sources import AppendedStates
+from .rational import submatrix, to_matrix
+from .sources import AppendedStates, as_source, constant, exosystem
 from .system import LCS
 
 __all__ = ["relay", "LevelEmbedding", "LinearOutputs", "RelayOutputs"]
@@ -113,44 +121,63 @@ class RelayOutputs(LinearOutputs):
 
 class LevelEmbedding(AppendedStates):
     """x -> (x, 1): the full initial state of a relay LCS (the appended relay level c = 1, a
-    constant source); ``outputs`` are the relays' outputs (:class:`RelayOutputs`).
+    constant source); ``outputs`` are the relays' outputs (:class:`RelayOutputs`).  A relay
+    system with sources appends their exosystem instead (``tail`` its z(0), ``names`` its
+    states), whose constant state ``'1'`` is the level.
 
     >>> LevelEmbedding(2)([3, "1/2"]).transpose()
     [3, 1/2, 1]
+    >>> LevelEmbedding(1, tail=[1, 0, 1], names=("1", "sin(t)", "cos(t)"))(["1/2"]).transpose()
+    [1/2, 1, 0, 1]
     """
 
-    def __init__(self, n: int, outputs: LinearOutputs | None = None):
-        super().__init__(n, [1], ("c",))
+    def __init__(self, n: int, outputs: LinearOutputs | None = None, tail: Any = (1,), names: Any = ("c",)):
+        super().__init__(n, tail if isinstance(tail, fmpq_mat) else list(tail), tuple(names))
         self.outputs = outputs
 
     def __repr__(self):
-        return f"LevelEmbedding({self.n})"
+        if self.names == ("c",):
+            return f"LevelEmbedding({self.n})"
+        return f"LevelEmbedding({self.n}, names={self.names!r})"
 
 
-def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any = None,
-          relay_names: Any = None) -> LCS:
-    """The LCS of the relay system x' = A x + B w, w in Sgn(C x) (componentwise, Sgn(0) = [-1, 1]).
+def relay(A: Any, B: Any, C: Any, E: Any = None, F: Any = None, *, w: Any = None, sources: Any = None,
+          name: str | None = None, state_names: Any = None, relay_names: Any = None) -> LCS:
+    """The LCS of the relay system x' = A x + B w + E s(t), w in Sgn(C x + F s(t)) (componentwise,
+    Sgn(0) = [-1, 1]); without sources x' = A x + B w, w in Sgn(C x).
 
     Parameters
     ----------
     A : n x n matrix
     B : n x m matrix (a flat list is one relay)
     C : m x n matrix (a flat list is one relay)
+    E : n x p matrix, optional
+        How the sources enter the state equation (zero by default).
+    F : m x p matrix, optional
+        How the sources enter the relays' inputs (zero by default): relay j switches where
+        C_j x + F_j s(t) changes sign (a belt speed, a sine bias).
+    w : sequence of p sources, optional
+        s(t): :mod:`lcs_exact.sources` objects, or rationals for constants, as ``w`` of
+        :func:`~lcs_exact.exosystems.driven`.  Needs E or F.  ``sources=`` is the same argument
+        under a name that does not clash with the relays' outputs w (give one of the two).
     name : str, optional
     state_names : sequence of n str, optional
-        Names of x; the appended constant state is called ``"c"``.  Default ``x_0, ..., x_{n-1}``.
+        Names of x; the appended constant state is called ``"c"`` (with sources, the appended
+        states are the sources' exosystem, named after its atoms: ``'1'``, ``'sin(t)'``, ...;
+        its constant state ``'1'`` is the relay level).  Default ``x_0, ..., x_{n-1}``.
     relay_names : sequence of m str, optional
         Names of the relays' outputs w_j.  Default ``w_0, ..., w_{m-1}``.
 
     Returns
     -------
     LCS
-        State (x, c) of dimension n + 1, 2m complementarity pairs named ``"w0-", "w0+", "w1-", ...``
-        (``"s-", "s+"`` for a relay named ``"s"``; see the module docstring for the formulation).
-        ``lcs.embed(x)`` returns (x, 1), the full initial state of the relay system's state x.
-        The relays' outputs w are declared on the embedding (:class:`RelayOutputs`): a
-        trajectory gives them by ``traj.outputs(t)``, as columns of ``traj.to_pandas(t)`` and in
-        the panel ``"w"`` of ``traj.plot()``, which it draws instead of the pairs' u and y.
+        State (x, c) of dimension n + 1 (with sources (x, z), z the sources' exosystem), 2m
+        complementarity pairs named ``"w0-", "w0+", "w1-", ...`` (``"s-", "s+"`` for a relay
+        named ``"s"``; see the module docstring for the formulation).  ``lcs.embed(x)``
+        returns (x, 1) (with sources (x, z(0))), the full initial state of the relay system's
+        state x.  The relays' outputs w are declared on the embedding (:class:`RelayOutputs`):
+        a trajectory gives them by ``traj.outputs(t)``, as columns of ``traj.to_pandas(t)`` and
+        in the panel ``"w"`` of ``traj.plot()``, which it draws instead of the pairs' u and y.
 
     Examples
     --------
@@ -172,7 +199,24 @@ def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any =
     >>> out = lcs.embedding.outputs      # w_0 = u_0 - c
     >>> out.names, out.Wx, out.Wu
     (('w_0',), [0, -1], [1, 0])
+
+    Coulomb friction on a belt moving at 1/2 (unit mass and spring, friction force 1):
+    q'' = -q - w, w in Sgn(q' - 1/2); the belt's speed is a constant source inside the sign,
+    carried by the state ``'1'``, which is also the relay level:
+
+    >>> belt = relay([[0, 1], [-1, 0]], [[0], [-1]], [[0, 1]], F=[[-1]], sources=["1/2"],
+    ...              state_names=["q", "v"], relay_names=["friction"])
+    >>> belt.state_names, belt.A, belt.C
+    (('q', 'v', '1'), [ 0, 1, 0]
+    [-1, 0, 1]
+    [ 0, 0, 0], [0, -1, 1/2]
+    [0,  0,   2])
+    >>> belt.embed([0, "1/2"]).transpose()     # at rest on the belt
+    [0, 1/2, 1]
     """
+    if w is not None and sources is not None:
+        raise InvalidArgument("relay() got both w and sources: they are the same argument (the sources s(t))")
+    sources = w if w is not None else sources
     A = to_matrix(A, "A")
     n = A.nrows()
     if n == 0 or A.ncols() != n:
@@ -186,28 +230,28 @@ def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any =
     if isinstance(C, (list, tuple)) and C and not isinstance(C[0], (list, tuple)):
         C = [list(C)]
     C = to_matrix(C, "C", (m, n))
-    if state_names is not None:
-        if isinstance(state_names, str) or not hasattr(state_names, "__iter__"):
-            raise InvalidArgument(f"state_names must be a sequence of {n} strings, got {type(state_names).__name__}")
-        state_names = tuple(state_names)
-        if len(state_names) != n:
-            raise ShapeError(f"state_names has {len(state_names)} names, expected {n} (the constant "
-                             f"state 'c' is added by relay())")
-        names = state_names + ("c",)
-    else:
-        names = tuple(f"x_{i}" for i in range(n)) + ("c",)
-    N, k = n + 1, 2 * m
+    names = _state_names(state_names, n)
+    S, z0, exo, level, EW, FW = _appended(sources, E, F, n, m, names)
+    a = S.nrows()
+    N, k = n + a, 2 * m
     Af = fmpq_mat(N, N)
     for i in range(n):
         for j in range(n):
             Af[i, j] = A[i, j]
-        Af[i, n] = -sum((B[i, j] for j in range(m)), 0 * B[i, 0])  # -B 1: the level -c of w = u_- - c
+        for j in range(a):
+            Af[i, n + j] = EW[i, j]
+        Af[i, n + level] -= sum((B[i, j] for j in range(m)), 0 * B[i, 0])  # -B 1: the level -c of w = u_- - c
+    for i in range(a):
+        for j in range(a):
+            Af[n + i, n + j] = S[i, j]
     Bf, Cf, Df = fmpq_mat(N, k), fmpq_mat(k, N), fmpq_mat(k, k)
     for j in range(m):
         for i in range(n):
             Bf[i, 2 * j] = B[i, j]
             Cf[2 * j, i] = -C[j, i]
-        Cf[2 * j + 1, n] = 2
+        for i in range(a):
+            Cf[2 * j, n + i] = -FW[j, i]
+        Cf[2 * j + 1, n + level] = 2
         Df[2 * j, 2 * j + 1] = 1
         Df[2 * j + 1, 2 * j] = -1
     if relay_names is not None:
@@ -222,8 +266,56 @@ def relay(A: Any, B: Any, C: Any, *, name: str | None = None, state_names: Any =
         cnames = tuple(f"w{j}{sign}" for j in range(m) for sign in "-+")
     Wx, Wu = fmpq_mat(m, N), fmpq_mat(m, k)
     for j in range(m):  # w_j = u_{2j} - c
-        Wx[j, n] = -1
+        Wx[j, n + level] = -1
         Wu[j, 2 * j] = 1
     outputs = RelayOutputs(relay_names, Wx, Wu)
-    return LCS(Af, Bf, Cf, Df, name=name, state_names=names, constraint_names=cnames,
-               embedding=LevelEmbedding(n, outputs))
+    return LCS(Af, Bf, Cf, Df, name=name, state_names=names + exo, constraint_names=cnames,
+               embedding=LevelEmbedding(n, outputs, z0, exo))
+
+
+def _state_names(state_names: Any, n: int) -> tuple:
+    """The names of x (default ``x_0, ..., x_{n-1}``)."""
+    if state_names is None:
+        return tuple(f"x_{i}" for i in range(n))
+    if isinstance(state_names, str) or not hasattr(state_names, "__iter__"):
+        raise InvalidArgument(f"state_names must be a sequence of {n} strings, got {type(state_names).__name__}")
+    state_names = tuple(state_names)
+    if len(state_names) != n:
+        raise ShapeError(f"state_names has {len(state_names)} names, expected {n} (the constant "
+                         f"state 'c' is added by relay())")
+    return state_names
+
+
+def _appended(sources: Any, E: Any, F: Any, n: int, m: int, names: tuple) -> tuple:
+    """The appended states of a relay LCS: (S, z0, names, index of the level, E W, F W).  Without
+    sources the level c alone (c' = 0, c(0) = 1); with sources their exosystem with the constant
+    atom 1 added (shared when a source has a constant part), which is the level."""
+    if sources is None:
+        if E is not None or F is not None:
+            raise InvalidArgument("relay() got E or F but no sources: pass sources=[...], the s(t) that "
+                                  "E and F multiply")
+        return fmpq_mat([[0]]), fmpq_mat([[1]]), ("c",), 0, fmpq_mat(n, 1), fmpq_mat(m, 1)
+    if isinstance(sources, (str, bytes)) or not hasattr(sources, "__iter__"):
+        sources = [sources]
+    srcs = [as_source(v, f"sources[{i}]") for i, v in enumerate(sources)]
+    p = len(srcs)
+    if p == 0:
+        raise ShapeError("sources is empty: leave it out for a relay system without sources")
+    if E is None and F is None:
+        raise InvalidArgument("relay() with sources needs E or F: the sources enter x' through E or the "
+                              "relays' inputs through F")
+    Em = fmpq_mat(n, p) if E is None else to_matrix(_flat(E, n, p), "E", (n, p))
+    Fm = fmpq_mat(m, p) if F is None else to_matrix(_flat(F, m, p), "F", (m, p))
+    ex = exosystem(srcs + [constant(1)])
+    level = next(j for j in range(ex.size) if ex.W[p, j] != 0)  # the state '1' (the atom t^0)
+    W = submatrix(ex.W, range(p), None)
+    taken = set(names)
+    exo = tuple(nm if nm not in taken else f"{nm} (source)" for nm in ex.names)
+    return ex.S, ex.z0, exo, level, Em * W, Fm * W
+
+
+def _flat(M: Any, rows: int, p: int) -> Any:
+    """A flat list is a column when p = 1 (one source), a row when rows = 1."""
+    if isinstance(M, (list, tuple)) and M and not isinstance(M[0], (list, tuple)) and not hasattr(M[0], "tolist"):
+        return [[e] for e in M] if p == 1 and rows > 1 else [list(M)]
+    return M

@@ -100,8 +100,9 @@ class LCS:
         (y_i' < 0), the velocities jump by the impact LCP E q'+ + e E q'- >= 0 ⊥ impulse >= 0
         instead of the paper's P_I.  Needs every constraint of relative degree 2 (D = 0,
         C B = 0, C A B with a positive diagonal and a P-matrix on the contacts that close together:
-        mechanical contacts).  e = 0 gives exactly the paper's
-        re-initialization (Theorem 8.2); None (default) is the paper's LCS.
+        mechanical contacts), except compliant ones (D_ii > 0, relative degree 0: they never
+        take an impulse, and their coefficient must be None or 0).  e = 0 gives exactly the
+        paper's re-initialization (Theorem 8.2); None (default) is the paper's LCS.
     roles : sequence of k (u_label, y_label, in_word, out_word), optional
         What each pair means, set by the builders so that results and plots speak their
         language: a contact is ``("force (floor)", "gap (floor)", "contact", "open")``, a diode
@@ -203,10 +204,22 @@ class LCS:
                 raise InvalidArgument(f"restitution coefficient of constraint {self.constraint_names[i]!r} must be "
                                       f"in [0, 1], got {x}")
         # Newton's law acts on velocities: y = C x, y' = C A x, the impulse jumps x by B lambda
-        # and y' by C A B lambda (relative degree 2: D = 0, C B = 0, as for (8.3))
+        # and y' by C A B lambda (relative degree 2: D = 0, C B = 0, as for (8.3)); a compliant
+        # contact (D_ii > 0, relative degree 0) takes no impulse and is left out of the law
         CB = self.C * self.B
-        for i in range(self.k):
-            what = "restitution needs every constraint of relative degree 2 (mechanical contacts: D = 0, C B = 0)"
+        rigid = [i for i in range(self.k) if self.D[i, i] <= 0]
+        if not rigid:
+            raise InvalidArgument("restitution needs a constraint of relative degree 2 (a mechanical contact: D = 0, "
+                                  "C B = 0) to act on; every constraint here has D_ii > 0 (relative degree 0: no "
+                                  "impulses)")
+        for i in set(range(self.k)) - set(rigid):
+            if es[i] != 0:
+                raise InvalidArgument(f"restitution of constraint {self.constraint_names[i]!r} must be None or 0: it "
+                                      f"is compliant (D_ii = {self.D[i, i]} > 0, relative degree 0), so it never "
+                                      f"takes an impulse for Newton's law to act on (its spring is elastic)")
+        for i in rigid:
+            what = ("restitution needs every constraint of relative degree 2 (mechanical contacts: D = 0, C B = 0) "
+                    "or compliant (D_ii > 0)")
             if any(self.D[i, j] != 0 or self.D[j, i] != 0 for j in range(self.k)):
                 raise InvalidArgument(f"{what}; constraint {self.constraint_names[i]!r} has a nonzero entry in D")
             if any(CB[i, j] != 0 or CB[j, i] != 0 for j in range(self.k)):
@@ -215,7 +228,7 @@ class LCS:
         # together need W_JJ to be a P-matrix, checked at the impact (impacts.newton_impact):
         # a floor and a ceiling (dependent rows of E) never close together
         W = self.C * self.A * self.B
-        for i in range(self.k):
+        for i in rigid:
             if W[i, i] <= 0:
                 raise InvalidArgument(f"restitution needs C A B (the Delassus matrix E M^-1 E^T of (8.7)) to have a "
                                       f"positive diagonal; entry ({i}, {i}) of constraint "

@@ -6,12 +6,14 @@ MyST-NB at every build, a cell that raises failing it; the built pages are check
 outputs their prose refers to."""
 from __future__ import annotations
 
+import doctest
 import html
 import importlib
 import json
 import re
 import subprocess
 import sys
+import textwrap
 from pathlib import Path
 
 import pytest
@@ -197,3 +199,19 @@ def test_recipe_shows_what_it_says(built):
     order = float(re.search(r"order (\d\.\d\d)", page).group(1))
     assert 0.9 <= order <= 1.1
     assert (built / "testing-solvers.html").read_text(encoding="utf-8").count("<img") == 1
+
+
+@pytest.mark.slow
+def test_extensions_page_examples_run():
+    """The worked examples of docs/extensions.md (its ``>>>`` blocks: the compliant ball, the
+    moving plane, the belt) run and print what the page shows; the values they show are the
+    page's hand derivations (sqrt(2h/g), pi/6 and 13 pi/6, mu N / (k v_b) = 3/4, asin(2/3)/2),
+    checked against mpmath in tests/test_compliance.py and tests/test_sourced_scenes.py."""
+    text = (DOCS / "extensions.md").read_text(encoding="utf-8")
+    blocks = [textwrap.dedent(body) for indent, body in re.findall(r"^( *)```python\n(.*?)^\1```", text, re.S | re.M)
+              if ">>>" in body]
+    assert len(blocks) >= 3
+    test = doctest.DocTestParser().get_doctest("\n\n".join(blocks), {}, "extensions.md", str(DOCS / "extensions.md"), 0)
+    runner = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    runner.run(test)
+    assert runner.failures == 0 and runner.tries >= 15

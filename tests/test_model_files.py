@@ -71,6 +71,16 @@ def _driven():
                          state_names=["v"], constraint_names=["D"])
 
 
+def _compliant():
+    return models.mechanical([[1]], [[0]], [[1], [-1]], force=[-10], gap=[0, 2], compliance=[0, "1/100"],
+                             restitution=["1/2", None], q_names=["q"], constraint_names=["floor", "ceiling"])
+
+
+def _relay_belt():
+    return models.relay([[0, 1], [-4, 0]], [[0], ["-3/2"]], [[0, 1]], E=[[0], [1]], F=[[-1]],
+                        sources=[sine(1, "1/2") + constant("1/2")], state_names=["q", "v"], relay_names=["friction"])
+
+
 # (builder, plant x0, t_end)
 SCENES = {
     "bouncing_ball": (examples.bouncing_ball, [1, 0], 1),
@@ -91,6 +101,8 @@ SCENES = {
     "mechanical_damped": (_mech_damped, [1, "1/2", 0, 0], 2),
     "circuit": (_circuit, [0], 2),
     "relay": (lambda: models.relay([[0]], [[-1]], [[1]]), [1], 2),
+    "relay_belt": (_relay_belt, [0, "1/2"], 2),
+    "mechanical_compliant": (_compliant, [1, 7], 1),
     "driven": (_driven, [0], 3),
 }
 
@@ -140,7 +152,8 @@ def test_round_trip_runs_the_same_events(tmp_path, scene):
 
 def test_round_trip_scenes_have_events():
     """The runs above compare something: the fast scenes with sources have events before t_end."""
-    for scene in ("bouncing_ball", "sine_rectifier", "filippov_spiral", "relay", "mechanical_sine_force_gap"):
+    for scene in ("bouncing_ball", "sine_rectifier", "filippov_spiral", "relay", "mechanical_sine_force_gap",
+                  "relay_belt", "mechanical_compliant"):
         build, x0, t_end = SCENES[scene]
         lcs = build()
         assert L.simulate(lcs, lcs.embed(x0), t_end, digits=10).events, scene
