@@ -161,8 +161,9 @@ def scheduled(phases: Sequence, period: Any = None, *, name: str | None = None) 
         (all with the same n and k), and optionally a reset, an n x n rational matrix applied to
         the state when the phase starts.  Without ``period`` the last phase lasts to t_end (its
         duration may be None; a duration given to it is its time before it goes on anyway).
-    period : rational, optional
-        When given, the phases repeat with this period, which must be the sum of the durations.
+    period : rational or True, optional
+        When given, the phases repeat with this period, which must be the sum of the durations
+        (``True``: the sum itself).
     name : str, optional
 
     Returns
@@ -204,8 +205,8 @@ def scheduled(phases: Sequence, period: Any = None, *, name: str | None = None) 
         out.append(SchedulePhase(_duration(item[0], i, i == len(items) - 1 and period is None), lcs, reset))
     P = None
     if period is not None:
-        P = to_fmpq(period, "period")
         total = sum((p.duration for p in out), fmpq(0))
+        P = total if period is True else to_fmpq(period, "period")
         if P != total:
             raise InvalidArgument(f"period = {P} is not the sum of the phases' durations ({total}): the phases "
                                   "repeat with their own total length")

@@ -163,6 +163,12 @@ def test_bad_schedules_are_refused(phases, period, err, fragment):
         models.scheduled(phases, period)
 
 
+def test_period_true_repeats_with_the_phases_total():
+    assert rc_pwm().schedule.period == 1
+    on, off = (p.lcs for p in rc_pwm().schedule.phases)
+    assert models.scheduled([("1/2", on), ("1/2", off)], period=True).schedule.period == 1
+
+
 def test_bad_sampling_is_refused():
     plant = L.LCS([[0, 1], [0, 0]], [[0], [1]], [[1, 0]], [[0]])
     with pytest.raises(L.InvalidArgument, match="period must be > 0"):
