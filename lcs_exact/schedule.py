@@ -213,6 +213,19 @@ def scheduled(phases: Sequence, period: Any = None, *, name: str | None = None) 
     return ScheduledLCS(Schedule(tuple(out), P), name=name)
 
 
+def _spread(M: fmpq_mat, plant: list, n: int, rows: bool) -> fmpq_mat:
+    """M given on the plant's states only, as rows (Bh) or columns (K) of the full state (zeros
+    for the sources' states)."""
+    out = fmpq_mat(n, M.ncols()) if rows else fmpq_mat(M.nrows(), n)
+    for r in range(M.nrows()):
+        for c in range(M.ncols()):
+            if rows:
+                out[plant[r], c] = M[r, c]
+            else:
+                out[r, plant[c]] = M[r, c]
+    return out
+
+
 def sampled(lcs: LCS, Bh: Any, K: Any, period: Any, *, name: str | None = None,
             held_names: Sequence[str] | None = None) -> ScheduledLCS:
     """Sampled-data control of an LCS: x' = A x + B u + Bh w with w(t) = K x(t_k) held on
@@ -228,9 +241,10 @@ def sampled(lcs: LCS, Bh: Any, K: Any, period: Any, *, name: str | None = None,
     lcs : LCS
         The plant (with its sources, if a builder appended any: K reads the full state).
     Bh : n x m matrix
-        How the held input enters x'.
+        How the held input enters x' (or len(plant) x m: rows for the plant's states only).
     K : m x n matrix
-        The control law, read on the full state x of ``lcs``.
+        The control law, read on the full state x of ``lcs`` (or m x len(plant): on the plant's
+        states only, the sources' states not read).
     period : positive rational
         The sampling period.
     name : str, optional
@@ -253,11 +267,17 @@ def sampled(lcs: LCS, Bh: Any, K: Any, period: Any, *, name: str | None = None,
     """
     if not isinstance(lcs, LCS) or isinstance(lcs, ScheduledLCS):
         raise InvalidArgument(f"lcs must be an LCS, got {type(lcs).__name__}")
-    n = lcs.n
+    n, plant = lcs.n, list(lcs.plant)
+    Bh = to_matrix(Bh, "Bh")
+    if Bh.nrows() == len(plant) < n:  # rows for the plant's states only: none for the sources'
+        Bh = _spread(Bh, plant, n, rows=True)
     Bh = to_matrix(Bh, "Bh", (n, None))
     m = Bh.ncols()
     if m == 0:
         raise ShapeError("Bh has no columns: sampled-data control needs at least one held input")
+    K = to_matrix(K, "K")
+    if K.ncols() == len(plant) < n:  # the law on the plant's states only
+        K = _spread(K, plant, n, rows=False)
     K = to_matrix(K, "K", (m, n))
     T = to_fmpq(period, "period")
     if T <= 0:

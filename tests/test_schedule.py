@@ -192,3 +192,16 @@ def test_figure_of_a_schedule_uses_each_phases_system():
     assert {t.get_text() for t in fig.axes[0].texts} >= {"phase 0", "phase 1"}  # the schedule's band
     with pytest.raises(L.Unsupported, match="one system"):
         buck().to_model("unused.json")
+
+
+def test_sampled_control_of_a_plant_with_sources_reads_the_plants_states():
+    """A ball under gravity (q'' = -10 + u + w, state (q, q', 1)) with w = -q(t_k) held for 1/4:
+    K and Bh may be given on the plant's states alone.  From q = 1 at rest: w = -1 on [0, 1/4]:
+    q = 1 - 11 t^2 / 2, so q(1/4) = 21/32, q'(1/4) = -11/4 and w(1/4) = -21/32."""
+    ball = L.examples.bouncing_ball(g=10, e="1/2")
+    loop = models.sampled(ball, [[0], [1]], [[-1, 0]], "1/4")
+    assert loop.state_names == ("q", "q'", "1", "w_0") and loop.embed([1, 0]).transpose().tolist() == [[1, 0, 1, -1]]
+    tr = L.simulate(loop, loop.embed([1, 0]), "1/2")
+    e = tr.events[0]
+    assert e.time.known_rational() == fmpq(1, 4) and e.triggers == ("schedule",)
+    assert e.state_after.rational().transpose().tolist() == [[fmpq(21, 32), fmpq(-11, 4), 1, fmpq(-21, 32)]]
