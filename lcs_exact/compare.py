@@ -167,6 +167,7 @@ class ComparisonReport:
     rtol: float = 0.0
     violation: Violation | None = None
     n_violations: int = 0
+    solver_end: float | None = None  # the solver's last time (compared with last_time: coverage)
 
     def _name(self, i: int) -> str:
         return self.names[i] if i < len(self.names) else f"x_{i}"
@@ -189,6 +190,7 @@ class ComparisonReport:
                 "time_mismatch": self.time_mismatch, "beyond_last_time": self.n_beyond,
                 "last_time": None if self.last_time is None else ball_number(self.last_time, 17),
                 "atol": self.atol, "rtol": self.rtol, "violations": self.n_violations,
+                "solver_end": self.solver_end,
                 "violation": None if self.violation is None else self.violation.message(17)}
 
     def to_pandas(self, what: str = "components"):
@@ -410,7 +412,7 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
         certified=bool(ref.certified), time_mismatch=mismatch, names=names,
         n_beyond=len(tq) - sum(known), last_time=last, components=comps, windows=tuple(windows),
         atol=None if tol is None else tol[0], rtol=0.0 if tol is None else tol[1],
-        violation=None if worst is None else worst[1], n_violations=violations)
+        violation=None if worst is None else worst[1], n_violations=violations, solver_end=float(tq[-1]))
 
 
 def _tolerances(atol: Any, rtol: Any) -> tuple[float, float] | None:

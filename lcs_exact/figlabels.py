@@ -253,8 +253,8 @@ SCHEDULE_COLORS = ("#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#9378
 def draw_schedule(ax: Any, schedule: Any, t_hi: float) -> int:
     """A band along the top of ``ax`` with one coloured segment per segment of ``schedule`` (a
     :class:`~lcs_exact.schedule.Schedule`) up to ``t_hi``, each labelled with its phase (the
-    phase's system name, else ``phase k``) where it has room and there are several phases;
-    returns the segments drawn.
+    phase's system name, else ``phase k``) where it has room; returns the segments drawn (none
+    for a schedule of one phase: sampling, whose instants the event lines mark).
 
     >>> import matplotlib
     >>> matplotlib.use("Agg")
@@ -266,6 +266,8 @@ def draw_schedule(ax: Any, schedule: Any, t_hi: float) -> int:
     >>> draw_schedule(ax, pwm.schedule, 2.0), sorted({t.get_text() for t in ax.texts})
     (4, ['off', 'on'])
     """
+    if len(schedule.phases) == 1:  # one phase repeated (sampling): the event lines say it all
+        return 0
     index = {id(p): k for k, p in enumerate(schedule.phases)}
     fig = ax.figure
     width = ax.get_position().width * fig.get_figwidth() * 72 / (1.03 * t_hi)  # points per time unit
@@ -276,10 +278,10 @@ def draw_schedule(ax: Any, schedule: Any, t_hi: float) -> int:
             break
         b = t_hi if end is None else min(float(end), t_hi)
         k = index[id(ph)]
-        ax.axvspan(a, b, ymin=0.965, ymax=1.0, color=SCHEDULE_COLORS[k % len(SCHEDULE_COLORS)], alpha=0.55, lw=0)
+        ax.axvspan(a, b, ymin=0.955, ymax=1.0, color=SCHEDULE_COLORS[k % len(SCHEDULE_COLORS)], alpha=0.35, lw=0)
         label = ph.lcs.name or f"phase {k}"
-        if len(schedule.phases) > 1 and text_width(label, 6.5) + 4 < (b - a) * width:  # only where it fits
-            ax.text((a + b) / 2, 0.982, label, transform=ax.get_xaxis_transform(),
-                    ha="center", va="center", fontsize=6.5, color="white", clip_on=True)
+        if len(schedule.phases) > 1 and text_width(label, 7) + 4 < (b - a) * width:  # only where it fits
+            ax.text((a + b) / 2, 0.978, label, transform=ax.get_xaxis_transform(),
+                    ha="center", va="center", fontsize=7, color="black", clip_on=True)
         drawn += 1
     return drawn

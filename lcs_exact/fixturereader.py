@@ -191,6 +191,12 @@ class FixtureTrajectory:
         return self
 
     @property
+    def schedule(self):
+        """The schedule of a run whose data switch at scheduled times (a
+        :class:`~lcs_exact.schedule.Schedule`: each phase's duration, exact system and reset), or None."""
+        return getattr(self.lcs, "schedule", None)
+
+    @property
     def has_exact(self) -> bool:
         """True when states between the samples can be computed exactly (x0 and t_end rational,
         or a run attached by :meth:`with_run`)."""
@@ -330,7 +336,7 @@ class FixtureTrajectory:
 
     def __repr__(self):
         status = "certified" if self.certified else f"NOT certified ({len(self.assumptions)} assumptions)"
-        exact = "exact evaluation available (x0 rational)" if self.can_recompute else "balls only (x0 not rational)"
+        exact = "exact evaluation available (x0 known exactly)" if self.can_recompute else "balls only (x0 not known exactly)"
         part = ", PARTIAL" if self.partial else ""
         name = f" {self.name!r}" if self.name else ""
         return (f"<FixtureTrajectory{name} on [0, {short_text(self.t_end)}]: {len(self.events)} events, "

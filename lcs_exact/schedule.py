@@ -21,13 +21,13 @@ names and shapes) that carries the :class:`Schedule`; :func:`lcs_exact.simulate`
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Iterator, Sequence
 
 from flint import fmpq, fmpq_mat
 
 from .clock import autonomous_block
-from .errors import InvalidArgument, ShapeError
+from .errors import InvalidArgument, ShapeError, Unsupported
 from .rational import hstack, identity, to_fmpq, to_matrix, vstack, zeros
 from .system import LCS
 
@@ -124,10 +124,27 @@ class ScheduledLCS(LCS):
 
     def __init__(self, schedule: Schedule, *, name: str | None = None):
         first = schedule.phases[0].lcs
-        super().__init__(first.A, first.B, first.C, first.D, name=name if name is not None else first.name,
+        super().__init__(first.A, first.B, first.C, first.D, name=name,
                          state_names=first.state_names, constraint_names=first.constraint_names,
                          embedding=first.embedding, restitution=first.restitution, roles=first.roles)
         self.schedule = schedule
+
+    def well_posedness(self):
+        """Theorem 6.3 for every phase: the report of the first phase whose leading matrices are
+        not both P-matrices (its reasons prefixed with the phase), else phase 0's (every phase is
+        well-posed: each event inside a phase has multiplicity <= 1)."""
+        if "wp" not in self._cache:
+            reports = [p.lcs.well_posedness() for p in self.schedule.phases]
+            bad = next(((k, r) for k, r in enumerate(reports) if not r), None)
+            self._cache["wp"] = reports[0] if bad is None else \
+                replace(bad[1], reasons=tuple(f"phase {bad[0]} of the schedule: {x}" for x in bad[1].reasons)
+                        or (f"phase {bad[0]} of the schedule is not well-posed",))
+        return self._cache["wp"]
+
+    def to_statespace(self):
+        """Refused: python-control's StateSpace holds one linear system, a schedule several."""
+        raise Unsupported("a ScheduledLCS switches between several linear systems: take one phase's, "
+                          "lcs.schedule.phases[k].lcs.to_statespace()")
 
     def __repr__(self):
         parts = ", ".join(f"({'None' if p.duration is None else str(p.duration)!s}, <LCS n={p.lcs.n} k={p.lcs.k}>"
@@ -201,6 +218,9 @@ def scheduled(phases: Sequence, period: Any = None, *, name: str | None = None) 
         if (lcs.n, lcs.k) != (first.n, first.k):
             raise ShapeError(f"phase {i}: n = {lcs.n}, k = {lcs.k}, but phase 0 has n = {first.n}, k = {first.k} "
                              "(every phase shares the state and the number of complementarity pairs)")
+        if lcs.state_names != first.state_names:
+            raise InvalidArgument(f"phase {i}: states {lcs.state_names} differ from phase 0's {first.state_names} "
+                                  "(every phase shares the state: give the phases the same state_names)")
         reset = None if len(item) == 2 or item[2] is None else to_matrix(item[2], f"the reset of phase {i}", (lcs.n, lcs.n))
         out.append(SchedulePhase(_duration(item[0], i, i == len(items) - 1 and period is None), lcs, reset))
     P = None

@@ -128,11 +128,13 @@ def in_windows(tf: list, windows: list) -> list:
     return out
 
 
-def derivative_jump(lcs: LCS, mb, ma, xb: tuple, xa: tuple) -> tuple:
+def derivative_jump(lcs: LCS, mb, ma, xb: tuple, xa: tuple, after: LCS | None = None) -> tuple:
     """(j, d_j): the first order whose derivative jumps at the event, certified, and its jump
-    d_j = A_{I+}^j x+ - A_{I-}^j x-; (None, None) when no jump up to order n is certified."""
+    d_j = A_{I+}^j x+ - A_{I-}^j x-; (None, None) when no jump up to order n is certified.
+    ``lcs`` is the system in force before the event, ``after`` the one after it (a schedule's
+    switch changes it; default the same)."""
     try:
-        Ab, Aa = arb_mat(closed_loop(lcs, mb)), arb_mat(closed_loop(lcs, ma))
+        Ab, Aa = arb_mat(closed_loop(lcs, mb)), arb_mat(closed_loop(after or lcs, ma))
     except LCSError:  # a mode that is not autonomous has no flow to compare with
         return None, None
     with ctx.workprec(_PREC):
@@ -168,7 +170,12 @@ def signature(ev: tuple, lcs: LCS, comps: tuple) -> tuple | None:
     tau_b, mb, ma, xb, xa, cf = ev
     if mb is None:
         return None
-    order, d = derivative_jump(lcs, mb, ma, xb, xa)
+    before, after = lcs, lcs
+    schedule = getattr(lcs, "schedule", None)
+    if schedule is not None:  # the systems in force on either side (a switch changes them)
+        tau, eps = float(tau_b.mid()), 1e-9 * (1 + abs(float(tau_b.mid())))
+        before, after = schedule.system_at(tau - eps), schedule.system_at(tau + eps)
+    order, d = derivative_jump(before, mb, ma, xb, xa, after)
     if order is None:
         return None
     scale = max(abs(float(d[c].mid())) for c in comps)

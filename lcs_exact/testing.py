@@ -56,8 +56,9 @@ def assert_matches_fixture(fixture: Any, t: Sequence[Any], X: Any, atol: float =
     Raises
     ------
     AssertionError
-        At least one component is outside the tolerance (the message names the worst point), or
-        no point could be compared (all in event windows or after the reference's end).
+        At least one component is outside the tolerance (the message names the worst point), the
+        solution ends before the reference does (by more than a step and a half), or no point
+        could be compared (all in event windows or after the reference's end).
     FormatError
         Some times have no reference: off the sample grid of a fixture whose run cannot be
         recomputed exactly.
@@ -66,7 +67,7 @@ def assert_matches_fixture(fixture: Any, t: Sequence[Any], X: Any, atol: float =
     --------
     >>> import lcs_exact as L
     >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
-    >>> fx = L.simulate(osc, [1, 0], 3).to_fixture(20)
+    >>> fx = L.simulate(osc, [1, 0], 1).to_fixture(20)
     >>> _ = assert_matches_fixture(fx, [0.5, 1.0], [[0.8775826, -0.4794255], [0.5403023, -0.8414710]], event_tol=0.1)
     >>> _ = assert_matches_fixture(fx, [0.5, 1.0], [[0.88, -0.48], [0.5403023, -0.8414710]], event_tol=0.1)
     Traceback (most recent call last):
@@ -81,6 +82,11 @@ def assert_matches_fixture(fixture: Any, t: Sequence[Any], X: Any, atol: float =
     if report.violation is not None:
         raise AssertionError(report.violation.message(digits)
                              + (f" ({report.n_violations} points outside the tolerance)" if report.n_violations > 1 else ""))
+    end, last = report.solver_end, float(report.last_time.mid())
+    if end is not None and end < last - 1.5 * report.step - 1e-12 * abs(last):
+        raise AssertionError(f"the solution ends at t = {end:.10g}, before the reference's last time {last:.10g}: "
+                             f"[{end:.6g}, {last:.6g}] is not tested (pass the solver's whole run, or compare a "
+                             "part of it with lcs_exact.compare)")
     if report.n_compared == 0:
         raise AssertionError(f"none of the solver's {report.n_points} points was compared: {report.n_in_windows} lie in "
                              f"the windows |t - event| <= {report.window:.3g} ({report.window_rule}) and "

@@ -69,7 +69,8 @@ class Event:
 
     def __repr__(self):
         mb = "—" if self.mode_before is None else format_mode(self.mode_before)
-        chain = " -> ".join(format_mode(m) for m in self.modes) or "no jump"
+        chain = " -> ".join(format_mode(m) for m in self.modes) or \
+            ("reset (schedule)" if "schedule" in self.triggers and self.state_before is not self.state_after else "no jump")
         return (f"Event(t={self.time.label()}, {mb} => {format_mode(self.mode_after)}, jumps: {chain}, "
                 f"x- = {self.state_before!r}, x+ = {self.state_after!r})")
 
@@ -476,7 +477,10 @@ class Trajectory:
 
     # --- display ------------------------------------------------------------------------------
     def __str__(self):
-        return "\n".join([repr(self)] + [f"  {e!r}" for e in self.events])
+        evs = [f"  {e!r}" for e in self.events] if len(self.events) <= 40 else \
+            [f"  {e!r}" for e in self.events[:20]] + [f"  ... {len(self.events) - 30} more events (traj.events) ..."] + \
+            [f"  {e!r}" for e in self.events[-10:]]
+        return "\n".join([repr(self)] + evs)
 
     def __repr__(self):
         if self.certified:

@@ -88,7 +88,7 @@ def test_progress_bar(capsys):
 
 def test_assert_matches_fixture_names_the_worst_point(carts_run, tmp_path):
     fx = carts_run.to_fixture(20, sample="1/4")
-    t = [0.25, 0.5, 0.75, 1.3]
+    t = [0.25, 0.5, 0.75, 1.3, 2, 2.5, 3]  # to t_end = 3: a solution that stops early fails (below)
     X = carts_run.to_numpy(t)
     assert_matches_fixture(fx, t, X, atol=1e-12, event_tol=0.1)  # the exact solution passes
     X[2, 1] += 3e-4
@@ -102,6 +102,8 @@ def test_assert_matches_fixture_names_the_worst_point(carts_run, tmp_path):
     assert_matches_fixture(str(path), t, carts_run.to_numpy(t), atol=1e-12, event_tol=0.1)  # from a file too
     with pytest.raises(L.ShapeError, match="rows"):
         assert_matches_fixture(fx, t, X[:2])
+    with pytest.raises(AssertionError, match=r"ends at t = 1\.3, before the reference's last time 3"):
+        assert_matches_fixture(fx, t[:4], carts_run.to_numpy(t[:4]), atol=1e-12, event_tol=0.1)
 
 
 # --- python-control: the linear part and time responses --------------------------------------

@@ -205,3 +205,34 @@ def test_sampled_control_of_a_plant_with_sources_reads_the_plants_states():
     e = tr.events[0]
     assert e.time.known_rational() == fmpq(1, 4) and e.triggers == ("schedule",)
     assert e.state_after.rational().transpose().tolist() == [[fmpq(21, 32), fmpq(-11, 4), 1, fmpq(-21, 32)]]
+
+
+def test_compare_reads_each_events_derivative_jump_from_the_systems_in_force():
+    """At the switch 1/4 the buck converter's i' jumps from 20 - 10 v to -10 v (the switch opens): a
+    kink computed from the on phase before and the off phase after, found in the exact data;
+    inside the off phase the diode's turn-off is a kink too (i' = -10 v -> 0)."""
+    tr = L.simulate(buck(), [0, 0, 1], 2, digits=20)
+    t = [k / 400 for k in range(801)]
+    r = L.compare(tr, t, tr.to_numpy(t))
+    assert [e.kind for e in r.events[:3]] == ["kink (x' jumps)"] * 3
+    assert abs(r.events[0].solver_time - 0.25) <= 1 / 400 and abs(r.events[1].time_error) <= 1 / 400
+
+
+def test_a_schedules_well_posedness_covers_every_phase():
+    on = L.LCS([[-1, 2], [0, 0]], [[1], [0]], [[1, 0]], [[0]], state_names=["i", "1"])
+    bad = L.LCS([[-1, 2], [0, 0]], [[1], [0]], [[-1, 1]], [[-1]], state_names=["i", "1"])  # M = N = [-1]
+    assert on.well_posedness() and not bad.well_posedness()
+    report = models.scheduled([("1/2", on), ("1/2", bad)], period=1).well_posedness()
+    assert not report and all(r.startswith("phase 1 of the schedule") for r in report.reasons)
+    assert models.scheduled([("1/2", on), ("1/2", on)], period=1).well_posedness()
+    with pytest.raises(L.InvalidArgument, match="same state_names"):
+        models.scheduled([("1/2", on), ("1/2", L.LCS(on.A, on.B, on.C, on.D, state_names=["v", "c"]))])
+    with pytest.raises(L.Unsupported, match="one phase's"):
+        models.scheduled([("1/2", on), ("1/2", on)]).to_statespace()
+
+
+def test_a_reset_reads_as_a_jump():
+    loop = models.sampled(L.LCS([[1]], [[1]], [[1]], [[0]]), [[1]], [[-3]], "1/2")
+    e = L.simulate(loop, [1, 5], 1).events[0]   # w(0) = -3 x(0) = -3, not the 5 given
+    assert e.time.known_rational() == 0 and "reset (schedule)" in repr(e)
+    assert e.state_after.rational().transpose().tolist() == [[1, -3]]
