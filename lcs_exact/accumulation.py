@@ -500,6 +500,13 @@ class Accumulation:
                 f"events, ratio {self.ratio})")
 
 
+def _cycle_guess(dt: float, T: Any, rho: fmpq) -> int:
+    """A float guess of the cycle m holding t_k + dt (cycle m covers [s_m, s_m + T rho^(m+1)),
+    s_m = T rho (1 - rho^m) / (1 - rho)); the callers check it exactly and move it."""
+    frac = dt / max(float(T) * float(rho) / (1 - float(rho)), 1e-300)
+    return max(0, int(math.log(max(1e-300, 1 - min(frac, 1 - 1e-16))) / math.log(float(rho)))) if frac > 0 else 0
+
+
 class ScaledCycle:
     """The continuous motion on [t_k, T*) of a proven geometric law, as a phase-like object: a time
     in cycle m (the reference cycle scaled by rho^(m+1)) is mapped back into the reference cycle
@@ -537,8 +544,7 @@ class ScaledCycle:
         rho, T = law.ratio, law.cycle_length
         # cycle m covers [s_m, s_m + T rho^(m+1)) after t_k, s_m = T rho (1 - rho^m) / (1 - rho):
         # m from a float estimate, then the two bounds checked exactly (moved by one if needed)
-        frac = float(d) / max(float(T) * float(rho) / (1 - float(rho)), 1e-300)
-        m = max(0, int(math.log(max(1e-300, 1 - min(frac, 1 - 1e-16))) / math.log(float(rho)))) if frac > 0 else 0
+        m = _cycle_guess(float(d), T, rho)
 
         def start(j):
             return T * (rho * (1 - rho ** j) / (1 - rho))
@@ -578,9 +584,7 @@ class ScaledCycle:
             def start(j):  # T rho (1 - rho^j) / (1 - rho)
                 return Tb * (r * (1 - r ** j) / (1 - r))
 
-            mid = float(d.mid())
-            frac = mid / max(float(T) * float(rho) / (1 - float(rho)), 1e-300)
-            m = max(0, int(math.log(max(1e-300, 1 - min(frac, 1 - 1e-16))) / math.log(float(rho)))) if frac > 0 else 0
+            m = _cycle_guess(float(d.mid()), T, rho)
             for _ in range(64):
                 lo, hi = d - start(m), d - start(m + 1)
                 if m > 0 and lo < 0:
