@@ -169,33 +169,32 @@ def test_dask_local_cluster(monkeypatch):
     assert isinstance(bad[0].error, LimitExceeded) and len(bad[0].trajectory.events) == 1
 
 
+def _killed_by_sigkill():
+    """A job that kills its own worker, as the OOM killer or a user's ``kill -9`` would."""
+    import signal
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+class _PoolWithAKiller(ProcessPoolExecutor):
+    """A process pool whose first job kills its worker: queued ahead of the sweep's chunks, so
+    the pool breaks while they are pending, on any machine load (no sleeps, no race)."""
+
+    def submit(self, fn, /, *args, **kwargs):
+        if not getattr(self, "_killer_sent", False):
+            self._killer_sent = True
+            super().submit(_killed_by_sigkill)
+        return super().submit(fn, *args, **kwargs)
+
+
 @pytest.mark.slow
 def test_a_worker_killed_by_a_signal_loses_nothing():
     """Issue 15: SIGKILL to a worker of the user's pool in the middle of a sweep breaks the pool
     (BrokenProcessPool for every pending chunk); each of those jobs is run again alone on a fresh
     worker, so every result is there and equals the sequential run."""
-    import signal
-    import threading
-    import time
     carts = two_carts()
     x0s = [[0, 1, -1, 0], [0, -1, -1, 0], [0, 0, 0, 1], [0, 1, 0, -1], [1, 0, 0, 0], [0, 2, -1, 1]]
-    pool = ProcessPoolExecutor(max_workers=2)
-
-    def kill_a_worker():  # once the workers exist (they start late on a loaded machine), mid-sweep
-        deadline = time.monotonic() + 60
-        while not getattr(pool, "_processes", None) and time.monotonic() < deadline:
-            time.sleep(0.05)
-        time.sleep(0.5)
-        pids = list(getattr(pool, "_processes", {}) or {})
-        if pids:
-            os.kill(pids[0], signal.SIGKILL)
-
-    killer = threading.Thread(target=kill_a_worker)
-    killer.start()
-    try:
-        results = sweep(carts, x0s, 150, executor=pool, max_events=100000)
-    finally:
-        killer.join()
+    pool = _PoolWithAKiller(max_workers=2)
+    results = sweep(carts, x0s, 150, executor=pool, max_events=100000, progress=False)
     from concurrent.futures.process import BrokenProcessPool
     with pytest.raises(BrokenProcessPool):  # the kill did break the pool during the sweep
         pool.submit(int).result()
