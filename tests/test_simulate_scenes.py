@@ -3,7 +3,6 @@ signs of tiny values, exact zeros that are not structural, near-coincident impac
 circuits.  Every expected value is derived in the test (by hand or with mpmath)."""
 from __future__ import annotations
 
-import time
 from fractions import Fraction
 
 import mpmath as mp
@@ -120,19 +119,16 @@ def chain16_stiffness():
 @pytest.mark.slow
 def test_chain_of_16_carts_to_t_10():
     """q0 = (1, -1, 1, ...)/2, v0 = 0, stops on carts 0, 2, ..., 14: eight impacts (each stop
-    once), all but one within 2e-4 of pi/4 and some 1e-16 apart, certified, in well under a
-    second per event.  The first impact (cart 14) is checked against mpmath: q(t) = cos(sqrt(K) t)
+    once), all but one within 2e-4 of pi/4 and some 1e-16 apart, certified (its time per event
+    is measured in benchmarks/scale.py, not here).  The first impact (cart 14) is checked against mpmath: q(t) = cos(sqrt(K) t)
     q0 through the eigendecomposition of the symmetric K."""
     lcs, K = L.examples.cart_chain(16), chain16_stiffness()
     assert all(lcs.A[16 + i, j] == -K[i][j] for i in range(16) for j in range(16))
     q0 = [Fraction((-1) ** i, 2) for i in range(16)]
-    t0 = time.perf_counter()
     tr = L.simulate(lcs, q0 + [0] * 16, 10)
-    elapsed = time.perf_counter() - t0
     assert tr.certified and not tr.partial
     impacts = [e for e in tr.events if any(t.startswith("y_") for t in e.triggers)]
     assert sorted(t for e in impacts for t in e.triggers) == sorted(f"y_{i}" for i in range(8))
-    assert elapsed < len(tr.events) * 1.0
     Km = mp.matrix(K)
     ev, V = mp.eigsy(Km)
     c = V.T * mp.matrix([mp.mpf(q.numerator) / q.denominator for q in q0])
