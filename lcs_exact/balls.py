@@ -107,13 +107,22 @@ class Deadline:
     """A wall-clock limit (``time_limit`` seconds from its creation); mutable: a run disarms it
     when it returns, and every later query of its results (``ball``, ``decimal``, ``sample``)
     re-arms it for its own duration (:meth:`query`), so no query runs longer than the run's
-    ``time_limit`` either: it ends in :class:`TimeLimitExceeded`, never in a hang."""
+    ``time_limit`` either: it ends in :class:`TimeLimitExceeded`, never in a hang.
 
-    __slots__ = ("limit", "_end")
+    ``safety_cuts`` lists the SymPy steps of the run (and of its queries) stopped by their
+    wall-clock safety net (:data:`~lcs_exact.forms.SYMPY_SAFETY_NET`): the only outcomes a clock
+    decided (a closed form not searched to the end of its work budget), named, never silent."""
+
+    __slots__ = ("limit", "_end", "safety_cuts")
 
     def __init__(self, limit: float | None = None):
         self.limit = limit
         self._end = None if limit is None else time.monotonic() + limit
+        self.safety_cuts: list[str] = []
+
+    def expired(self) -> bool:
+        """True when an armed limit has passed."""
+        return self._end is not None and time.monotonic() > self._end
 
     def check(self, where: str | Callable[[], str] = "") -> None:
         """Raise :class:`TimeLimitExceeded` when the limit has passed (``where``: text, or a callable
@@ -199,6 +208,9 @@ class Policy:
         """An unresolved zero: raise :class:`UnresolvedSign`, or record it as an assumption and
         decide it as zero (``allow_unresolved``)."""
         text = what() if callable(what) else what
+        if self.deadline.safety_cuts:  # a proof of zero may have been cut short by a clock: say so
+            text += (f" (not searched to the end: {len(self.deadline.safety_cuts)} SymPy step(s) of this run "
+                     f"stopped by their wall-clock safety net, the first {self.deadline.safety_cuts[0]})")
         if self.allow_unresolved:
             if text not in self.assumptions:
                 self.assumptions.append(text)

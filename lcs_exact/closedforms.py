@@ -183,7 +183,7 @@ def _rational_propagator_zero(spectrum: Spectrum, g: fmpq_mat, v: Any, cand) -> 
 def _sympy_vanishes(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadline) -> bool | None:
     import sympy
     try:
-        with sympy_budget(deadline):
+        with sympy_budget(deadline, "the symbolic value of a phase function at a candidate"):
             sym = function_closed_form(spectrum, g, v)
             if sym is None:
                 return None
@@ -257,10 +257,11 @@ def symbolic_candidates(spectrum: Spectrum, g: fmpq_mat, v: Any, b: arb, deadlin
                         generators: tuple = ()):
     """Candidates (:class:`Closed`) near the ball b from the symbolic form of f = g e^{Mt} v:
     ``generators`` (default: exp_candidates, solve_candidates, harmonic_candidates, cheap ones
-    first).  Each SymPy step runs under :func:`~lcs_exact.forms.sympy_budget` (a simplification
-    of a harmonic sum took 25 s past a run's ``time_limit``); a step out of time gives none."""
+    first).  Each SymPy step runs under :func:`~lcs_exact.forms.sympy_budget` (its work counted:
+    a simplification of a harmonic sum once took 25 s past a run's ``time_limit``); a step out of
+    work gives none."""
     try:
-        with sympy_budget(deadline):
+        with sympy_budget(deadline, "the symbolic inversion of a phase function"):
             sym = function_closed_form(spectrum, g, v)
     except SympyOutOfTime:
         return
@@ -268,7 +269,7 @@ def symbolic_candidates(spectrum: Spectrum, g: fmpq_mat, v: Any, b: arb, deadlin
         return
     for more in generators or (exp_candidates, solve_candidates, harmonic_candidates):
         try:
-            with sympy_budget(deadline):
+            with sympy_budget(deadline, f"the search of {getattr(more, '__name__', 'candidates')}"):
                 exprs = list(_representable(more(sym, b)))
         except SympyOutOfTime:
             continue

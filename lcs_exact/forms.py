@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import signal
+import sys
 import threading
 from typing import Any
 
@@ -28,11 +29,25 @@ from . import calcium
 from .balls import closed_form_arb, workprec
 from .errors import InvalidArgument
 
-__all__ = ["Closed", "ca_of_sympy", "sympy_proves_zero", "sympy_budget", "SympyOutOfTime", "SYMPY_BUDGET"]
+__all__ = ["Closed", "ca_of_sympy", "sympy_proves_zero", "sympy_budget", "SympyOutOfTime", "SYMPY_WORK",
+           "SYMPY_SAFETY_NET"]
 
-#: seconds SymPy's ``simplify`` may take as the last-resort prover of a zero (it has no limit of
-#: its own: on a trigonometric expression of nested radicals it ran for minutes)
-SYMPY_BUDGET = 5.0
+#: the work one SymPy step may do (a simplification, a symbolic inversion, a family of candidates),
+#: counted in Python function calls: SymPy's ``simplify`` has no limit of its own (on a
+#: trigonometric expression of nested radicals it ran for minutes), and a limit in seconds would
+#: make a closed form, or a decision that needs one, depend on the machine and its load.  About
+#: 5 s of SymPy on a 2-core machine of 2026 (0.8 million calls a second; the longest step of the
+#: test suite made 0.6 million); the same step ends at the same point anywhere.
+SYMPY_WORK = 4_000_000
+
+#: seconds: the safety net under :data:`SYMPY_WORK` for work the count cannot see (a long call
+#: into C: a product of huge integers, a factorization in FLINT).  A step it stops is *not
+#: searched* (recorded on the run's deadline, :attr:`~lcs_exact.balls.Deadline.safety_cuts`, and
+#: named in the message of a decision that then fails), never reported as having no closed form.
+SYMPY_SAFETY_NET = 120.0
+
+#: calls between two looks at the run's deadline inside a SymPy step
+_DEADLINE_STRIDE = 20_000
 
 
 def _squarefree(m: int) -> tuple[int, int]:
@@ -342,13 +357,51 @@ def ca_of_sympy(expr: Any) -> Any:
 
 
 class SympyOutOfTime(BaseException):
-    """Raised by the alarm of :func:`sympy_budget` inside SymPy (a BaseException: SymPy's own
-    ``except Exception`` clauses must not swallow it)."""
+    """A SymPy step stopped by :func:`sympy_budget` (its work spent, or its safety net): raised
+    inside SymPy as a BaseException (SymPy's own ``except Exception`` clauses must not swallow
+    it); ``cut`` is True when the wall-clock safety net stopped it (the step was not searched to
+    the end of its work)."""
+
+    def __init__(self, cut: bool = False):
+        super().__init__(cut)
+        self.cut = cut
+
+
+class _Stop(BaseException):
+    """Raised inside SymPy by the counter or the alarm of :func:`sympy_budget`; ``why`` is
+    "work", "deadline" or "safety" (translated when the step is left)."""
+
+    def __init__(self, why: str):
+        super().__init__(why)
+        self.why = why
+
+
+class _Counter:
+    """The global trace function of a SymPy step: counts Python calls (``call`` events), raises
+    :class:`_Stop` when ``left`` reaches 0 and, every ``_DEADLINE_STRIDE`` calls, when the run's
+    deadline has passed; chains to the trace function that was installed before (a debugger, a
+    coverage tracer), whose answer it returns."""
+
+    __slots__ = ("left", "deadline", "old", "tick")
+
+    def __init__(self, left: int, deadline, old):
+        self.left, self.deadline, self.old, self.tick = left, deadline, old, 0
+
+    def __call__(self, frame, event, arg):
+        self.left -= 1
+        if self.left < 0:
+            raise _Stop("work")
+        self.tick += 1
+        if self.tick >= _DEADLINE_STRIDE:
+            self.tick = 0
+            if self.deadline is not None and self.deadline.expired():
+                raise _Stop("deadline")
+        return self.old(frame, event, arg) if self.old is not None else None
 
 
 @contextlib.contextmanager
 def _alarm(seconds: float):
-    """SIGALRM after ``seconds`` raises :class:`SympyOutOfTime` in the block; a no-op off the main
+    """SIGALRM after ``seconds`` raises :class:`_Stop` ("safety") in the block; a no-op off the main
     thread, where signals are unavailable, or when a timer of the caller is already running."""
     usable = (hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
               and signal.getitimer(signal.ITIMER_REAL)[0] == 0)
@@ -357,7 +410,7 @@ def _alarm(seconds: float):
         return
 
     def on_alarm(signum, frame):
-        raise SympyOutOfTime
+        raise _Stop("safety")
 
     old = signal.signal(signal.SIGALRM, on_alarm)
     signal.setitimer(signal.ITIMER_REAL, max(seconds, 1e-3))
@@ -370,8 +423,9 @@ def _alarm(seconds: float):
 
 def sympy_proves_zero(expr: Any, deadline=None) -> bool | None:
     """True when SymPy simplifies the real closed form ``expr`` to 0, False when its certified
-    ball excludes 0, None when neither is shown within :data:`SYMPY_BUDGET` seconds (or what is
-    left of ``deadline``, a :class:`~lcs_exact.balls.Deadline`).
+    ball excludes 0, None when neither is shown within the work of :func:`sympy_budget`
+    (``deadline``: the run's :class:`~lcs_exact.balls.Deadline`; past it,
+    :class:`~lcs_exact.errors.TimeLimitExceeded`).
 
     >>> import sympy
     >>> sympy_proves_zero(sympy.sin(sympy.pi / 7)**2 + sympy.cos(sympy.pi / 7)**2 - 1)
@@ -388,19 +442,52 @@ def sympy_proves_zero(expr: Any, deadline=None) -> bool | None:
     except InvalidArgument:
         pass  # no ball for this form: only SymPy can say
     try:
-        with sympy_budget(deadline):
+        with sympy_budget(deadline, "SymPy's simplification of a candidate zero"):
             return True if sympy.simplify(expr) == 0 else None
     except SympyOutOfTime:
         return None
 
 
 @contextlib.contextmanager
-def sympy_budget(deadline=None):
+def sympy_budget(deadline=None, what: str = "a SymPy step"):
     """Bound the SymPy work of the block (pure SymPy: a simplification, a symbolic inversion, a
-    search for candidates) by :data:`SYMPY_BUDGET` seconds or what is left of ``deadline`` (a
-    :class:`~lcs_exact.balls.Deadline`): past it, :class:`SympyOutOfTime` is raised inside the
-    block.  SymPy is the last resort of the closed forms; a closed form it cannot find in time
-    is reported as not found, and a run's ``time_limit`` holds."""
-    left = None if deadline is None else deadline.remaining()
-    with _alarm(SYMPY_BUDGET if left is None else min(SYMPY_BUDGET, left)):
+    search for candidates) by :data:`SYMPY_WORK` Python calls: past it, :class:`SympyOutOfTime`
+    is raised out of the block, at the same point on every machine and under any load.  A
+    wall-clock safety net of :data:`SYMPY_SAFETY_NET` seconds catches work the count cannot
+    see (one long call into C); a step it stops raises :class:`SympyOutOfTime` with ``cut``
+    True and is recorded on ``deadline`` (``deadline.safety_cuts``: the closed form was not
+    searched, which is not "none").  ``deadline`` (a :class:`~lcs_exact.balls.Deadline`, the
+    run's ``time_limit``) is looked at during the step: past it,
+    :class:`~lcs_exact.errors.TimeLimitExceeded` (the run is cut short, never given another
+    outcome).  A block inside another runs under the outer one's count.
+
+    >>> def depth(n):
+    ...     return 0 if n == 0 else 1 + depth(n - 1)
+    >>> with sympy_budget():
+    ...     depth(100)
+    100
+    """
+    outer = sys.gettrace()
+    if isinstance(outer, _Counter):  # nested: the outer step's count and net govern
         yield
+        return
+    left = None if deadline is None else deadline.remaining()
+    counter = _Counter(SYMPY_WORK, deadline, outer)
+    try:
+        with _alarm(SYMPY_SAFETY_NET if left is None else min(SYMPY_SAFETY_NET, left + 0.05)):
+            sys.settrace(counter)
+            try:
+                yield
+            finally:
+                sys.settrace(outer)
+    except _Stop as stop:
+        why = stop.why
+        if why != "work" and deadline is not None and deadline.expired():
+            deadline.check(f" in {what}")  # raises TimeLimitExceeded
+        if why == "safety":
+            if deadline is not None:
+                deadline.safety_cuts.append(f"{what} (stopped after {SYMPY_SAFETY_NET:g} s)")
+            raise SympyOutOfTime(cut=True) from None
+        if why == "deadline":  # (expired() said so; the check above raised)
+            raise SympyOutOfTime(cut=True) from None
+        raise SympyOutOfTime from None

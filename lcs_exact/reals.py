@@ -36,6 +36,7 @@ class Real(Node):
 
     _cf_done = False
     _cf = None
+    _cf_cut = False
 
     # --- structure ----------------------------------------------------------------------------
     def known_rational(self) -> fmpq | None:
@@ -61,13 +62,34 @@ class Real(Node):
             if self.policy.closed_forms == "off":
                 self._cf = None
             else:
+                cuts = len(self.policy.deadline.safety_cuts)
                 with self.policy.deadline.query():  # a query after the run: its time_limit holds
                     # the light closed forms of the reals it is derived from first, in a loop (no deep
                     # recursion); the states' SymPy forms only when a derivation asks for them
                     in_dependency_order(self, _derive_real_closed, closed_ready)
                     self._cf = self._closed()
+                if self._cf is None and (len(self.policy.deadline.safety_cuts) > cuts or
+                                         any(getattr(d, "_cf_cut", False) for d in self._deps())):
+                    self._cf_cut = True  # derived from a form that was not searched: not searched
             self._cf_done = True
         return self._cf
+
+    @property
+    def closed_form_status(self) -> str:
+        """"proven" (``closed_form`` is a proven closed form), "none" (the search ended without
+        one), "not searched" (a SymPy step of the search was stopped by its wall-clock safety
+        net, :data:`~lcs_exact.forms.SYMPY_SAFETY_NET`: the only search a clock ends) or "off"
+        (``closed_forms=False``); derives the closed form when not yet done.
+
+        >>> from lcs_exact.reals import as_real
+        >>> as_real(1).closed_form_status
+        'proven'
+        """
+        if self.policy.closed_forms == "off" and self.known_rational() is None:
+            return "off"
+        if self.closed is not None:
+            return "proven"
+        return "not searched" if self._cf_cut else "none"
 
     def _closed_ready(self) -> bool:
         return self._cf_done

@@ -192,11 +192,13 @@ def test_harmonic_candidate_written_with_i_is_skipped():
     assert tr.to_fixture(20)["schema"].startswith("lcs-exact/trajectory")
 
 
-def test_a_slow_symbolic_candidate_search_is_cut_off_by_the_sympy_budget(monkeypatch):
-    """SymPy steps of the closed-form search run under forms.SYMPY_BUDGET (a harmonic
-    simplification once ran 25 s past a run's time_limit).  A search step that would sleep 30 s
-    is interrupted after the budget; the event (the RL rectifier's turn-off at the first root of
-    sin t - cos t + e^{-t}, transcendental) keeps its certified digits and has no closed form."""
+def test_a_slow_symbolic_candidate_search_is_cut_off_by_the_safety_net_and_marked(monkeypatch):
+    """SymPy steps of the closed-form search run under a budget of work (forms.SYMPY_WORK) and a
+    wall-clock safety net for work the count cannot see (a harmonic simplification once ran 25 s
+    past a run's time_limit).  A search step that would sleep 30 s (a long call into C: no Python
+    calls to count) is interrupted by the net; the event (the RL rectifier's turn-off at the first
+    root of sin t - cos t + e^{-t}, transcendental) keeps its certified digits and has no closed
+    form, reported as "not searched" (the net is a clock), never as "none"."""
     import time
     from lcs_exact import closedforms, forms
     from lcs_exact.models import circuit
@@ -209,10 +211,16 @@ def test_a_slow_symbolic_candidate_search_is_cut_off_by_the_sympy_budget(monkeyp
         return []
 
     monkeypatch.setattr(closedforms, "harmonic_candidates", slow)
-    monkeypatch.setattr(forms, "SYMPY_BUDGET", 0.2)
+    monkeypatch.setattr(forms, "SYMPY_SAFETY_NET", 0.2)
     lcs = circuit("V1 1 0 sine(1,1)\nD1 1 2\nR1 2 3 1\nL1 3 0 1")
     tr = L.simulate(lcs, lcs.embed([0]), 5, closed_forms=True)
     assert calls == ["start"]
     t1 = mp.findroot(lambda t: mp.sin(t) - mp.cos(t) + mp.exp(-t), 3.94)
     assert len(tr.events) == 1 and close(num(tr.events[0].time), t1)
     assert tr.events[0].time.closed_form is None
+    assert tr.events[0].time.closed_form_status == "not searched"
+    assert len(tr.policy.deadline.safety_cuts) == 1 and "search of slow" in tr.policy.deadline.safety_cuts[0]
+    # the same search without the net: searched to the end, none found
+    monkeypatch.setattr(closedforms, "harmonic_candidates", lambda sym, b: [])
+    tr = L.simulate(lcs, lcs.embed([0]), 5, closed_forms=True)
+    assert tr.events[0].time.closed_form is None and tr.events[0].time.closed_form_status == "none"

@@ -90,8 +90,8 @@ def test_main_job_prints_closed_forms_without_sympy():
 def test_sympys_simplify_as_a_last_resort_prover_is_cut_off_by_its_budget(monkeypatch):
     """f = 2/3 sin t - 1/3 sin 2t + 1/2 at t* = 2 pi - acos(a), a the root of 16a^4 - 32a^3 +
     32a - 7 near -0.92 written by SymPy in nested radicals: f(t*) = 0 (the graze of a forced
-    impact oscillator), and SymPy's simplify of it ran for minutes.  Under a budget the prover
-    answers "unknown"; the ball alone answers a nonzero value."""
+    impact oscillator), and SymPy's simplify of it ran for minutes.  Under a budget of work the
+    prover answers "unknown"; the ball alone answers a nonzero value."""
     import sympy as sp
     from lcs_exact import forms
     a = sp.Rational(3, 64) * sp.sqrt(6) + sp.Rational(9, 64)
@@ -102,7 +102,7 @@ def test_sympys_simplify_as_a_last_resort_prover_is_cut_off_by_its_budget(monkey
     assert abs(16 * x**4 - 32 * x**3 + 32 * x - 7) < 1e-12 and abs(x + 0.920601826) < 1e-9
     t = 2 * sp.pi - sp.acos(root)
     expr = sp.expand_trig(2 * sp.sin(t) / 3 - sp.sin(2 * t) / 3 + sp.Rational(1, 2))
-    monkeypatch.setattr(forms, "SYMPY_BUDGET", 0.2)
+    monkeypatch.setattr(forms, "SYMPY_WORK", 200_000)
     assert forms.sympy_proves_zero(expr) is None
     assert forms.sympy_proves_zero(expr + sp.Rational(1, 10**30)) is False
     # Calcium decides the same number: 0 (the radicals by their minimal polynomials)
