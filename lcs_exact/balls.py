@@ -22,6 +22,7 @@ is global state: a product of two 4096-bit balls at the ambient 53 bits loses ev
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import math
 import sys
 import time
@@ -32,7 +33,7 @@ from flint import arb, ctx, fmpq
 
 from .errors import InvalidArgument, TimeLimitExceeded, UnresolvedSign, Unsupported
 
-__all__ = ["Policy", "Deadline", "DEFAULT_POLICY", "workprec", "long_int_strings", "digits_to_bits", "decide_sign",
+__all__ = ["Policy", "Deadline", "check_in_force", "DEFAULT_POLICY", "workprec", "long_int_strings", "digits_to_bits", "decide_sign",
            "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb", "dyadic", "dyadic_lower",
            "dyadic_upper", "decimal_of_fmpq", "decimal_of_ball"]
 
@@ -144,6 +145,17 @@ class Deadline:
         return None if self._end is None else max(0.0, self._end - time.monotonic())
 
     @contextlib.contextmanager
+    def in_force(self) -> Iterator[None]:
+        """Inside the block this deadline is the one :func:`check_in_force` looks at: exact
+        computations far below the run, holding no policy (Calcium's compactions and zero tests,
+        each bounded but together seconds long), stop at it."""
+        token = _IN_FORCE.set(self)
+        try:
+            yield
+        finally:
+            _IN_FORCE.reset(token)
+
+    @contextlib.contextmanager
     def query(self) -> Iterator[None]:
         """Inside the block, the limit counts from its start (when no run or outer query has
         armed it already); restored on exit.
@@ -161,9 +173,31 @@ class Deadline:
             return
         self._end = time.monotonic() + self.limit
         try:
-            yield
+            with self.in_force():
+                yield
         finally:
             self._end = None
+
+
+#: the deadline of the run or query in progress (:meth:`Deadline.in_force`)
+_IN_FORCE: contextvars.ContextVar = contextvars.ContextVar("lcs_exact_deadline", default=None)
+
+
+def check_in_force(where: str = "") -> None:
+    """Check the deadline of the run or query in progress, if any (:meth:`Deadline.in_force`):
+    raise :class:`TimeLimitExceeded` when it has passed.
+
+    >>> d = Deadline(0.0)
+    >>> check_in_force()                      # no run in progress: nothing to check
+    >>> with d.in_force():
+    ...     check_in_force(" in a test")
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.TimeLimitExceeded: time_limit = 0.0 s reached in a test
+    """
+    d = _IN_FORCE.get()
+    if d is not None:
+        d.check(where)
 
 
 #: bits above a state's accuracy that a run computes the next event with (a state computed from

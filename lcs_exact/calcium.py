@@ -71,6 +71,7 @@ from typing import Any, Sequence
 import flint  # noqa: F401 -- used by the doctests
 from flint import acb, arb, fmpq, fmpz
 
+from .balls import check_in_force
 from .errors import NotRational, UnresolvedSign
 from .flintlib import (CA_UNDEFINED, CA_UNKNOWN, CA_WORDS, AcbStruct, FmpqStruct, QqbarStruct, acb_from_address,
                        available, backend, c_ulong, fmpz_to_int, qqbar_degree_limit, qqbar_distinct_roots,
@@ -444,6 +445,7 @@ class Ca:
 
     def _predicate(self, fname: str) -> bool | None:
         b = self._b
+        check_in_force(" in an exact zero test (Calcium)")  # each test bounded, but not interruptible
         with b.lock:
             return truth(getattr(b.lib, fname)(self._ptr, b.ctx))
 
@@ -566,8 +568,7 @@ class Ca:
         >>> Ca.pi().minimal_polynomial() is None
         True
         """
-        b = self._b
-        lib = b.lib
+        b, lib = self._b, self._b.lib
         with b.lock:
             buf = (c_ulong * (2 * ctypes.sizeof(QqbarStruct) // 8))()
             at = ctypes.addressof(buf)
@@ -585,12 +586,11 @@ class Ca:
         ``size`` characters: an algebraic number re-expressed by its minimal polynomial and an
         isolating enclosure (``ca_get_qqbar``, ``ca_set_qqbar``), else ``self``.
 
-        Arithmetic in Calcium keeps a number as an expression in the generators of a field, and
-        the expression grows with every operation even where the number does not: the event
-        times of a column of elastic beads stay of degree <= 4 over Q, yet after 13 events their
-        expressions hold 75-digit coefficients that cancel to 80 digits, and a few events later
-        a zero test fails at Calcium's precision limit.  Re-expressed, the same times print in
-        a few dozen characters.  The shorter of the two forms is returned.
+        Arithmetic in Calcium keeps a number as an expression in the generators of a field, and the expression
+        grows with every operation even where the number does not: the event times of a column of elastic
+        beads stay of degree <= 4 over Q, yet after 13 events their expressions hold 75-digit coefficients
+        that cancel to 80 digits, and a few events later a zero test fails at Calcium's precision limit.
+        Re-expressed, the same times print in a few dozen characters.  The shorter form is returned.
 
         >>> x = (Ca(2).sqrt() * 10**40 + 1) / (Ca(2).sqrt() * 10**40 - 1)
         >>> y = x.compact(size=50)
@@ -600,8 +600,8 @@ class Ca:
         text = str(self)
         if len(text) <= size:
             return self
-        b = self._b
-        lib = b.lib
+        check_in_force(" in an exact algebraic computation (Calcium)")  # each one bounded, not interruptible
+        b, lib = self._b, self._b.lib
         with b.lock:
             buf = (c_ulong * (2 * ctypes.sizeof(QqbarStruct) // 8))()
             at = ctypes.addressof(buf)

@@ -42,7 +42,7 @@ from pathlib import Path
 from . import __version__
 from .balls import MAX_DIGITS
 from .compare import compare, convergence_order, read_solution_csv
-from .errors import FormatError, InvalidArgument, LCSError
+from .errors import FormatError, InvalidArgument, LCSError, UnresolvedSign
 from .fixture import MAX_SAMPLES, ball_number, sample_grid
 from .fixturereader import read_fixture
 from .interfaces import SystemLike
@@ -404,7 +404,10 @@ def _check_writable(path: str) -> None:
 
 
 def _write_fixture(traj, args, closed_forms: bool = True) -> None:
-    fx = traj.to_fixture(args.digits, sample=args.sample, closed_forms=closed_forms)
+    try:
+        fx = traj.to_fixture(args.digits, sample=args.sample, closed_forms=closed_forms)
+    except UnresolvedSign as e:  # a number the fixture needs cannot be evaluated: refused at once, named
+        raise UnresolvedSign(f"-o {args.output}: the fixture is not written: {e}") from None
     Path(args.output).write_text(json.dumps(fx, indent=1) + "\n", encoding="utf-8")
 
 

@@ -348,6 +348,8 @@ def exp_candidates(sym, b: arb | None = None) -> list:
     u = sympy.Symbol("u", positive=True)
     powers = {m: int(sympy.nsimplify(sympy.simplify(m / gam))) for m in terms}
     low = min(powers.values())
+    if max(powers.values()) - low > 12:
+        return []  # (rates 1 and 10^-400: a polynomial of degree 10^400 in u is not built)
     poly = sympy.Poly(sum(terms[m] * u ** (powers[m] - low) for m in terms), u)
     if poly.degree() < 1 or poly.degree() > 12:
         return []

@@ -231,8 +231,9 @@ class Closed:
 
     def __str__(self) -> str:
         """SymPy's text for rationals and rational multiples of pi / sqrt(r) (built here, without
-        SymPy); SymPy's own for anything else."""
-        if any(kind != "pi" for (kind, _), _ in self.terms):
+        SymPy); SymPy's own for anything else, and for pi / sqrt(r) with a huge r (whose square
+        factors a trial division would take hours to find: SymPy's search of them is bounded)."""
+        if any(kind != "pi" or not _small(r) for (kind, r), _ in self.terms):
             return str(self.to_sympy())
         parts = [str(self.const)] if self.const != 0 or not self.terms else []
         for (_, r), c in self.terms:
@@ -246,12 +247,17 @@ class Closed:
         return f"Closed({self})"
 
 
+def _small(r) -> bool:
+    """r = a/b with ab <= 10^12: its square factors are found by trial division at once."""
+    return int(r.p) * int(r.q) <= 10 ** 12
+
+
 def _pi_normal(r: fmpq, c: fmpq) -> tuple[fmpq, tuple]:
     """c pi / sqrt(r) as c' pi / sqrt(f), f a squarefree integer: pi / sqrt(a/b) = sqrt(ab) pi / a
     = s sqrt(f) pi / a = (s f / a) pi / sqrt(f) with ab = s^2 f (equal values, equal atoms; a
     huge r is left as it is)."""
     a, b = int(r.p), int(r.q)
-    if a * b > 10 ** 12:
+    if not _small(r):
         return c, ("pi", r)
     s, f = _squarefree(a * b)
     return c * fmpq(s * f, a), ("pi", fmpq(f))

@@ -148,15 +148,22 @@ class Real(Node):
             with workprec(need + 64):
                 return arb(q)
         prec = max(self._prec, need + 16)
-        for _ in range(16):
+        # at most 16 x max_prec bits (a cancellation of e^(10^12)-sized terms would take the
+        # doublings to millions of bits, seconds each: refused at the cap instead)
+        cap = max(16 * self.policy.max_prec, 4 * need)
+        while True:
             self.policy.check_deadline(lambda: f" while evaluating a number to {digits} digits")
             b = self.arb(prec)
             if b.is_exact() or accuracy_bits(b) >= need:
                 return b
             if b.contains(0) and b.rad() < arb(2) ** (-need):
                 return b
-            prec *= 2
-        raise UnresolvedSign(f"could not evaluate {self!r} to {digits} digits")
+            if prec >= cap:
+                break
+            prec = min(2 * prec, cap)
+        with workprec(64):  # the message names the ball (a repr would evaluate the number again)
+            raise UnresolvedSign(f"could not evaluate a number to {digits} digits: at {prec} bits (16 x max_prec) "
+                                 f"its ball is still {b.str(5, radius=True)}")
 
     def decimal(self, digits: int = 30) -> str:
         """The value to ``digits`` significant digits, followed by an error bound ``+/- e``

@@ -204,7 +204,8 @@ def _run(lcs, z0, T, digits, max_events, policy, zeno, branches, forced, bar=Non
     run.zeno, run.branches, run.forced, run.bar = zeno, branches, list(forced), bar
     started = _time.monotonic()
     try:
-        run.execute(z0)
+        with policy.deadline.in_force():  # Calcium's long exact steps look at it too
+            run.execute(z0)
     except LCSError as e:
         status = _STATUS.get(type(e), Status.FAILED)
         e.trajectory = run.result(z0, digits, status, f"{type(e).__name__}: {e}", _time.monotonic() - started)
