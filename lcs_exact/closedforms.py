@@ -31,6 +31,7 @@ from .errors import InvalidArgument, LCSError, UnresolvedSign
 from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
 from .forms import Closed, SympyOutOfTime, sympy_budget, sympy_proves_zero
 from .rational import matrix_to_sympy
+from .reals import radical_form
 from .vectors import RationalVector, orbit_start
 from .subspaces import in_row_span
 
@@ -208,7 +209,9 @@ def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
             return _SYMBOLIC[key]
         sym = laplace_closed_form(spectrum.M, g, q)
     else:
-        vc = v.closed_form()
+        vc = _radical_start(v)
+        if vc is None:
+            vc = v.closed_form()
         E = symbolic_expm(spectrum) if vc is not None else None
         sym = None if E is None else (matrix_to_sympy(g) * E * vc)[0, 0].expand()
     if sym is not None:
@@ -228,6 +231,27 @@ def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
             _SYMBOLIC.clear()
         _SYMBOLIC[key] = sym
     return sym
+
+
+def _radical_start(v: Any):
+    """v as a SymPy column of radicals when every component is a real algebraic number of degree
+    <= 4 (each proven equal by Calcium, :func:`~lcs_exact.reals.radical_form`), else None.  The
+    state after an impact at t1 = 2 pi - 2 atan(sqrt(3)/2) is algebraic, but its symbolic form is
+    a tangle of cos(2 atan(..)) in which the next phase's zero (an atan of a radical) is not
+    found; in radicals it is."""
+    if not calcium.available():
+        return None
+    cs = v.to_ca()
+    if cs is None:
+        return None
+    out = []
+    for c in cs:
+        r = radical_form(c)
+        if r is None:
+            return None
+        out.append(r)
+    import sympy
+    return sympy.Matrix(out)
 
 
 #: symbolic forms g e^{Mt} q of rational starts, by (M, g, q) (bounded)
@@ -371,7 +395,9 @@ def _one_frequency_solutions(sym):
     import sympy
     t = t_symbol()
     trig = sym.atoms(sympy.sin, sympy.cos)
-    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig:
+    if sym.has(sympy.exp) and trig:
+        sym = _without_common_exp(sym)  # e^{-at} (c1 cos wt + c2 sin wt): the zeros of the sum
+    if sym is None or sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig:
         return None
     freqs = {sympy.simplify(sympy.diff(f.args[0], t)) for f in trig}
     if len(freqs) != 1:
@@ -409,6 +435,27 @@ def _one_frequency_solutions(sym):
         except Exception:  # noqa: BLE001 - SymPy could not solve: the explicit branches remain
             times = []
     return tuple(times), tuple(angles), step, w
+
+
+def _without_common_exp(sym):
+    """f e^{-sigma t} when every term of f carries the same e^{sigma t} (a damped harmonic
+    e^{sigma t} (c1 cos wt + c2 sin wt)): the same zeros, without the exponential; None otherwise."""
+    import sympy
+    t = t_symbol()
+    f = sympy.powsimp(sympy.expand(sym))
+    rates = set()
+    for term in sympy.Add.make_args(f):
+        rate = sympy.Integer(0)
+        for e in term.atoms(sympy.exp):
+            rate += sympy.diff(e.args[0], t)
+        if rate.has(t):
+            return None
+        rates.add(sympy.nsimplify(rate) if rate.is_number else rate)
+    if len(rates) != 1:
+        return None
+    (rate,) = rates
+    out = sympy.powsimp(sympy.expand(f * sympy.exp(-rate * t)))
+    return None if out.has(sympy.exp) else out
 
 
 def solve_candidates(sym, b: arb) -> list:
