@@ -47,7 +47,12 @@ from .reals import Real, as_real
 from .subspaces import kernel, rank
 from .vectors import ExactVector, ProjectedVector, RationalVector
 
-__all__ = ["BounceCycle", "BounceProof", "BounceWindow", "bounce_cycle", "prove_bounces", "bounce_window"]
+__all__ = ["BOUNCE_PATIENCE", "BounceCycle", "BounceProof", "BounceWindow", "bounce_cycle", "prove_bounces", "bounce_window"]
+
+#: shrinking phases a run of Newton impacts of one contact may go on before a suspected accumulation
+#: stops it unproven (the proof needs flights short beside the background's motion: a spring of
+#: period 0.02 s beside the flights, 40 more impacts at e = 0.9)
+BOUNCE_PATIENCE = 400
 
 #: cycles of the ball iteration before it gives up (a contraction this slow is not an accumulation
 #: this method serves: kappa = 0.999 needs ~90,000 cycles for 128 bits)
@@ -158,9 +163,12 @@ def _growth(A: fmpq_mat) -> tuple[fmpq, fmpq]:
     while p <= 8:
         while len(powers) <= p:
             powers.append(A * powers[-1])
-        with workprec(64):
-            nu = dyadic_upper(arb(_norm_inf(powers[p])).root(p) * arb(1 + 2 ** -40)) if p > 1 else _norm_inf(A)
-        nu = max(nu, fmpq(1, 2 ** 30))
+        norm = _norm_inf(powers[p])
+        if norm == 0:  # nilpotent: A^j = 0 for j >= p, any nu > 0 serves
+            nu = fmpq(1, 2 ** 30)
+        else:
+            with workprec(64):
+                nu = max(dyadic_upper(arb(norm).root(p) * arb(1 + 2 ** -40)) if p > 1 else norm, fmpq(1, 2 ** 30))
         C = max(_norm_inf(powers[i]) / nu ** i for i in range(p))
         if best is None or nu < best[0]:
             best = (nu, C)
@@ -547,16 +555,19 @@ class BounceWindow:
         cyc = self.proof.cycle
         lcs, n = cyc.lcs, cyc.lcs.n
         rows, sources = [cyc.c, cyc.c * cyc.A], []
+        zero = self.zero_forms()
         for keep, z in ((hstack(lcs.A, lcs.B, nrows=n), self.origin), (hstack(cyc.A, cyc.r, nrows=n), self.z)):
             if z is None:
                 continue
             Q = kernel(keep.transpose()).transpose()
+            if z is self.origin and zero.nrows():
+                Q = vstack(zero, Q) if Q.nrows() else zero
             for i in range(Q.nrows()):
                 if rank(vstack(*rows, _row(Q, i))) > len(rows):
                     rows.append(_row(Q, i))
                     sources.append((len(rows) - 1, z))
         if len(rows) < n:
-            return BounceLimitState(self, vstack(cyc.c, cyc.c * cyc.A))
+            return BounceLimitState(self, vstack(cyc.c, cyc.c * cyc.A, zero, ncols=n))
         Ginv = vstack(*rows).inv()
         parts = {}
         for i, z in sources:  # x* = G^-1 (0, 0, q z, ...): one projection per state it reads
@@ -568,7 +579,26 @@ class BounceWindow:
             return RationalVector(sum((P * z.known_rational() for z, P in vecs), zeros(n, 1)))
         if len(vecs) == 1:
             return ProjectedVector(vecs[0][1], vecs[0][0])
-        return BounceLimitState(self, vstack(cyc.c, cyc.c * cyc.A))
+        return BounceLimitState(self, vstack(cyc.c, cyc.c * cyc.A, zero, ncols=n))
+
+    def zero_forms(self) -> fmpq_mat:
+        """Forms that vanish on every state of the run (so in the window and at its limit): the
+        largest N with N x0 = 0, N B = 0 and N A inside N, for a rational initial state x0 (a
+        wheel that never turns: its angle and rate stay exactly 0)."""
+        lcs = self.proof.cycle.lcs
+        x0 = None if self.origin is None else self.origin.known_rational()
+        if x0 is None:
+            return zeros(0, lcs.n)
+        N = kernel(hstack(lcs.B, x0, nrows=lcs.n).transpose()).transpose()
+        while N.nrows():
+            K = kernel(N)  # rowspan(N) = {v : v K = 0}
+            if K.ncols() == 0:
+                break
+            a = kernel((N * lcs.A * K).transpose()).transpose()
+            if a.nrows() == N.nrows():
+                break
+            N = a * N if a.nrows() else zeros(0, lcs.n)
+        return N
 
 
 class BounceEventTime(Real):
@@ -603,7 +633,7 @@ class BounceState(ExactVector):
     """x(t_k + dt) inside a bounce window (balls from the iteration)."""
 
     def __init__(self, window: BounceWindow, dt: Any):
-        super().__init__(window.proof.cycle.lcs.n, policy=window.t_k.policy)
+        super().__init__(window.proof.cycle.lcs.n, window.zero_forms(), policy=window.t_k.policy)
         self.window, self.dt = window, as_real(dt, window.t_k.policy)
 
     def _deps(self):
