@@ -4,6 +4,7 @@ closed forms: the return speed equals the launch speed, so v' = e v and the flig
 (2/w) atan(v w / g))."""
 from __future__ import annotations
 
+import json
 from fractions import Fraction as F
 
 import mpmath as mp
@@ -138,3 +139,35 @@ def test_the_proof_is_refused_where_it_does_not_hold():
     assert events[-1].mode_before == frozenset({0}) and bounces.bounce_cycle(stacked, events) is None
     # unproven: certified only that any accumulation is after the last phase computed
     assert info.value.upper is None and events[-1].time.ball(20) < info.value.lower < fmpq(*F(info.value.estimate).as_integer_ratio())
+
+
+def test_fixtures_carry_the_implied_impacts_and_compare_windows_them(tmp_path):
+    """A fixture of a law-less accumulation lists its implied impacts (up to float resolution of T*,
+    each the certified ball of the live run) and reads them back; compare() leaves a window around
+    each, so the exact solution sampled on a float grid passes."""
+    import numpy as np
+    lcs = ball_on_spring(k=100, mass="1/1000", g="981/100", e="9/10", rest=0)
+    tr = L.simulate(lcs, lcs.embed(["1/100", 0]), F(1, 2))
+    acc = tr.accumulations[0]
+    path = tmp_path / "spring.json"
+    path.write_text(json.dumps(tr.to_fixture(digits=20)))
+    fx = L.read_fixture(path)
+    implied = fx.accumulations[0].implied
+    assert implied["first_event"] == len(tr.events) - 1
+    times = implied["times"]
+    with mp.workdps(40):
+        for k in (0, 1, len(times) - 1):
+            assert times[k].overlaps(acc.event_time(k).ball(25))
+        t_star = mid(acc.time)
+        last = mp.mpf(times[-1].mid().str(30, radius=False))
+        assert 0 < t_star - last <= t_star * mp.mpf(2) ** -52  # the last one a float grid can tell apart
+        assert t_star - mp.mpf(times[-2].mid().str(30, radius=False)) > t_star * mp.mpf(2) ** -52
+    with pytest.raises(L.InvalidArgument, match="implied events"):
+        fx.accumulations[0].event_time(len(times))
+    t = np.linspace(0, 0.5, 5001)
+    X = tr.to_numpy(t)
+    report = L.compare(fx, t, X, atol=1e-12)
+    assert report.passed and report.n_compared > 4000
+    t_k = float(tr.events[-1].time)
+    inside = [w for w in report.windows if w[0] > t_k]  # windows of the implied impacts, merged near T*
+    assert inside and inside[-1][1] >= float(acc.time)
