@@ -35,7 +35,7 @@ from typing import Any, Sequence
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from . import calcium
-from .balls import workprec
+from .balls import digits_to_bits, dyadic_lower, dyadic_upper, workprec
 from .errors import InvalidArgument, LCSError
 from .rational import submatrix
 from .subspaces import solve_any
@@ -174,10 +174,7 @@ def _power(rho: fmpq, e: int) -> fmpq:
 
 def _exponent(r: fmpq, rho: fmpq, limit: int = 16) -> int | None:
     """The integer e with rho^e = r exactly (|e| <= limit), or None."""
-    for e in range(-limit, limit + 1):
-        if _power(rho, e) == r:
-            return e
-    return None
+    return next((e for e in range(-limit, limit + 1) if _power(rho, e) == r), None)
 
 
 def event_signature(e) -> tuple:
@@ -443,7 +440,8 @@ class Accumulation:
     """A right-accumulation point crossed (Remark 4.11): the event times accumulate at ``time``,
     the state tends to ``state`` (x(T*-)); ``events`` is the cycle length of the proven law,
     ``ratio`` the scale factor of one cycle, ``first_event`` the index of the first event of the
-    law's reference cycle in ``traj.events``.
+    law's reference cycle in ``traj.events``.  Without a law (:mod:`lcs_exact.bounces`) ``ratio``
+    is None and ``time``, ``state``, the implied events are certified balls of any precision.
 
     The infinitely many events before ``time`` are not in ``traj.events`` (which ends with the
     last event computed one by one, at :attr:`start`); :meth:`event_time` gives the k-th of them
@@ -453,9 +451,9 @@ class Accumulation:
     time: Real
     state: ExactVector
     events: int
-    ratio: fmpq
+    ratio: fmpq | None
     first_event: int
-    cycle: Any = field(default=None, repr=False, compare=False)  # the ScaledCycle of the window
+    cycle: Any = field(default=None, repr=False, compare=False)  # the window: ScaledCycle or BounceWindow
 
     @property
     def start(self) -> Real | None:
@@ -465,8 +463,20 @@ class Accumulation:
 
     @property
     def cycle_length(self) -> Real | None:
-        """T, the length of the reference cycle (cycle m after :attr:`start` lasts T rho^(m+1))."""
-        return None if self.cycle is None else self.cycle.law.cycle_length
+        """T, the reference cycle's length (cycle m after :attr:`start` lasts T rho^(m+1)), or None."""
+        return None if self.cycle is None or self.ratio is None else self.cycle.law.cycle_length
+
+    @property
+    def lower(self) -> fmpq:
+        """A rational lower bound of T*, within the run's digits of it (relative)."""
+        return self._bounds()[0]
+
+    upper = property(lambda self: self._bounds()[1], doc="A rational upper bound of T*, within the run's digits.")
+
+    def _bounds(self) -> tuple:
+        with workprec(digits_to_bits(self.time.policy.digits + 2) + 16):
+            b = self.time.ball(self.time.policy.digits + 2)
+            return dyadic_lower(b), dyadic_upper(b)
 
     @property
     def offsets(self) -> tuple:
@@ -483,21 +493,22 @@ class Accumulation:
         >>> acc.time.known_rational(), [acc.event_time(k).known_rational() for k in range(3)]
         (3, [11/4, 23/8, 47/16])
         """
+        return self._implied(k).event_time(k)
+
+    def event_time_ball(self, k: int, prec: int = 128) -> arb:
+        """:meth:`event_time` as a certified ball at ``prec`` bits, cheaply (balls only)."""
+        return self._implied(k).event_time_ball(k, prec)
+
+    def _implied(self, k: int):
         if self.cycle is None:
             raise InvalidArgument("this accumulation carries no law for its implied events")
         if isinstance(k, bool) or not isinstance(k, int) or k < 0:
             raise InvalidArgument(f"k must be an int >= 0, got {k!r}")
-        return self.cycle.event_time(k)
-
-    def event_time_ball(self, k: int, prec: int = 128) -> arb:
-        """:meth:`event_time` as a certified ball at ``prec`` bits, cheaply (balls only)."""
-        if self.cycle is None:
-            raise InvalidArgument("this accumulation carries no law for its implied events")
-        return self.cycle.event_time_ball(k, prec)
+        return self.cycle
 
     def __repr__(self):
-        return (f"Accumulation(time={self.time.label()}, state={self.state!r}, cycle of {self.events} "
-                f"events, ratio {self.ratio})")
+        return (f"Accumulation(time={self.time.label()}, state={self.state!r}, cycle of {self.events} events, "
+                f"{'no geometric law' if self.ratio is None else f'ratio {self.ratio}'})")
 
 
 def _cycle_guess(dt: float, T: Any, rho: fmpq) -> int:

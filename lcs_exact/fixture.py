@@ -26,9 +26,9 @@ import re
 from importlib.resources import files
 from typing import Any
 
-from flint import fmpq
+from flint import arb, fmpq
 
-from .balls import MAX_DIGITS
+from .balls import MAX_DIGITS, digits_to_bits, workprec
 from .errors import FixtureMismatch, FormatError, InvalidArgument
 from .fixnumbers import (MAX_SAMPLES, ball_number, number_ball, number_exact, number_rational,
                          rational_number, sample_grid)
@@ -241,11 +241,32 @@ def _accumulation(a: Any, d: int) -> dict:
     events = getattr(a, "events", None)
     count = events if isinstance(events, int) else (len(events) if events is not None else None)
     out = {"time": _real_number(a.time, d), "state": _vector(a.state, d), "events": count}
-    if getattr(a, "cycle", None) is not None:  # the law of the implied events (Accumulation.event_time)
+    if getattr(a, "cycle", None) is not None and a.ratio is None:  # no law: the implied events themselves
+        out["implied"] = {"times": _implied_times(a, d), "first_event": int(a.first_event)}
+    elif getattr(a, "cycle", None) is not None:  # the law of the implied events (Accumulation.event_time)
         out["law"] = {"start": _real_number(a.start, d), "cycle_length": _real_number(a.cycle_length, d),
                       "ratio": str(a.ratio), "offsets": [_real_number(o, d) for o in a.offsets],
                       "first_event": int(a.first_event)}
     return out
+
+
+def _implied_times(a: Any, d: int) -> list:
+    """The implied events of a law-less accumulation, up to the first within 2^-52 (relative) of
+    T*: a float time grid cannot tell the later ones apart (at most MAX_IMPLIED)."""
+    out = []
+    bits = digits_to_bits(d) + 32
+    with workprec(bits):
+        t_star = a.time.ball(d + 2)
+        for k in range(MAX_IMPLIED):
+            t = a.event_time_ball(k, bits)  # balls of the window's iteration: no closed form exists
+            out.append({**ball_number(t, d), "exact": None})
+            if t_star - t <= abs(t_star) * arb(2) ** -52:
+                break
+    return out
+
+
+#: the most implied events a fixture lists for a law-less accumulation
+MAX_IMPLIED = 20_000
 
 
 # ---------------------------------------------------------------------------------------------

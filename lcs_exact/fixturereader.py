@@ -355,6 +355,7 @@ class FixtureAccumulation:
     state: tuple
     events: int | None
     law: dict | None = None
+    implied: dict | None = None  # no law: {"times": balls, "first_event": i} (an impact map's contraction)
 
     def event_time(self, k: int) -> arb:
         """The k-th implied event time (k = 0, 1, ...): event j = k mod p of cycle m = k div p at
@@ -367,10 +368,16 @@ class FixtureAccumulation:
         >>> acc.event_time(0), acc.event_time(1), acc.time
         (2.75000000000000, 2.87500000000000, 3.00000000000000)
         """
-        if self.law is None:
-            raise InvalidArgument("this fixture's accumulation carries no law of its implied events")
         if isinstance(k, bool) or not isinstance(k, int) or k < 0:
             raise InvalidArgument(f"k must be an int >= 0, got {k!r}")
+        if self.law is None and self.implied is not None:
+            times = self.implied["times"]
+            if k >= len(times):
+                raise InvalidArgument(f"the fixture lists {len(times)} implied events (the last within float "
+                                      f"resolution of the accumulation time); k = {k} is beyond them")
+            return times[k]
+        if self.law is None:
+            raise InvalidArgument("this fixture's accumulation carries no law of its implied events")
         law = self.law
         m, j = divmod(k, len(law["offsets"]))
         rho = law["ratio"]
@@ -393,8 +400,12 @@ def _fixture_accumulation(a: dict, i: int, digits: int) -> FixtureAccumulation:
                "ratio": to_fmpq(law["ratio"], f"{w}.law.ratio"),
                "offsets": tuple(number_ball(o, where=f"{w}.law.offsets") for o in law["offsets"]),
                "digits": digits, "first_event": law.get("first_event")}
+    implied = a.get("implied")
+    if implied is not None:
+        implied = {"times": tuple(number_ball(x, where=f"{w}.implied.times") for x in implied["times"]),
+                   "first_event": implied.get("first_event")}
     return FixtureAccumulation(number_ball(_key(a, "time", w), where=f"{w}.time"), number_exact(a["time"]),
-                               _balls(_key(a, "state", w), f"{w}.state"), a.get("events"), law)
+                               _balls(_key(a, "state", w), f"{w}.state"), a.get("events"), law, implied)
 
 
 def _source_block(d: Any, A: Any, source: str):

@@ -16,22 +16,23 @@ A_I-invariant part of the relations known on z.
 """
 from __future__ import annotations
 
+import decimal
 from dataclasses import dataclass
 from typing import Any
 
 from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
 
 from . import calcium
-from .balls import Policy, workprec
+from .balls import Policy, dyadic_lower, workprec
 from .modes import format_mode
-from .reals import as_real
+from .reals import RationalReal, as_real
 from .vectors import ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, ca_matvec, orbit_start
 from .polyhedra import eliminate
-from .rational import is_zero, submatrix, zeros
+from .rational import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, submatrix, to_fmpq, zeros
 from .roots import ExpSum, RootReal, newton_ball
 from .subspaces import RowSpan, invariant_forms, orbit_zero_forms, row_basis
 
-__all__ = ["Constraint", "Phase", "PhaseFunction", "EventState"]
+__all__ = ["Constraint", "Phase", "PhaseFunction", "EventState", "phase_horizon"]
 
 
 @dataclass(frozen=True)
@@ -386,3 +387,35 @@ class EventState(ExpVector):
                 return None
             return Theta, E - v * ((arb_mat(self.g) * E) * (1 / s))
 
+
+def phase_horizon(phase: Phase, H):
+    """(horizon to search, None) when H is within the limits of docs/limits.md for this phase's
+    rates, else (the largest horizon they allow, a reason): H max|lambda(A_I)| <= MAX_HORIZON_FAST
+    and H min{|lambda(A_I)| != 0} <= MAX_HORIZON_SLOW.  Applied to the phases evaluated (a mode
+    can be faster than A: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0}); a nilpotent A_I
+    has no limit (its constraints are polynomials), nor has an equilibrium (x constant: no event)."""
+    quick = phase.spectrum.modulus_bounds()  # bounds from chi's coefficients: no roots
+    if quick is None or phase.equilibrium:
+        return H, None
+    with workprec(64):
+        if H.arb(64) * quick[0] <= MAX_HORIZON_FAST and H.arb(64) * quick[1] <= MAX_HORIZON_SLOW:
+            return H, None
+    eig = phase.spectrum.eigenvalues(64)
+    with workprec(64):
+        mods = [abs(lam) for lam, _ in eig]
+        nonzero = [m for m in mods if m > 0]
+        if not nonzero:
+            return H, None
+        fast = max(nonzero, key=lambda b: b.upper()).upper()
+        slow = min(nonzero, key=lambda b: b.lower()).upper()
+        allowed = min(arb(MAX_HORIZON_FAST) / fast, arb(MAX_HORIZON_SLOW) / slow)
+        if H.arb(64) <= allowed:
+            return H, None
+        q = dyadic_lower(allowed)
+        with decimal.localcontext() as dc:  # a short decimal below it: readable, and exact to resume from
+            dc.prec, dc.rounding = 3, decimal.ROUND_FLOOR
+            cap = to_fmpq(str(decimal.Decimal(int(q.p)) / decimal.Decimal(int(q.q))))
+        which = "fast" if arb(MAX_HORIZON_FAST) / fast <= arb(MAX_HORIZON_SLOW) / slow else "slow"
+        reason = ("t * max|eigenvalue| <= 10^12, MAX_HORIZON_FAST" if which == "fast" else
+                  "t * min nonzero |eigenvalue| <= 10^6, MAX_HORIZON_SLOW")
+    return RationalReal(cap, phase.policy), reason

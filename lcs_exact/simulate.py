@@ -29,18 +29,19 @@ from typing import Any
 
 from flint import arb, fmpq, fmpq_mat
 
-from .balls import (ACCURACY_HEADROOM, MAX_DIGITS, Deadline, Policy, accuracy_bits, dyadic_lower, dyadic_upper,
+from .balls import (ACCURACY_HEADROOM, MAX_DIGITS, Deadline, Policy, accuracy_bits, digits_to_bits, dyadic_lower, dyadic_upper,
                     workprec)
 from .errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, NotRational,
                      ShapeError, TimeLimitExceeded, UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ReferenceStates, ScaledCycle, geometric_law, symmetry_exponents
+from .bounces import BOUNCE_PATIENCE, BounceWindow, bounce_cycle, bounce_window
 from .cascade import cascade_bound
 from .clock import SourceClock
 from .flow import next_event
 from .impacts import newton_impact
 from .schedule import shares_clock
-from .phase import Phase, PhaseFunction
-from .rational import (MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_PREC_BITS, is_zero, submatrix, to_fmpq, to_int, to_short,
+from .phase import Phase, PhaseFunction, phase_horizon
+from .rational import (MAX_PREC_BITS, is_zero, submatrix, to_fmpq, to_int, to_short,
                        vector_entries, vstack)
 from .reals import RationalReal, Real, as_real
 from .vectors import ExactVector, ProjectedVector, RationalVector, as_exact_vector, homogenized
@@ -287,7 +288,7 @@ class _Run:
                           choices=self.choices)
 
     def execute(self, z: ExactVector) -> None:
-        policy = self.policy
+        policy, self.origin = self.policy, z
         t = RationalReal(0, policy)
         mode_before = None
         triggers: tuple = ()
@@ -310,7 +311,7 @@ class _Run:
                                         f"at t = {t.label()}")
                 self.events.append(Event(t, mode_before, tuple(chain), mode.index_set, state_before, z,
                                          len(chain), impulse, triggers))
-                law = self.geometric_law(t, mode) if self.schedule is None else None
+                law = (self.geometric_law(t, mode) or self.bounce_law(t, mode)) if self.schedule is None else None
                 if law is not None:  # a proven right-accumulation at law.time <= t_end
                     t, z = self.cross(law, t, mode)
                     mode_before, triggers = None, ("accumulation",)
@@ -325,7 +326,7 @@ class _Run:
             if H.sign() == 0:
                 self.phases.append(PhaseRecord(t, self.T, mode.index_set, phase, self.undetermined))
                 return
-            H_search, cap = _phase_horizon(phase, H)
+            H_search, cap = phase_horizon(phase, H)
             try:
                 hit = next_event(phase, H_search, prec, self.clock.started(t, stop if cap is None else None) if self.clock else None)
             except (UnresolvedSign, LCSError) as e:
@@ -399,6 +400,26 @@ class _Run:
                                f"Remark 4.11); zeno='stop'", lower=lo, upper=hi, time=law.time)
         return law
 
+    def bounce_law(self, t, mode):
+        """The window of a proven accumulation of Newton impacts that no symmetry explains
+        (:mod:`lcs_exact.bounces`) when it ends before t_end, else None; tried every third event of
+        a run whose phases shrink (a proof costs milliseconds, a failed one less)."""
+        d = self.durations
+        if len(d) < 6 or len(d) % 3 or not all(b.arb(64) < a.arb(64) for a, b in zip(d[-4:], d[-3:])):
+            return None
+        window = bounce_window(self.lcs, self.events, t, mode, self.event_prec(), self.origin)
+        if window is None or (self.T - window.time).sign() < 0:
+            return None
+        if self.zeno == "stop":
+            digits = self.policy.digits + 2  # an enclosure as narrow as the run's digits
+            with workprec(digits_to_bits(digits) + 16):
+                b = window.time.ball(digits)
+                lo, hi = dyadic_lower(b), dyadic_upper(b)
+            raise ZenoDetected(f"event times accumulate at t = {window.time.label()} (Newton impacts proven to "
+                               f"accumulate: {window.proof!r}; Remark 4.11); zeno='stop'", lower=lo, upper=hi,
+                               time=window.time)
+        return window
+
     def enclose(self, form, t0, t1):
         """An arb enclosure of form . x(t) over [t0, t1] (exact reals inside the computed run),
         from the phases' exponential sums over their (outer, rational) time intervals."""
@@ -425,6 +446,11 @@ class _Run:
         """Cross a proven accumulation point: the motion on [t_k, T*) is the law's scaled cycles
         (:class:`~lcs_exact.accumulation.ScaledCycle`), x(T*-) its exact limit; the run goes on
         from there as Definition 4.10 prescribes (item 2: the limit state, then selection)."""
+        if isinstance(law, BounceWindow):  # no law: the window iterates the proven impact map on balls
+            self.phases.append(PhaseRecord(t, law.time, mode.index_set, law))
+            self.accumulations.append(Accumulation(law.time, law.limit_state, 1, None, len(self.events) - 1, law))
+            self.durations.clear()
+            return law.time, law.limit_state
         T_star, limit = law.time, law.limit
         offsets = [self.events[law.start + j].time - law.cycle_start for j in range(law.period)]
         cycle = ScaledCycle(law, ReferenceStates(self), t, mode, self.events[-1].state_after, offsets)
@@ -528,7 +554,14 @@ class _Run:
                        alternatives=alternatives)
 
     def check_accumulation(self, t_now) -> None:
-        check_accumulation(self.durations, t_now, self.T)
+        """Stop at a suspected accumulation (:mod:`lcs_exact.zeno`), unless the run repeats Newton
+        impacts of one contact: their proof (:meth:`bounce_law`) waits for flights short beside the
+        background's motion, up to BOUNCE_PATIENCE shrinking phases."""
+        try:
+            check_accumulation(self.durations, t_now, self.T)
+        except ZenoDetected:
+            if len(self.durations) >= BOUNCE_PATIENCE or bounce_cycle(self.lcs, self.events) is None:
+                raise
 
     def cascade_suspected(self) -> bool:
         """A cheap guess that the run is inside an impact cascade (the last phase more than 10^9
@@ -615,39 +648,6 @@ def _short(r) -> str:
     """A number for a message: its label, or 6 significant digits when that is long."""
     text = r.label()
     return text if len(text) <= 24 else f"{float(r.ball(6).mid()):.6g}"
-
-
-def _phase_horizon(phase: Phase, H):
-    """(horizon to search, None) when H is within the limits of docs/limits.md for this phase's
-    rates, else (the largest horizon they allow, a reason): H max|lambda(A_I)| <= MAX_HORIZON_FAST
-    and H min{|lambda(A_I)| != 0} <= MAX_HORIZON_SLOW.  Applied to the phases evaluated (a mode
-    can be faster than A: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0}); a nilpotent A_I
-    has no limit (its constraints are polynomials), nor has an equilibrium (x constant: no event)."""
-    quick = phase.spectrum.modulus_bounds()  # bounds from chi's coefficients: no roots
-    if quick is None or phase.equilibrium:
-        return H, None
-    with workprec(64):
-        if H.arb(64) * quick[0] <= MAX_HORIZON_FAST and H.arb(64) * quick[1] <= MAX_HORIZON_SLOW:
-            return H, None
-    eig = phase.spectrum.eigenvalues(64)
-    with workprec(64):
-        mods = [abs(lam) for lam, _ in eig]
-        nonzero = [m for m in mods if m > 0]
-        if not nonzero:
-            return H, None
-        fast = max(nonzero, key=lambda b: b.upper()).upper()
-        slow = min(nonzero, key=lambda b: b.lower()).upper()
-        allowed = min(arb(MAX_HORIZON_FAST) / fast, arb(MAX_HORIZON_SLOW) / slow)
-        if H.arb(64) <= allowed:
-            return H, None
-        q = dyadic_lower(allowed)
-        with decimal.localcontext() as dc:  # a short decimal below it: readable, and exact to resume from
-            dc.prec, dc.rounding = 3, decimal.ROUND_FLOOR
-            cap = to_fmpq(str(decimal.Decimal(int(q.p)) / decimal.Decimal(int(q.q))))
-        which = "fast" if arb(MAX_HORIZON_FAST) / fast <= arb(MAX_HORIZON_SLOW) / slow else "slow"
-        reason = ("t * max|eigenvalue| <= 10^12, MAX_HORIZON_FAST" if which == "fast" else
-                  "t * min nonzero |eigenvalue| <= 10^6, MAX_HORIZON_SLOW")
-    return RationalReal(cap, phase.policy), reason
 
 
 def _accuracy(ball) -> int:

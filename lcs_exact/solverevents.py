@@ -43,7 +43,7 @@ def implied_events(acc: Any, w: float) -> tuple[list, float] | None:
     apart from one another: up to the first one within max(2w, float resolution) of T*, after
     which every window touches the next and together they cover [that event - w, T* + w]; and
     T* as a float.  None when the accumulation carries no law."""
-    if getattr(acc, "cycle", None) is None and getattr(acc, "law", None) is None:
+    if getattr(acc, "cycle", None) is None and getattr(acc, "law", None) is None and getattr(acc, "implied", None) is None:
         return None  # a live Accumulation carries its law as ``cycle``, a fixture's as ``law``
     t_star = float(_mid(acc.time))
     resolution = max(2 * w, 2.0 ** -50 * max(1.0, abs(t_star)))
@@ -112,10 +112,12 @@ def event_windows(events: list, signatures: list, accumulations: Sequence, tf: l
 
 def reference_cycle(acc: Any) -> tuple[int | None, int]:
     """(index of the reference cycle's first event in the events, its length p)."""
-    law = getattr(acc, "law", None)
+    law, implied = getattr(acc, "law", None), getattr(acc, "implied", None)
     if isinstance(law, dict):
         return law.get("first_event"), len(law["offsets"])
-    return acc.first_event, len(acc.offsets)
+    if isinstance(implied, dict):  # a fixture's law-less accumulation: each implied event repeats one
+        return implied.get("first_event"), 1
+    return acc.first_event, len(acc.offsets) or 1
 
 
 def in_windows(tf: list, windows: list) -> list:

@@ -35,6 +35,7 @@ from .errors import InvalidArgument
 from . import errors as _errors
 from .expm import Spectrum, spectrum_of
 from .modes import Mode
+from .schedule import scheduled
 from .simulate import simulate
 from .system import LCS
 
@@ -159,6 +160,9 @@ class _Pickler(pickle.Pickler):
     def __init__(self, file, lcs: LCS | None):
         super().__init__(file, protocol=pickle.HIGHEST_PROTOCOL)
         self._lcs = lcs
+        # a scheduled system's phases are systems of their own: the parent's stand in for them too
+        schedule = getattr(lcs, "schedule", None)
+        self._phases = {} if schedule is None else {id(p.lcs): k for k, p in enumerate(schedule.phases)}
 
     def persistent_id(self, obj):
         if self._lcs is not None:
@@ -166,6 +170,10 @@ class _Pickler(pickle.Pickler):
                 return ("lcs",)
             if isinstance(obj, Mode) and obj.lcs is self._lcs:
                 return ("mode", tuple(sorted(obj.I)))
+            if isinstance(obj, LCS) and id(obj) in self._phases:
+                return ("phase", self._phases[id(obj)])
+            if isinstance(obj, Mode) and id(obj.lcs) in self._phases:
+                return ("phase mode", self._phases[id(obj.lcs)], tuple(sorted(obj.I)))
         if isinstance(obj, Spectrum):
             M = obj.M
             return ("spectrum", M.nrows(), tuple(str(c) for c in M.entries()))
@@ -183,6 +191,10 @@ class _Unpickler(pickle.Unpickler):
             return self._lcs
         if kind == "mode" and self._lcs is not None:
             return self._lcs.mode(pid[1])
+        if kind == "phase" and self._lcs is not None:
+            return self._lcs.schedule.phases[pid[1]].lcs
+        if kind == "phase mode" and self._lcs is not None:
+            return self._lcs.schedule.phases[pid[1]].lcs.mode(pid[2])
         if kind == "spectrum":
             n, entries = pid[1], pid[2]
             return spectrum_of(flint.fmpq_mat(n, n, [flint.fmpq(c) for c in entries]))
@@ -224,9 +236,19 @@ def _text_vector(x, where: str) -> list:
 
 
 def _system_text(lcs: LCS) -> tuple:
+    """What the worker needs to rebuild the dynamics exactly: the matrices, names and restitution
+    (Newton's law changes every impact), and for a scheduled system every phase, its duration
+    and reset, and the period."""
+    schedule = getattr(lcs, "schedule", None)
+    if schedule is not None:
+        phases = tuple((None if p.duration is None else str(p.duration), _system_text(p.lcs),
+                        None if p.reset is None else tuple(map(tuple, _text_matrix(p.reset))))
+                       for p in schedule.phases)
+        return ("scheduled", phases, None if schedule.period is None else str(schedule.period), lcs.name)
+    rest = None if lcs.restitution is None else tuple(str(e) for e in lcs.restitution)
     return (tuple(map(tuple, _text_matrix(lcs.A))), tuple(map(tuple, _text_matrix(lcs.B))),
             tuple(map(tuple, _text_matrix(lcs.C))), tuple(map(tuple, _text_matrix(lcs.D))),
-            lcs.name, tuple(lcs.state_names), tuple(lcs.constraint_names))
+            lcs.name, tuple(lcs.state_names), tuple(lcs.constraint_names), rest)
 
 
 #: chunks per CPU of the parent in a sweep (see ``_drive``)
@@ -237,11 +259,16 @@ _SYSTEMS: dict = {}   # per worker process: rebuilt systems keep their mode cach
 
 def _rebuild(system: tuple) -> LCS:
     lcs = _SYSTEMS.get(system)
-    if lcs is None:
-        A, B, C, D, name, state_names, constraint_names = system
+    if lcs is None and system[0] == "scheduled":
+        _, phases, period, name = system
+        lcs = scheduled([(d, _rebuild(text)) if reset is None else (d, _rebuild(text), [list(r) for r in reset])
+                         for d, text, reset in phases], period, name=name)
+    elif lcs is None:
+        A, B, C, D, name, state_names, constraint_names, rest = system
         lcs = LCS([list(r) for r in A], [list(r) for r in B], [list(r) for r in C],
                   [list(r) for r in D], name=name, state_names=list(state_names),
-                  constraint_names=list(constraint_names))
+                  constraint_names=list(constraint_names), restitution=None if rest is None else list(rest))
+    if system not in _SYSTEMS:
         if len(_SYSTEMS) > 64:
             _SYSTEMS.clear()
         _SYSTEMS[system] = lcs

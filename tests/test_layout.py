@@ -61,7 +61,7 @@ def test_no_import_cycles():
 LAYERS = ["interfaces", "errors", "rational", "convergence", "ratfunc", "subspaces", "lcp", "polyhedra", "balls", "flintlib", "calcium",
           "forms", "expm", "nodes", "reals", "vectors", "modes", "ldcp", "rcpfamily", "selection", "mapplot", "figlabels", "plotting",
           "modemap", "sources", "modelformat", "statespace", "wellposedness", "system", "impacts", "guesses", "roots", "polyroots", "closedforms", "phase", "clock", "flow", "fixnumbers", "fixture",
-          "trajectory", "accumulation", "taylormodels", "cascade", "zeno", "schedule", "simulate", "fixturereader", "exosystems",
+          "trajectory", "accumulation", "taylormodels", "cascade", "zeno", "bounces", "schedule", "simulate", "fixturereader", "exosystems",
           "mechanics", "circuits", "relays", "examples", "models", "solverevents", "compare", "testing", "sweep", "zoo", "modelfile",
           "cli", "pytest_plugin"]
 

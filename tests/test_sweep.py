@@ -204,3 +204,29 @@ def test_a_worker_killed_by_a_signal_loses_nothing():
         seq = simulate(carts, x0, 150)
         assert len(r.trajectory.events) == len(seq.events)
         assert all(a.ball(20).overlaps(b.ball(20)) for a, b in zip(r.trajectory.state(150), seq.state(150)))
+
+
+def test_a_sweep_keeps_restitution_and_schedules():
+    """The worker rebuilds the system from text: Newton's restitution and a schedule's phases must
+    travel with it (they did not: a damped ball with e = 1/2 stuck to the floor at its first impact
+    in a sweep, and a PWM buck converter ran its first phase forever).  Each result equals the
+    sequential run: events, times, the damped ball's accumulation, the final state."""
+    from concurrent.futures import ThreadPoolExecutor
+    from lcs_exact import sources
+    from lcs_exact.examples import buck_converter
+    ball = L.models.mechanical([[1]], [[0]], [[1]], damping=[["1/10"]], force=[sources.constant(-10)],
+                               restitution="1/2")
+    buck = buck_converter()
+    with ThreadPoolExecutor(1) as ex:
+        balls = sweep(ball, [ball.embed([1, 0]), ball.embed([2, 0])], 3, ex, progress=False)
+        bucks = sweep(buck, [buck.embed([0, 0]), buck.embed([1, 1])], 3, ex, progress=False)
+    for x0, r in zip([[1, 0], [2, 0]], balls):
+        seq = simulate(ball, ball.embed(x0), 3)
+        same_run(r.trajectory, seq)
+        assert len(r.trajectory.accumulations) == 1
+        assert r.trajectory.accumulations[0].time.decimal(30) == seq.accumulations[0].time.decimal(30)
+    for x0, r in zip([[0, 0], [1, 1]], bucks):
+        seq = simulate(buck, buck.embed(x0), 3)
+        same_run(r.trajectory, seq)
+        assert [e.triggers for e in r.trajectory.events] == [e.triggers for e in seq.events]
+        assert r.trajectory.state(3).rational() == seq.state(3).rational()
