@@ -42,6 +42,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from .accumulation import event_signature
 from .balls import dyadic_lower, dyadic_upper, workprec
+from .errors import LimitExceeded, UnresolvedSign
 from .rational import hstack, identity, submatrix, vstack, zeros
 from .reals import Real, as_real
 from .subspaces import kernel, rank
@@ -412,6 +413,8 @@ class _Iteration:
             mid = arb(X.mid())
             N = mid - ev.F(mid, sig, w) / ev.dF(X, sig, w)
             lo, hi = max(N.lower(), X.lower(), key=lambda b: b.mid()), min(N.upper(), X.upper(), key=lambda b: b.mid())
+            if not lo <= hi:  # N(X) and X overlap only within rounding: keep X (it holds the root)
+                return X
             Y = lo.union(hi)
             if not Y.rad() < X.rad() * arb("0.9"):
                 return Y if Y.rad() < X.rad() else X
@@ -441,7 +444,8 @@ class _Iteration:
             eps = arb(2) ** -bits
             while not self.tail(len(self.sig) - 1).upper() < eps:
                 if len(self.sig) > MAX_CYCLES:
-                    raise _Slow()
+                    raise LimitExceeded(f"the accumulation's impacts summed for {MAX_CYCLES} cycles without reaching "
+                                        f"{bits} bits (sigma' <= {float(self.proof.kappa):.6g} sigma): ask fewer digits")
                 self.step()
         return len(self.sig) - 1
 
@@ -460,10 +464,6 @@ class _Iteration:
                 if not t > self.t[m + 1]:
                     return None
                 m += 1
-
-
-class _Slow(Exception):
-    """The ball iteration ran out of cycles (a contraction too weak for the digits asked)."""
 
 
 class BounceWindow:
@@ -503,9 +503,10 @@ class BounceWindow:
         it = self.iteration(prec)
         M = it.until_tail(prec + 4)
         cyc = self.proof.cycle
-        with workprec(it.prec):
-            D = it.ev.drift(arb(self.proof.s_lo).union(arb(self.proof.s_hi)), arb(0).union(abs(it.sig[M]).upper()),
-                            it.w[M])
+        with workprec(it.prec):  # the drift over the proof's box: it holds every later w
+            box = arb_mat(cyc.m, 1, [arb(c).union(arb(c) - arb(r)).union(arb(c) + arb(r))
+                                      for c, r in zip(self.proof.centre, self.proof.radius)])
+            D = it.ev.drift(arb(self.proof.s_lo).union(arb(self.proof.s_hi)), arb(0).union(abs(it.sig[M]).upper()), box)
             spread = abs(it.sig[M]).upper() / (1 - it.kappa)
             w = arb_mat(cyc.m, 1, [it.w[M][i, 0] + arb(0, (abs(D[i, 0]).upper() * spread).upper()) for i in range(cyc.m)])
             return arb_mat(cyc.V) * w
@@ -515,7 +516,7 @@ class BounceWindow:
         it = self.iteration(prec)
         while len(it.t) <= k + 1:
             if len(it.t) > MAX_CYCLES:
-                raise _Slow()
+                raise LimitExceeded(f"implied event {k} of the accumulation is beyond {MAX_CYCLES} cycles of its window")
             it.step()
         return it.t[k + 1]
 
@@ -645,7 +646,8 @@ class BounceState(ExactVector):
                 x = self.window.ball_state(self.dt.arb(p), p)
             if x is not None:
                 return x
-        raise _Slow()
+        raise UnresolvedSign(f"x(t) inside the accumulation window at t = t_k + {self.dt.label()}: t cannot be "
+                             "told apart from an impact time (or from T*) at 4x the precision asked")
 
 
 class BounceLimitState(ExactVector):
