@@ -1,4 +1,4 @@
-"""Right-accumulations proven by a scaling symmetry (lcs_exact.accumulation): the symmetry of the
+"""Right-accumulations proven by a scaling symmetry (lcs_exact.dynamics.accumulation): the symmetry of the
 LCS data, the geometric law of the relay spiral (4.12) derived by hand, the scaled cycles."""
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ from flint import fmpq, fmpq_mat
 import pytest
 
 import lcs_exact as L
-from lcs_exact.accumulation import ScaledCycle, geometric_law, symmetry_exponents
-from lcs_exact.reals import RationalReal
-from lcs_exact.vectors import RationalVector
-from lcs_exact.trajectory import Event
+from lcs_exact.dynamics.accumulation import ScaledCycle, geometric_law, symmetry_exponents
+from lcs_exact.numbers.reals import RationalReal
+from lcs_exact.numbers.vectors import RationalVector
+from lcs_exact.dynamics.trajectory import Event
 
 
 def relay_lcs(B, C):

@@ -7,7 +7,7 @@ import pytest
 from flint import fmpq, fmpq_mat
 
 import lcs_exact as L
-from lcs_exact.expm import jordan_chevalley
+from lcs_exact.numbers.expm import jordan_chevalley
 
 from helpers import close, num
 from reference.flows import first_fall
@@ -138,7 +138,7 @@ def test_exact_tangential_touches_of_one_frequency_phases():
     y = 1 - sin t (q'' = -q from (0, -1)) grazes 0 at t = pi/2: no event.  The states at t_end
     are the free oscillations, by hand."""
     import mpmath
-    from lcs_exact.mechanics import mechanical
+    from lcs_exact.builders.mechanics import mechanical
     osc = mechanical([[1]], [[4]], [[1]], gap=[5])
     tr = L.simulate(osc, osc.embed([3, 8]), 3)
     assert tr.certified and tr.events == ()
@@ -177,8 +177,8 @@ def test_two_stops_hit_1e30_apart():
 
 def test_integers_beyond_the_working_precision_are_not_rounded():
     """An integer entry that needs more than 53 bits is not an exact 53-bit ball."""
-    from lcs_exact.reals import RationalReal
-    from lcs_exact.vectors import RationalVector
+    from lcs_exact.numbers.reals import RationalReal
+    from lcs_exact.numbers.vectors import RationalVector
     big = 10 ** 30 + 1
     assert RationalReal(big).arb(200).is_exact() and RationalReal(big).arb(200) == big
     v = RationalVector(fmpq_mat([[big], [-big]]))
