@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from .exosystems import driven
 from .mechanics import mechanical
-from .circuits import (circuit, circuit_ports)
+from .circuits import circuit, circuit_ports
 from .relays import relay
 from .examples import (ball_column, ball_on_spring, bouncing_ball, buck_converter, cart_chain, diode_bridge,
                        diode_bridge_cap_filter, filippov_spiral, half_wave_rectifier, newtons_cradle,

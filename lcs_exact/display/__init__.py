@@ -7,9 +7,9 @@ from here; the modules behind it are its own.
 """
 from __future__ import annotations
 
-from .figlabels import (derived_outputs, pair_label)
-from .plotting import (plot_mode_map, plot_trajectory)
-from .convergence import (convergence_slope, plot_convergence)
+from .figlabels import derived_outputs, pair_label
+from .plotting import plot_mode_map, plot_trajectory
+from .convergence import convergence_slope, plot_convergence
 
 __all__ = ["derived_outputs", "pair_label", "plot_mode_map", "plot_trajectory", "convergence_slope",
            "plot_convergence"]

@@ -11,12 +11,12 @@ from __future__ import annotations
 
 from .fixnumbers import (ball_number, ball_text, number_ball, number_exact, number_rational, short_text,
                          to_fraction)
-from .fixture import (MAX_SAMPLES, SCHEMA, check_digest, sample_grid, validate_fixture)
-from .trajectory import (Branches, Event, Status, Trajectory)
+from .fixture import MAX_SAMPLES, SCHEMA, check_digest, sample_grid, validate_fixture
+from .trajectory import Branches, Event, Status, Trajectory
 from .accumulation import Accumulation
-from .schedule import (sampled, scheduled)
+from .schedule import sampled, scheduled
 from .simulate import simulate
-from .sweep import (param_sweep, sweep, SweepResult)
+from .sweep import param_sweep, sweep, SweepResult
 
 __all__ = ["ball_number", "ball_text", "number_ball", "number_exact", "number_rational", "short_text",
            "to_fraction", "MAX_SAMPLES", "SCHEMA", "check_digest", "sample_grid", "validate_fixture",

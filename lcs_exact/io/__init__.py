@@ -7,8 +7,8 @@ from here; the modules behind it are its own.
 """
 from __future__ import annotations
 
-from .fixturereader import (FixtureTrajectory, read_fixture)
-from .modelfile import (MODEL_KEYS, check_exponents, load_model, read_model, read_model_data)
+from .fixturereader import FixtureTrajectory, read_fixture
+from .modelfile import MODEL_KEYS, check_exponents, load_model, read_model, read_model_data
 
 __all__ = ["FixtureTrajectory", "read_fixture", "MODEL_KEYS", "check_exponents", "load_model", "read_model",
            "read_model_data"]

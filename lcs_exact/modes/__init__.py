@@ -8,7 +8,7 @@ from here; the modules behind it are its own.
 """
 from __future__ import annotations
 
-from .mode import (format_mode, latex_mode, Mode, mode_order)
+from .mode import format_mode, latex_mode, Mode, mode_order
 from .selection import (admissibility_conditions, admissibility_forms, impulse_forms, initial_solution,
                         initial_solution_groups, is_regular, ldcp, rcp, rcp_data, select_modes, state_groups,
                         undetermined_inputs)

@@ -11,9 +11,9 @@ from __future__ import annotations
 from .balls import (ACCURACY_HEADROOM, DEFAULT_POLICY, MAX_DIGITS, accuracy_bits, ball_sign, Deadline,
                     digits_to_bits, dyadic, dyadic_lower, dyadic_upper, Policy, workprec)
 from . import calcium
-from .forms import (Closed, sympy_proves_zero)
-from .expm import (Spectrum, spectrum_of)
-from .reals import (AlgebraicReal, as_real, RationalReal, Real)
+from .forms import Closed, sympy_proves_zero
+from .expm import Spectrum, spectrum_of
+from .reals import AlgebraicReal, as_real, RationalReal, Real
 from .vectors import (algebraic_vector, as_exact_vector, as_state, ca_matvec, ComponentsVector, ExactVector,
                       expm_action, ExpVector, homogenized, orbit_start, ProjectedVector, RationalVector,
                       ScaledVector)

@@ -10,14 +10,14 @@ from __future__ import annotations
 
 from .sources import (AppendedStates, as_source, constant, cosine, exosystem, Exosystem, exponential,
                       parse_source, polynomial, sine, Source, source_block, SourceBlock)
-from .modelformat import (MATRIX_KEYS, MODEL_KEYS)
-from .statespace import (signal_names, time_response)
+from .modelformat import MATRIX_KEYS, MODEL_KEYS, model_data, write_model_file
+from .statespace import signal_names, time_response
 from .wellposedness import WellPosedness
 from .lcs import LCS
 from .impacts import newton_impact
-from .modemap import (ModeMap, Region)
+from .modemap import ModeMap, Region
 
 __all__ = ["AppendedStates", "as_source", "constant", "cosine", "exosystem", "Exosystem", "exponential",
            "parse_source", "polynomial", "sine", "Source", "source_block", "SourceBlock", "MATRIX_KEYS",
-           "MODEL_KEYS", "signal_names", "time_response", "WellPosedness", "LCS", "newton_impact", "ModeMap",
-           "Region"]
+           "MODEL_KEYS", "model_data", "write_model_file", "signal_names", "time_response", "WellPosedness",
+           "LCS", "newton_impact", "ModeMap", "Region"]

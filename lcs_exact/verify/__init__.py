@@ -6,9 +6,9 @@ from here; the modules behind it are its own.
 """
 from __future__ import annotations
 
-from .compare import (compare, ComparisonReport, convergence_order, read_solution_csv)
+from .compare import compare, ComparisonReport, convergence_order, read_solution_csv
 from .testing import assert_matches_fixture
-from .zoo import (cases, write_zoo, ZooCase)
+from .zoo import cases, write_zoo, ZooCase
 
 __all__ = ["compare", "ComparisonReport", "convergence_order", "read_solution_csv", "assert_matches_fixture",
            "cases", "write_zoo", "ZooCase"]
