@@ -16,7 +16,7 @@ from .dynamics import (Accumulation, Branches, Event, Status, SweepResult, Traje
                        validate_fixture)
 from .io import FixtureTrajectory, read_fixture, read_model
 from .verify import ComparisonReport, compare, convergence_order
-from . import examples, models, sources, zoo  # lcs_exact.examples, .models, .sources, .zoo as attributes
+from . import examples, modelfile, models, sources, testing, zoo  # the documented modules, as attributes
 
 __all__ = [
     "LCS", "Mode", "simulate", "Branches", "Accumulation", "Status", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",

@@ -152,6 +152,7 @@ def test_the_thin_modules_at_documented_paths_only_re_export():
         assert all(isinstance(n, ast.ImportFrom) for n in body), mod
         assert {dep for dep, _ in _imports(MODULES[mod])} == {home}, mod
         assert importlib.import_module(f"lcs_exact.{mod}").__all__ == importlib.import_module(f"lcs_exact.{home}").__all__
+        assert getattr(lcs_exact, mod) is importlib.import_module(f"lcs_exact.{mod}")   # after import lcs_exact alone
 
 
 def test_layers_point_down_and_cross_subpackages_only_through_doors():
@@ -206,8 +207,9 @@ def test_old_module_paths_are_the_moved_modules():
     for old, new in lcs_exact._MOVED.items():
         assert not (PKG / f"{old}.py").exists(), old
         assert importlib.import_module(f"lcs_exact.{old}") is importlib.import_module(f"lcs_exact.{new}")
+        assert old in lcs_exact.__all__ or getattr(lcs_exact, old) is importlib.import_module(f"lcs_exact.{new}")
     from lcs_exact.simulate import CASCADE_BUDGET  # noqa: F401  the module, while lcs_exact.simulate is the function
-    assert callable(lcs_exact.simulate) and callable(lcs_exact.sweep)
+    assert callable(lcs_exact.simulate) and callable(lcs_exact.sweep) and callable(lcs_exact.compare)
 
 
 def test_no_function_level_imports_of_the_package():

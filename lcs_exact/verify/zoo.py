@@ -47,8 +47,8 @@ from ..numbers import MAX_DIGITS
 from .compare import ComparisonReport, compare
 from ..errors import FormatError, InvalidArgument, LCSError
 from ..builders import (ball_column, bouncing_ball, buck_converter, cart_chain, diode_bridge, diode_bridge_cap_filter,
-                       filippov_spiral, half_wave_rectifier, newtons_cradle, sine_rectifier, two_carts,
-                       two_carts_with_hook)
+                        filippov_spiral, half_wave_rectifier, newtons_cradle, sine_rectifier, two_carts,
+                        two_carts_with_hook)
 from ..dynamics import MAX_SAMPLES, SCHEMA, validate_fixture
 from ..io import FixtureTrajectory, read_fixture
 from ..builders import circuit, relay
