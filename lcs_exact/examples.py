@@ -1,6 +1,7 @@
-# The documented path lcs_exact.examples of the module lcs_exact.builders.examples, which holds the code (its
-# home since the package was divided into subpackages): its names, and its documentation.
+"""The paper's systems and the standard scenes: the documented path ``lcs_exact.examples`` of
+:mod:`lcs_exact.builders.examples`, which holds the code and its documentation (its home since the
+package was divided into subpackages)."""
 from __future__ import annotations
 
 from .builders.examples import *  # noqa: F401,F403  (the names of its __all__)
-from .builders.examples import __all__, __doc__  # noqa: F401
+from .builders.examples import __all__  # noqa: F401

@@ -1,6 +1,7 @@
-# The documented path lcs_exact.testing of the module lcs_exact.verify.testing, which holds the code (its
-# home since the package was divided into subpackages): its names, and its documentation.
+"""Test helpers for other solvers' test suites: the documented path ``lcs_exact.testing`` of
+:mod:`lcs_exact.verify.testing`, which holds the code and its documentation (its home since the
+package was divided into subpackages)."""
 from __future__ import annotations
 
 from .verify.testing import *  # noqa: F401,F403  (the names of its __all__)
-from .verify.testing import __all__, __doc__  # noqa: F401
+from .verify.testing import __all__  # noqa: F401
