@@ -87,7 +87,7 @@ def peak_rss_mb() -> float:
 def long_run(events):
     lcs = L.LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-5, 2, 0, 0], [1, "-3/2", 0, 0]], [[0], [0], [1], [0]],
                 [[1, 0, 0, 0]], [[0]])
-    sim_mod = sys.modules["lcs_exact.simulate"]
+    sim_mod = sys.modules["lcs_exact.dynamics.simulate"]
     stamps = []
     orig = sim_mod._Run.anchor
 

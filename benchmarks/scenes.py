@@ -18,7 +18,7 @@ import time
 
 from lcs_exact import examples as ex
 from lcs_exact import models, simulate
-from lcs_exact.rational import to_fmpq
+from lcs_exact.algebra import to_fmpq
 
 HERE = pathlib.Path(__file__).resolve().parent
 

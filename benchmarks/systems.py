@@ -63,7 +63,7 @@ def text_matrix(m) -> list:
 
 
 def mechanical_data(M, K, E):
-    """A, B, C, D of (8.3) for M q'' + K q = E^T u, y = E q (:func:`lcs_exact.mechanics.mechanical`)."""
+    """A, B, C, D of (8.3) for M q'' + K q = E^T u, y = E q (:func:`lcs_exact.models.mechanical`)."""
     import lcs_exact as L
     lcs = L.mechanics.mechanical(M, K, E)
     return tuple(text_matrix(m) for m in (lcs.A, lcs.B, lcs.C, lcs.D))

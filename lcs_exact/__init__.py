@@ -1,27 +1,22 @@
 """lcs_exact: an exact engine for linear complementarity systems (Heemels, Schumacher, Weiland 2000)."""
 from __future__ import annotations
 
-from .compare import ComparisonReport, compare, convergence_order
-from .convergence import plot_convergence
+import sys as _sys
+from importlib import import_module as _import_module
+
 from .errors import (Deadlock, FixtureMismatch, FormatError, HorizonExceeded, IllPosed, InvalidArgument, LCSError,
                      LimitExceeded, NotAutonomous, NotRational, ShapeError, Undetermined, UnresolvedSign,
                      TimeLimitExceeded, Unsupported, WorkerDied, ZenoDetected)
-from .fixture import validate_fixture
-from .fixturereader import FixtureTrajectory, read_fixture
-from .lcp import all_solutions, is_p_matrix, solve_lcp
+from .algebra import RationalFunction, RationalMatrix, all_solutions, is_p_matrix, solve_lcp
+from .numbers import ExactVector, Real, expm_action
 from .modes import Mode
-from .ratfunc import RationalFunction, RationalMatrix
-from .reals import Real
-from .vectors import ExactVector, expm_action
-from .simulate import simulate
-from .sweep import SweepResult, param_sweep, sweep
-from .system import LCS
-from .wellposedness import WellPosedness
-from .accumulation import Accumulation
-from .trajectory import Branches, Event, Status, Trajectory
-from .modemap import ModeMap, Region
-from .modelfile import read_model
-from . import examples, models, sources, zoo  # lcs_exact.examples, .models, .sources, .zoo as attributes
+from .display import plot_convergence
+from .system import LCS, ModeMap, Region, WellPosedness
+from .dynamics import (Accumulation, Branches, Event, Status, SweepResult, Trajectory, param_sweep, simulate, sweep,
+                       validate_fixture)
+from .io import FixtureTrajectory, read_fixture, read_model
+from .verify import ComparisonReport, compare, convergence_order
+from . import examples, modelfile, models, sources, testing, zoo  # the documented modules, as attributes
 
 __all__ = [
     "LCS", "Mode", "simulate", "Branches", "Accumulation", "Status", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
@@ -34,3 +29,32 @@ __all__ = [
 ]
 
 __version__ = "0.1.0"
+
+# The modules' paths before the package was divided into subpackages (``lcs_exact.rational``, ...,
+# named by earlier documentation and by code written against it), each the module at its new
+# home: ``lcs_exact.rational is lcs_exact.algebra.rational``.  New code imports through the
+# subpackages' doors (docs/architecture.md).
+_MOVED = {
+    "rational": "algebra.rational", "ratfunc": "algebra.ratfunc", "subspaces": "algebra.subspaces",
+    "lcp": "algebra.lcp", "polyhedra": "algebra.polyhedra",
+    "balls": "numbers.balls", "flintlib": "numbers.flintlib", "calcium": "numbers.calcium", "forms": "numbers.forms",
+    "expm": "numbers.expm", "nodes": "numbers.nodes", "reals": "numbers.reals", "vectors": "numbers.vectors",
+    "closedforms": "numbers.closedforms", "taylormodels": "numbers.taylormodels",
+    "ldcp": "modes.ldcp", "rcpfamily": "modes.rcpfamily", "selection": "modes.selection",
+    "mapplot": "display.mapplot", "figlabels": "display.figlabels", "plotting": "display.plotting",
+    "convergence": "display.convergence",
+    "modelformat": "system.modelformat", "statespace": "system.statespace", "wellposedness": "system.wellposedness",
+    "impacts": "system.impacts", "modemap": "system.modemap",
+    "guesses": "dynamics.guesses", "roots": "dynamics.roots", "polyroots": "dynamics.polyroots",
+    "phase": "dynamics.phase", "clock": "dynamics.clock", "flow": "dynamics.flow", "fixnumbers": "dynamics.fixnumbers",
+    "fixture": "dynamics.fixture", "trajectory": "dynamics.trajectory", "accumulation": "dynamics.accumulation",
+    "cascade": "dynamics.cascade", "zeno": "dynamics.zeno", "schedule": "dynamics.schedule",
+    "simulate": "dynamics.simulate", "sweep": "dynamics.sweep",
+    "exosystems": "builders.exosystems", "mechanics": "builders.mechanics", "circuits": "builders.circuits",
+    "relays": "builders.relays", "fixturereader": "io.fixturereader", "solverevents": "verify.solverevents",
+    "compare": "verify.compare",
+}
+for _old, _new in _MOVED.items():
+    _sys.modules[f"{__name__}.{_old}"] = _import_module(f"{__name__}.{_new}")
+    globals().setdefault(_old, _sys.modules[f"{__name__}.{_old}"])   # the functions simulate, sweep stay
+del _old, _new

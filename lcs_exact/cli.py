@@ -40,20 +40,20 @@ import time
 from pathlib import Path
 
 from . import __version__
-from .balls import MAX_DIGITS
-from .compare import compare, convergence_order, read_solution_csv
+from .numbers import MAX_DIGITS
+from .verify import compare, convergence_order, read_solution_csv
 from .errors import FormatError, InvalidArgument, LCSError, UnresolvedSign
-from .fixture import MAX_SAMPLES, ball_number, sample_grid
-from .fixturereader import read_fixture
+from .dynamics import MAX_SAMPLES, ball_number, sample_grid
+from .io import read_fixture
 from .interfaces import SystemLike
-from .modelfile import MODEL_KEYS, check_exponents, load_model, read_model, read_model_data
-from .models import two_carts
+from .io import MODEL_KEYS, check_exponents, load_model, read_model, read_model_data
+from .builders import two_carts
 from .modes import format_mode
-from .rational import to_vector
-from .vectors import expm_action
-from .simulate import simulate
+from .algebra import to_vector
+from .numbers import expm_action
+from .dynamics import simulate
 from .system import LCS
-from .zoo import write_zoo
+from .verify import write_zoo
 
 __all__ = ["main", "load_model", "read_model", "read_model_data", "MAX_DIGITS", "MODEL_KEYS"]  # all but main: modelfile
 

@@ -17,14 +17,14 @@
 """
 from __future__ import annotations
 
-from .circuits import circuit, circuit_ports
-from .exosystems import driven
-from .examples import (ball_column, ball_on_spring, bouncing_ball, diode_bridge, diode_bridge_cap_filter,
+from .builders import circuit, circuit_ports
+from .builders import driven
+from .builders import (ball_column, ball_on_spring, bouncing_ball, diode_bridge, diode_bridge_cap_filter,
                        filippov_spiral, half_wave_rectifier, newtons_cradle, sine_rectifier, two_carts, buck_converter,
                        two_carts_with_hook)
-from .mechanics import mechanical
-from .relays import relay
-from .schedule import sampled, scheduled
+from .builders import mechanical
+from .builders import relay
+from .builders import sampled, scheduled
 
 __all__ = ["mechanical", "driven", "circuit", "circuit_ports", "relay", "scheduled", "sampled", "two_carts", "two_carts_with_hook",
            "half_wave_rectifier", "diode_bridge", "filippov_spiral", "bouncing_ball", "ball_on_spring",

@@ -1,4 +1,4 @@
-"""The precision policy (lcs_exact.balls): scoped precision, certified signs, unresolved zeros,
+"""The precision policy (lcs_exact.numbers.balls): scoped precision, certified signs, unresolved zeros,
 deadlines and rigorous evaluation of closed forms."""
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 import sympy as sp
 from flint import arb, ctx
 
-from lcs_exact.balls import (Deadline, Policy, closed_form_arb, decide_sign, digits_to_bits,
+from lcs_exact.numbers.balls import (Deadline, Policy, closed_form_arb, decide_sign, digits_to_bits,
                              workprec)
 from lcs_exact.errors import InvalidArgument, LimitExceeded, UnresolvedSign
 

@@ -1,4 +1,4 @@
-"""Accumulations of Newton impacts that no symmetry explains (lcs_exact.bounces), crossed: each scene
+"""Accumulations of Newton impacts that no symmetry explains (lcs_exact.dynamics.bounces), crossed: each scene
 is checked against a derivation written here (flights of a mass on a spring between impacts have
 closed forms: the return speed equals the launch speed, so v' = e v and the flight lasts
 (2/w) atan(v w / g))."""
@@ -12,7 +12,7 @@ import pytest
 from flint import fmpq, fmpq_mat
 
 import lcs_exact as L
-from lcs_exact import bounces
+from lcs_exact.dynamics import bounces
 from lcs_exact.examples import ball_on_spring
 
 from helpers import num as mid

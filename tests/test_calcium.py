@@ -1,4 +1,4 @@
-"""Tests of lcs_exact.calcium: Calcium's zero test through ctypes, on real values.
+"""Tests of lcs_exact.numbers.calcium: Calcium's zero test through ctypes, on real values.
 
 Each known zero / non-zero is decided by Calcium itself (the answers are exact); enclosures are
 checked against mpmath at a higher precision with exact rational arithmetic; layouts are checked
@@ -20,8 +20,8 @@ import mpmath as mp
 import pytest
 from flint import acb, arb, fmpq, fmpq_mat
 
-from lcs_exact import calcium, flintlib
-from lcs_exact.calcium import Ca
+from lcs_exact.numbers import calcium, flintlib
+from lcs_exact.numbers.calcium import Ca
 from lcs_exact.errors import NotRational, UnresolvedSign
 
 # python-flint 0.9 (a pinned dependency) bundles FLINT 3 with Calcium: it must load here.

@@ -20,9 +20,9 @@ import pytest
 from flint import fmpq
 
 import lcs_exact as L
-from lcs_exact.cascade import cascade_bound
+from lcs_exact.dynamics.cascade import cascade_bound
 from lcs_exact.models import mechanical
-from lcs_exact.trajectory import Status
+from lcs_exact.dynamics.trajectory import Status
 
 STOPS = [[1, 0, 0], [-1, 1, 0], [0, -1, 1]]  # q0 >= 0 (a wall), q1 - q0 >= 0, q2 - q1 >= 0
 
@@ -386,7 +386,7 @@ def test_the_proof_budget_counts_work_not_seconds(monkeypatch):
     """The cascade proof of the three carts at the wall, given the run's events: with a budget of
     work it succeeds or gives up at the same point whatever the clock says (a loaded machine),
     and a budget too small for it gives up (None) on every machine."""
-    from lcs_exact.taylormodels import NoProof, WorkBudget
+    from lcs_exact.numbers.taylormodels import NoProof, WorkBudget
     lcs = mechanical(*CARTS, STOPS)
     with pytest.raises(L.ZenoDetected) as info:
         L.simulate(lcs, [0, Fraction(1, 100), Fraction(1, 100), 0, -1, -1], 1)

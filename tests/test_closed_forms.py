@@ -7,8 +7,8 @@ import mpmath as mp
 import sympy as sp
 
 import lcs_exact as L
-from lcs_exact.closedforms import exp_candidates as _exp_candidates, solve_candidates as _solve_candidates
-from lcs_exact.expm import t_symbol
+from lcs_exact.numbers.closedforms import exp_candidates as _exp_candidates, solve_candidates as _solve_candidates
+from lcs_exact.numbers.expm import t_symbol
 
 _t = t_symbol()
 
@@ -100,7 +100,7 @@ def test_atan_forms_and_pi_after_an_irrational_start():
     proven through e^{A pi} = -I and the relation q = 0 on the start (no closed form of it needed)."""
     import sympy
     from lcs_exact import simulate
-    from lcs_exact.mechanics import mechanical
+    from lcs_exact.builders.mechanics import mechanical
     osc = mechanical([[1]], [[1]], [[1]], restitution="1/2")
     tr = simulate(osc, [1, "1/3"], 8)
     t1 = sympy.pi - sympy.atan(3)
@@ -115,7 +115,7 @@ def test_acos_of_a_quadratic_in_cos_t_two_harmonics():
     cos t meets first (by hand)."""
     import sympy
     from lcs_exact import simulate
-    from lcs_exact.mechanics import mechanical
+    from lcs_exact.builders.mechanics import mechanical
     two = mechanical([[1, 0], [0, 1]], [[1, 0], [0, 4]], [[1, 1]], gap=[8])
     tr = simulate(two, two.embed([-2, 16, 0, 0]), 2)
     want = sympy.acos((1 + sympy.sqrt(257)) / 32)

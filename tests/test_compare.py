@@ -16,7 +16,7 @@ from flint import arb, ctx, fmpq
 from helpers import A_CARTS, carts, mpmath_digits
 
 import lcs_exact as L
-from lcs_exact.compare import read_solution_csv
+from lcs_exact.verify.compare import read_solution_csv
 
 _mp = mpmath_digits(50)
 OSC = ([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])  # x'' = -x + u, 0 <= x ⊥ u >= 0 (a stop at 0)
@@ -492,7 +492,7 @@ def test_float_grid_overshoot_and_the_plants_columns():
 
 
 def test_an_older_fixture_without_sources_and_laws_still_reads():
-    from lcs_exact.fixture import content_digest
+    from lcs_exact.dynamics.fixture import content_digest
     fx = _ball_half().to_fixture(20)
     assert fx["sources"]["expressions"] == ["1"] and "law" in fx["accumulations"][0]
     old = {k: v for k, v in fx.items() if k not in ("sources", "digest")}

@@ -1,4 +1,4 @@
-"""Orders of convergence (lcs_exact.convergence): the least-squares slope against hand-made error
+"""Orders of convergence (lcs_exact.display.convergence): the least-squares slope against hand-made error
 laws, the figure's points, fitted line and legend, and the same order as compare.convergence_order
 on real comparison reports."""
 from __future__ import annotations
@@ -14,7 +14,7 @@ import pytest  # noqa: E402
 from flint import arb  # noqa: E402
 
 import lcs_exact as L  # noqa: E402
-from lcs_exact.convergence import convergence_slope  # noqa: E402
+from lcs_exact.display.convergence import convergence_slope  # noqa: E402
 
 
 @pytest.fixture(autouse=True)

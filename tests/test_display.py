@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from lcs_exact import LCS, RationalFunction, RationalMatrix
 from lcs_exact.errors import InvalidArgument, NotRational, ShapeError
 from lcs_exact.examples import two_carts, two_carts_with_hook
-from lcs_exact.modes import latex_mode
+from lcs_exact.modes.mode import latex_mode
 
 
 def roundtrip(lcs):

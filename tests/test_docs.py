@@ -55,11 +55,15 @@ def test_sphinx_build_passes_with_warnings_as_errors(built):
 def test_api_reference_covers_every_public_name(built):
     api = (DOCS / "api.rst").read_text(encoding="utf-8")
     documented = set(re.findall(r"^\.\. auto(?:class|function|exception|data)::\s+(\w+)\s*$", api, re.M))
-    modules = set(re.findall(r"^\.\. automodule::\s+lcs_exact\.(\w+)", api, re.M))
+    modules = set(re.findall(r"^\.\. automodule::\s+lcs_exact\.([\w.]+)", api, re.M))
     names = set(L.__all__)
     module_names = {n for n in names if type(getattr(L, n)).__name__ == "module"}
     assert names - module_names - documented == set()
-    assert module_names | {"models", "examples", "sources", "testing", "zoo", "sweep"} <= modules
+    home = {"models": "models", "examples": "builders.examples", "sources": "system.sources",
+            "testing": "verify.testing", "zoo": "verify.zoo"}   # the documented paths and the modules that hold the code
+    assert {home[m] for m in module_names} | {"models", "builders.examples", "system.sources", "verify.testing",
+                                               "verify.zoo", "dynamics.sweep"} <= modules
+    assert {"algebra", "numbers", "modes", "display", "system", "dynamics", "builders", "io", "verify"} <= modules  # the doors
     # and the built page holds each name with its docstring's first words
     page = text_of(built / "api.html")
     for name in sorted(names - module_names):
@@ -70,10 +74,12 @@ def test_api_reference_covers_every_public_name(built):
             assert first in page.replace("\n", " ") or first.replace("'", "\u2019") in page.replace("\n", " "), name
     for mod in ("models", "examples", "sources", "testing", "zoo"):
         public = importlib.import_module(f"lcs_exact.{mod}").__all__
+        assert public == importlib.import_module(f"lcs_exact.{home[mod]}").__all__
+        assert f"lcs_exact.{mod}" in page, mod
         for name in public:
             if mod == "models" and name not in ("mechanical", "driven", "circuit", "circuit_ports", "relay"):
                 continue   # the examples, documented under lcs_exact.examples
-            assert f"lcs_exact.{mod}.{name}" in page, (mod, name)
+            assert f"lcs_exact.{home[mod]}.{name}" in page, (mod, name)
 
 
 def test_model_file_page_matches_the_reader(tmp_path):

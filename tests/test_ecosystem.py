@@ -43,7 +43,7 @@ def test_to_pandas_and_files(carts_run, tmp_path):
     assert df.loc[0.0, "q_1"] == 1.0
     csv = tmp_path / "carts.csv"
     carts_run.to_csv(csv, [0, 0.25, 0.5])
-    from lcs_exact.compare import read_solution_csv
+    from lcs_exact.verify.compare import read_solution_csv
     t, X = read_solution_csv(csv)  # the format lcs-exact compare reads
     assert t == ["0.0", "0.25", "0.5"] and len(X[0]) == 4
     npz = tmp_path / "carts.npz"
@@ -279,7 +279,7 @@ def test_table_names_are_the_plots_names():
     named one (it was u_0 in tables whatever the name), the builder's words with roles."""
     tr = simulate(LCS(**OSC, constraint_names=["stop"]), [1, 0], 1)
     assert list(tr.to_pandas([0], u=True, y=True).columns) == ["x_0", "x_1", "u (stop)", "y (stop)"]
-    from lcs_exact.figlabels import pair_label  # the plots' legend names: one rule
+    from lcs_exact.display.figlabels import pair_label  # the plots' legend names: one rule
     assert pair_label(tr.lcs, "u", 0) == "u (stop)" and pair_label(tr.lcs, "y", 0) == "y (stop)"
     plain = simulate(LCS(**OSC), [1, 0], 1)
     assert list(plain.to_pandas([0], u=True, y=True).columns) == ["x_0", "x_1", "u_0", "y_0"]

@@ -1,4 +1,4 @@
-"""e^{Mt} (lcs_exact.expm): spectral balls against mpmath, no blow-up for stiff matrices, the exact
+"""e^{Mt} (lcs_exact.numbers.expm): spectral balls against mpmath, no blow-up for stiff matrices, the exact
 Jordan-Chevalley split, and exact values at closed-form times with Calcium."""
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ from flint import arb, arb_mat, ctx, fmpq, fmpq_mat
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from lcs_exact import calcium
-from lcs_exact.expm import Spectrum, jordan_chevalley
+from lcs_exact.numbers import calcium
+from lcs_exact.numbers.expm import Spectrum, jordan_chevalley
 
 
 def _check(M, t, z, digits=40):

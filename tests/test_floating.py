@@ -1,5 +1,5 @@
 """Floating networks: modes that are not autonomous but leave the state unique (DESIGN.md
-section 7; lcs_exact.modes, lcs_exact.selection).
+section 7; lcs_exact.modes.mode, lcs_exact.modes.selection).
 
 Siconos' DiodeBridgeCapFilter (LC tank L = 10 mH, C = 1 uF, a four-diode bridge, a 300 nF filter
 with a 1 kOhm load, x0 = (10 V, 0, 0), t_end = 5 ms) has a floating tank: while all four diodes
@@ -12,8 +12,8 @@ import pytest
 from flint import arb, fmpq
 
 from lcs_exact import LCS, NotAutonomous, Undetermined, simulate
-from lcs_exact.balls import workprec
-from lcs_exact.circuits import circuit
+from lcs_exact.numbers.balls import workprec
+from lcs_exact.builders.circuits import circuit
 
 NET = """C1 a b 1/1000000
 L1 a b 1/100
@@ -59,7 +59,7 @@ def test_the_undetermined_inputs_are_reported(runs):
     phases = [p for p in floating.phases if p.undetermined]
     assert phases  # all diodes blocking: the tank's potential is free
     p = phases[0]
-    from lcs_exact.balls import dyadic
+    from lcs_exact.numbers.balls import dyadic
     with workprec(64):
         t = dyadic((p.t0.ball(30) + p.t1.ball(30)) / 2)  # a rational time inside the phase
     free = floating.undetermined(t)

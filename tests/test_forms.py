@@ -1,4 +1,4 @@
-"""Light closed forms (lcs_exact.forms): values against mpmath and SymPy, exact zero tests by
+"""Light closed forms (lcs_exact.numbers.forms): values against mpmath and SymPy, exact zero tests by
 Calcium, SymPy's text, and the main job printing 1 + pi/2 without importing SymPy."""
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ import pytest
 import sympy
 from flint import arb, fmpq
 
-from lcs_exact.balls import workprec
+from lcs_exact.numbers.balls import workprec
 from lcs_exact.errors import InvalidArgument
-from lcs_exact.forms import Closed
+from lcs_exact.numbers.forms import Closed
 
 PI = Closed.pi_over_sqrt(1)
 

@@ -7,7 +7,7 @@ import pytest
 from flint import fmpq, fmpq_mat
 
 import lcs_exact as L
-from lcs_exact.expm import jordan_chevalley
+from lcs_exact.numbers.expm import jordan_chevalley
 
 from helpers import close, num
 from reference.flows import first_fall
@@ -138,7 +138,7 @@ def test_exact_tangential_touches_of_one_frequency_phases():
     y = 1 - sin t (q'' = -q from (0, -1)) grazes 0 at t = pi/2: no event.  The states at t_end
     are the free oscillations, by hand."""
     import mpmath
-    from lcs_exact.mechanics import mechanical
+    from lcs_exact.builders.mechanics import mechanical
     osc = mechanical([[1]], [[4]], [[1]], gap=[5])
     tr = L.simulate(osc, osc.embed([3, 8]), 3)
     assert tr.certified and tr.events == ()
@@ -177,8 +177,8 @@ def test_two_stops_hit_1e30_apart():
 
 def test_integers_beyond_the_working_precision_are_not_rounded():
     """An integer entry that needs more than 53 bits is not an exact 53-bit ball."""
-    from lcs_exact.reals import RationalReal
-    from lcs_exact.vectors import RationalVector
+    from lcs_exact.numbers.reals import RationalReal
+    from lcs_exact.numbers.vectors import RationalVector
     big = 10 ** 30 + 1
     assert RationalReal(big).arb(200).is_exact() and RationalReal(big).arb(200) == big
     v = RationalVector(fmpq_mat([[big], [-big]]))
@@ -228,7 +228,7 @@ def test_a_forced_impact_oscillator_grazing_on_a_nested_radical_critical_point_e
 def test_an_accumulation_without_a_law_is_proven_and_crossed():
     """A damped ball q'' = -q' - 10 dropped from q = 1 onto q >= 0 with e = 1/2: damping breaks
     the scaling symmetry, so no geometric law; the impacts are proven to accumulate by the
-    contraction of the impact map (lcs_exact.bounces) and the ball rests after T*.  Per phase
+    contraction of the impact map (lcs_exact.dynamics.bounces) and the ball rests after T*.  Per phase
     q = (v+ + 10)(1 - e^{-s}) - 10 s from q = 0 (the first from q = 1 - 10 t + 10 (1 - e^{-t})),
     v- = (v+ + 10) e^{-s} - 10, v+ = -v-/2 (derived here), summed until the flights are below
     1e-40: the impacts, T* (was an unproven estimate 1.16656 and a stop) and the implied impacts."""

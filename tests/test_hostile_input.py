@@ -29,8 +29,8 @@ from reference.linalg import det
 import lcs_exact
 from lcs_exact import (LCS, InvalidArgument, LCSError, LimitExceeded, NotRational, ShapeError, Unsupported,
                        expm_action, simulate)
-from lcs_exact.lcp import all_solutions, is_p_matrix, p_matrix_violation
-from lcs_exact.rational import (MAX_DIMENSION, MAX_ENUMERATION_K, MAX_HORIZON_FAST, MAX_HORIZON_SLOW,
+from lcs_exact.algebra.lcp import all_solutions, is_p_matrix, p_matrix_violation
+from lcs_exact.algebra.rational import (MAX_DIMENSION, MAX_ENUMERATION_K, MAX_HORIZON_FAST, MAX_HORIZON_SLOW,
                                 MAX_KAPPA, MAX_MARKOV_INDEX, MAX_P_TEST_K, MAX_RATIONAL_BITS, to_fmpq,
                                 to_matrix, to_vector)
 
@@ -646,7 +646,7 @@ def test_an_exact_equilibrium_has_no_horizon_limit():
     tr = simulate(cart, [sp.sqrt(2), 0], T)
     assert not tr.events and tr.certified and not tr.partial
     x = tr.state(T)
-    with lcs_exact.balls.workprec(256):
+    with lcs_exact.numbers.balls.workprec(256):
         assert abs(x[0].ball(40) - arb(2).sqrt()) < arb(10) ** -39 and x[1].sign() == 0
     # from (1/2, -1): v = -e^-t, p = e^-t - 1/2, which reaches 0 at log 2 with v = -1/2; the stop
     # resets v: (0, 0), an equilibrium again

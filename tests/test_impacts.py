@@ -1,4 +1,4 @@
-"""Newton's impact law with Moreau's generalisation (lcs_exact.impacts; DESIGN.md section 7).
+"""Newton's impact law with Moreau's generalisation (lcs_exact.system.impacts; DESIGN.md section 7).
 
 Oracles derived here: with e = 0 the law is (8.7)-(8.8), so every run must equal the paper's run
 (P_I) event by event; with e = 1 a single impact reverses the normal velocity, which keeps the
@@ -11,11 +11,11 @@ from __future__ import annotations
 import pytest
 from flint import arb, fmpq, fmpq_mat
 
-from lcs_exact.balls import workprec
+from lcs_exact.numbers.balls import workprec
 from lcs_exact import InvalidArgument, LCS, ShapeError, expm_action, simulate
 from lcs_exact.examples import cart_chain, two_carts, two_carts_with_hook
-from lcs_exact.impacts import newton_impact
-from lcs_exact.mechanics import mechanical
+from lcs_exact.system.impacts import newton_impact
+from lcs_exact.builders.mechanics import mechanical
 
 
 def agree(a, b, digits=40):
@@ -165,7 +165,7 @@ def test_bouncing_ball_dropped_from_rest_crosses_its_accumulation_exactly():
 
 def test_a_ball_with_a_radius_rests_on_the_floor_after_its_accumulation():
     """y = q - 1/10 (a ball of radius 1/10, a gap): the symmetry holds in the coordinates
-    q - 1/10 (lcs_exact.accumulation moves the constant offset onto the state).  Dropped from
+    q - 1/10 (lcs_exact.dynamics.accumulation moves the constant offset onto the state).  Dropped from
     q = 3/10 under g = 10: 3/10 - 1/10 = 5 t1^2, t1 = 1/5, impacts at t1 (1 + 2e + ...), with
     e = 1/2 the accumulation is at t1 (1 + e)/(1 - e) = 3/5, where the ball rests at q = 1/10."""
     ball = mechanical([[1]], [[0]], [[1]], force=[-10], gap=["-1/10"], restitution="1/2")

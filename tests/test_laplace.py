@@ -8,7 +8,7 @@ import sympy as sp
 from flint import fmpq, fmpq_mat, fmpq_poly
 from hypothesis import given, settings, strategies as st
 
-from lcs_exact.expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
+from lcs_exact.numbers.expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
 
 _t = t_symbol()
 

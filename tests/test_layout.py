@@ -1,11 +1,14 @@
-"""The package's shape (DESIGN.md section 3): imports point down only, no private names cross a
-module boundary, user errors belong to the LCSError tree, and importing the package stays light.
+"""The package's shape (docs/architecture.md): subpackages by subject, each with one door (its
+``__init__``, whose ``__all__`` names what others may import); imports point down only, across
+subpackages only through doors; no private names cross a module boundary; user errors belong to the
+LCSError tree; importing the package stays light.
 
 The import graph is read from the source with ``ast`` and includes imports made inside functions
 (a lazy import of a higher module is still a layer that knows one above it)."""
 from __future__ import annotations
 
 import ast
+import importlib
 import pathlib
 import subprocess
 import sys
@@ -13,64 +16,200 @@ import sys
 import lcs_exact
 
 PKG = pathlib.Path(lcs_exact.__file__).parent
-MODULES = {p.stem: p for p in PKG.glob("*.py") if p.stem not in ("__init__", "__main__")}
+
+
+def _name(path: pathlib.Path) -> str:
+    """The dotted name of a module under lcs_exact: ``dynamics.flow``; a door is its package's
+    name (``dynamics``), the package's own ``__init__`` is ``__init__``."""
+    parts = path.relative_to(PKG).with_suffix("").parts
+    if parts[-1] == "__init__" and len(parts) > 1:
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+MODULES = {_name(p): p for p in PKG.rglob("*.py") if p.name != "__main__.py"}
+
+#: the subpackages, bottom up: each imports only the doors of those before it
+SUBPACKAGES = ["algebra", "numbers", "modes", "display", "system", "dynamics", "builders", "io", "verify"]
+
+#: each subpackage's modules, bottom up: each imports only modules before it (and lower doors)
+LAYERS = {
+    "algebra": ["rational", "ratfunc", "subspaces", "lcp", "polyhedra"],
+    "numbers": ["balls", "flintlib", "calcium", "forms", "expm", "nodes", "reals", "vectors", "closedforms",
+                "taylormodels"],
+    "modes": ["mode", "ldcp", "rcpfamily", "selection"],
+    "display": ["convergence", "mapplot", "figlabels", "plotting"],
+    "system": ["modemap", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
+    "dynamics": ["guesses", "roots", "polyroots", "phase", "clock", "flow", "fixnumbers", "fixture", "trajectory",
+                 "accumulation", "cascade", "zeno", "bounces", "schedule", "simulate", "sweep"],
+    "builders": ["exosystems", "mechanics", "circuits", "relays", "examples"],
+    "io": ["fixturereader", "modelfile"],
+    "verify": ["solverevents", "compare", "testing", "zoo"],
+}
+
+#: the modules at the top: below every subpackage (any module may import them) ...
+BASE = ["interfaces", "errors"]
+#: ... and above every subpackage: the package's faces, which import doors
+FACES = ["models", "cli", "pytest_plugin", "__init__"]
+#: documented module paths kept as thin modules: each re-exports the module behind a door that holds its code
+REEXPORTS = {"examples": "builders.examples", "sources": "system.sources", "testing": "verify.testing",
+             "zoo": "verify.zoo", "modelfile": "io.modelfile"}
+
+
+def _package(mod: str) -> str:
+    """The package a module's relative imports start from ("" for the top)."""
+    if mod in SUBPACKAGES or mod == "__init__":
+        return "" if mod == "__init__" else mod
+    return mod.rpartition(".")[0]
+
+
+def _subpackage(mod: str) -> str | None:
+    head = mod.split(".")[0]
+    return head if head in SUBPACKAGES else None
+
+
+def _target(dotted: str) -> str:
+    return "__init__" if dotted == "" else dotted
 
 
 def _imports(path: pathlib.Path) -> set[tuple[str, str]]:
-    """(module, name) pairs imported from sibling modules, anywhere in the file."""
+    """(module, name) pairs this file imports from the package, anywhere in the file; a module
+    imported as a name (``from . import calcium``) is (that module, "*")."""
+    mod = _name(path)
     out = set()
     for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-        if isinstance(node, ast.ImportFrom):
-            if node.level == 1 and node.module:
-                mod = node.module.split(".")[0]
-                out |= {(mod, a.name) for a in node.names}
-            elif node.level == 1:  # from . import x
-                out |= {(a.name, "*") for a in node.names}
-            elif (node.module or "").startswith("lcs_exact."):
-                out |= {(node.module.split(".")[1], a.name) for a in node.names}
-    return {(m, n) for m, n in out if m in MODULES}
+        if not isinstance(node, ast.ImportFrom):
+            continue
+        if node.level:
+            base = _package(mod).split(".") if _package(mod) else []
+            base = base[:len(base) - (node.level - 1)] if node.level > 1 else base
+            pkg = ".".join(base + ([node.module] if node.module else []))
+        elif node.module == "lcs_exact" or (node.module or "").startswith("lcs_exact."):
+            pkg = node.module[len("lcs_exact."):] if "." in node.module else ""
+        else:
+            continue
+        for a in node.names:
+            sub = f"{pkg}.{a.name}" if pkg else a.name
+            if sub in MODULES and (a.name not in _door(pkg) or _subpackage(mod) == pkg):
+                out.add((sub, "*"))
+            else:
+                out.add((_target(pkg), a.name))
+    return out
 
 
-GRAPH = {m: {dep for dep, _ in _imports(p)} for m, p in MODULES.items()}
+def _door(pkg: str) -> set[str]:
+    """The names a subpackage's door exports (``from .dynamics import simulate`` is the function
+    of the door, not the module dynamics/simulate.py)."""
+    return set(importlib.import_module(f"lcs_exact.{pkg}").__all__) if pkg in SUBPACKAGES else set()
+
+
+GRAPH = {m: {dep for dep, _ in _imports(p)} - {m} for m, p in MODULES.items()}
 
 
 def _cycles() -> list[list[str]]:
-    found, seen = [], set()
+    """The cycles a depth-first walk meets (none, or at least one of each strongly connected part)."""
+    found, state = [], {}
 
     def walk(m, path):
-        for n in sorted(GRAPH[m]):
-            if n in path:
-                cyc = path[path.index(n):] + [n]
-                key = frozenset(cyc)
-                if key not in seen:
-                    seen.add(key)
-                    found.append(cyc)
-            else:
+        state[m] = "open"
+        for n in sorted(GRAPH.get(m, ())):
+            if state.get(n) == "open":
+                found.append(path[path.index(n):] + [n])
+            elif n not in state:
                 walk(n, path + [n])
+        state[m] = "done"
 
     for m in sorted(GRAPH):
-        walk(m, [m])
+        if m not in state:
+            walk(m, [m])
     return found
+
+
+def test_every_import_names_a_module_of_the_package():
+    """No import of a path that is not a file (an old path before the subpackages, say)."""
+    missing = sorted((m, dep) for m, deps in GRAPH.items() for dep in deps if dep not in MODULES)
+    assert missing == []
 
 
 def test_no_import_cycles():
     assert _cycles() == []
 
 
-#: every module in one order (DESIGN.md section 3 for the core): each imports only modules before it
-LAYERS = ["interfaces", "errors", "rational", "convergence", "ratfunc", "subspaces", "lcp", "polyhedra", "balls", "flintlib", "calcium",
-          "forms", "expm", "nodes", "reals", "vectors", "modes", "ldcp", "rcpfamily", "selection", "mapplot", "figlabels", "plotting",
-          "modemap", "sources", "modelformat", "statespace", "wellposedness", "system", "impacts", "guesses", "roots", "polyroots", "closedforms", "phase", "clock", "flow", "fixnumbers", "fixture",
-          "trajectory", "accumulation", "taylormodels", "cascade", "zeno", "bounces", "schedule", "simulate", "fixturereader", "exosystems",
-          "mechanics", "circuits", "relays", "examples", "models", "solverevents", "compare", "testing", "sweep", "zoo", "modelfile",
-          "cli", "pytest_plugin"]
+def test_every_module_lives_in_a_subpackage_or_is_named_at_the_top():
+    top = {m for m in MODULES if "." not in m and m not in SUBPACKAGES}
+    assert top == set(BASE) | set(FACES) | set(REEXPORTS)
+    assert {m.split(".")[0] for m in MODULES if "." in m} == set(SUBPACKAGES)
+    assert all((PKG / sub / "__init__.py").exists() for sub in SUBPACKAGES)
+    inside = {m for m in MODULES if "." in m}
+    assert inside == {f"{sub}.{m}" for sub, mods in LAYERS.items() for m in mods}
 
 
-def test_every_module_has_a_layer_and_the_layers_point_down():
-    assert sorted(LAYERS) == sorted(MODULES)
-    rank = {m: i for i, m in enumerate(LAYERS)}
-    bad = [(m, d) for m in LAYERS for d in GRAPH[m] if rank[d] >= rank[m]]
-    assert bad == []
+def test_the_thin_modules_at_documented_paths_only_re_export():
+    """``lcs_exact.examples`` and the like hold no code: a docstring and the import of their home."""
+    for mod, home in REEXPORTS.items():
+        tree = ast.parse(MODULES[mod].read_text(encoding="utf-8"))
+        body = [n for n in tree.body if not (isinstance(n, ast.Expr) and isinstance(n.value, ast.Constant))]
+        assert all(isinstance(n, ast.ImportFrom) for n in body), mod
+        assert {dep for dep, _ in _imports(MODULES[mod])} == {home}, mod
+        assert importlib.import_module(f"lcs_exact.{mod}").__all__ == importlib.import_module(f"lcs_exact.{home}").__all__
+        assert getattr(lcs_exact, mod) is importlib.import_module(f"lcs_exact.{mod}")   # after import lcs_exact alone
+
+
+def test_layers_point_down_and_cross_subpackages_only_through_doors():
+    """Inside a subpackage a module imports the ones before it in LAYERS; across subpackages it
+    imports a lower subpackage's door, never a module behind it; the base modules (errors,
+    interfaces) import nothing of the package; the faces import doors."""
+    rank = {sub: i for i, sub in enumerate(SUBPACKAGES)}
+    bad = []
+    for m, deps in GRAPH.items():
+        sub = _subpackage(m)
+        for d in deps:
+            if d in BASE:
+                if m in BASE and BASE.index(d) >= BASE.index(m):
+                    bad.append((m, d))
+                continue
+            dsub = _subpackage(d)
+            if m in REEXPORTS:
+                ok = d == REEXPORTS[m]
+            elif m in BASE:
+                ok = False
+            elif sub is None:                               # a face: doors, and the package itself
+                ok = d in SUBPACKAGES or d in FACES or d in REEXPORTS
+            elif dsub == sub:                               # inside a subpackage
+                order = LAYERS[sub]
+                ok = m == sub or order.index(d.split(".")[1]) < order.index(m.split(".")[1])
+            else:                                           # another subpackage: its door, lower
+                ok = d == dsub and rank[dsub] < rank[sub]
+            if not ok:
+                bad.append((m, d))
+    assert sorted(bad) == []
+
+
+def test_a_door_names_what_others_import_through_it():
+    """Every name imported through a door is in the door's ``__all__``, and each of those names
+    is the package's own (a door re-exports its modules, or a lower door)."""
+    missing = []
+    for m, p in MODULES.items():
+        for dep, name in _imports(p):
+            if dep in SUBPACKAGES and _subpackage(m) != dep and name != "*":
+                if name not in importlib.import_module(f"lcs_exact.{dep}").__all__:
+                    missing.append((m, dep, name))
+    assert missing == []
+    for sub in SUBPACKAGES:
+        door = importlib.import_module(f"lcs_exact.{sub}")
+        assert len(door.__all__) == len(set(door.__all__)), sub
+        assert all(hasattr(door, n) for n in door.__all__), sub
+
+
+def test_old_module_paths_are_the_moved_modules():
+    """The paths of the modules before the subpackages (``lcs_exact.rational``, ...) still import,
+    as the module itself (so a monkeypatch through either reaches the same module)."""
+    for old, new in lcs_exact._MOVED.items():
+        assert not (PKG / f"{old}.py").exists(), old
+        assert importlib.import_module(f"lcs_exact.{old}") is importlib.import_module(f"lcs_exact.{new}")
+        assert old in lcs_exact.__all__ or getattr(lcs_exact, old) is importlib.import_module(f"lcs_exact.{new}")
+    from lcs_exact.simulate import CASCADE_BUDGET  # noqa: F401  the module, while lcs_exact.simulate is the function
+    assert callable(lcs_exact.simulate) and callable(lcs_exact.sweep) and callable(lcs_exact.compare)
 
 
 def test_no_function_level_imports_of_the_package():
@@ -94,7 +233,7 @@ def test_no_module_over_700_lines():
 
 def test_no_private_names_across_modules():
     private = [(m, dep, name) for m, p in MODULES.items() for dep, name in _imports(p)
-               if name.startswith("_") and name != "*"]
+               if name.startswith("_") and not name.startswith("__")]
     assert private == []
 
 
@@ -104,7 +243,7 @@ def test_user_errors_are_lcs_errors():
     is also the builtin."""
     offenders = []
     for m, p in MODULES.items():
-        if m in ("calcium", "flintlib"):
+        if m in ("numbers.calcium", "numbers.flintlib"):
             continue
         for node in ast.walk(ast.parse(p.read_text(encoding="utf-8"))):
             if isinstance(node, ast.Raise) and isinstance(node.exc, ast.Call) and \

@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lcs_exact.errors import LCSError, ShapeError
-from lcs_exact.lcp import (LCPSolution, all_solutions, is_p_matrix, lemke, murty, p_matrix_violation,
+from lcs_exact.algebra.lcp import (LCPSolution, all_solutions, is_p_matrix, lemke, murty, p_matrix_violation,
                            solve_lcp)
 
 from reference.lcp import lcp_solutions

@@ -1,4 +1,4 @@
-"""Model files with sources, restitution and roles (lcs_exact.modelfile, lcs_exact.modelformat,
+"""Model files with sources, restitution and roles (lcs_exact.modelfile, lcs_exact.system.modelformat,
 ``LCS.to_model``, ``lcs_exact.read_model``, the source text of lcs_exact.sources).
 
 The round trip is checked on every builder's scene: the LCS read back has the same exact data and

@@ -13,8 +13,8 @@ from hypothesis import strategies as st
 from lcs_exact import LCS, is_p_matrix
 from lcs_exact.errors import NotAutonomous, ShapeError, Unsupported
 from lcs_exact.examples import two_carts, two_carts_with_hook
-from lcs_exact.modemap import Inequality
-from lcs_exact.rational import to_vector
+from lcs_exact.system.modemap import Inequality
+from lcs_exact.algebra.rational import to_vector
 
 SLICE = ([0, 0, 0, 0], [[0, 0, 1, 0], [0, 0, 0, 1]])
 E, S0, S1, S01 = frozenset(), frozenset({0}), frozenset({1}), frozenset({0, 1})

@@ -1,4 +1,4 @@
-"""The continuous phase and the next event (lcs_exact.phase, lcs_exact.flow): Lemma 5.1 at the
+"""The continuous phase and the next event (lcs_exact.dynamics.phase, lcs_exact.dynamics.flow): Lemma 5.1 at the
 start, the centered form of event states, simultaneous roots."""
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ import sympy as sp
 from flint import arb, ctx, fmpq_mat
 
 import lcs_exact as L
-from lcs_exact.balls import Policy, workprec
-from lcs_exact.phase import EventState, Phase
-from lcs_exact.vectors import ExpVector, as_exact_vector, expm_action
+from lcs_exact.numbers.balls import Policy, workprec
+from lcs_exact.dynamics.phase import EventState, Phase
+from lcs_exact.numbers.vectors import ExpVector, as_exact_vector, expm_action
 
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
 CARTS = L.LCS(A_CARTS, [[0], [0], [1], [0]], [[1, 0, 0, 0]], [[0]])

@@ -17,7 +17,7 @@ from matplotlib.patches import Polygon, Rectangle  # noqa: E402
 
 import lcs_exact as L  # noqa: E402
 from lcs_exact.examples import two_carts, two_carts_with_hook  # noqa: E402
-from lcs_exact.plotting import phase_intervals, plot_mode_map, plot_trajectory  # noqa: E402
+from lcs_exact.display.plotting import phase_intervals, plot_mode_map, plot_trajectory  # noqa: E402
 
 
 @pytest.fixture(autouse=True)
@@ -259,10 +259,11 @@ def test_mode_map_figure():
 
 
 def test_plotting_imports_point_down():
-    """plotting.py is below trajectory.py: it must not import trajectory or simulate."""
-    src = pathlib.Path(L.__file__).with_name("plotting.py").read_text()
+    """display/plotting.py is below trajectory.py: it must not import dynamics (trajectory,
+    simulate) or the builders."""
+    src = (pathlib.Path(L.__file__).parent / "display" / "plotting.py").read_text()
     mods = {n.module for n in ast.walk(ast.parse(src)) if isinstance(n, ast.ImportFrom) and n.module}
-    assert not mods & {"trajectory", "simulate", "flow", "models", "examples"}
+    assert mods and not mods & {"trajectory", "simulate", "flow", "models", "examples", "dynamics", "builders"}
 
 
 def test_import_does_not_load_matplotlib():
@@ -296,7 +297,7 @@ def test_each_mode_has_one_legend_entry_with_its_own_words_and_one_colour(full_w
     each led by its index set (as the event labels) and all different; every phase is shaded
     with the colour of its own mode's entry (read from the run's phases, not from the figure)."""
     from matplotlib.colors import to_rgb
-    from lcs_exact.modes import format_mode
+    from lcs_exact.modes.mode import format_mode
 
     fig = full_wave.plot(points=200)
     ax = fig.axes[0]

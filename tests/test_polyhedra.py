@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lcs_exact.errors import InvalidArgument
-from lcs_exact.polyhedra import find_point, is_feasible
+from lcs_exact.algebra.polyhedra import find_point, is_feasible
 
 from reference.polyhedra import fm_feasible
 

@@ -35,7 +35,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from lcs_exact import simulate
-from lcs_exact.balls import workprec
+from lcs_exact.numbers.balls import workprec
 from lcs_exact.models import mechanical
 
 from reference.mechanics import contact_force_matrix

@@ -1,4 +1,4 @@
-"""RCP(x0) in modes that are not autonomous (lcs_exact.rcpfamily): consistency and Fourier-Motzkin
+"""RCP(x0) in modes that are not autonomous (lcs_exact.modes.rcpfamily): consistency and Fourier-Motzkin
 over Q(s), checked on systems solved by hand, against the autonomous path, and on exact-real states."""
 from __future__ import annotations
 
@@ -13,10 +13,10 @@ from hypothesis import strategies as st
 import lcs_exact as L
 from helpers import close, modes, num
 from lcs_exact import RationalFunction, RationalMatrix
-from lcs_exact import rcpfamily
+from lcs_exact.modes import rcpfamily
 from lcs_exact.errors import LCSError, NotAutonomous, UnresolvedSign, Unsupported
-from lcs_exact.rcpfamily import family
-from lcs_exact.selection import admissibility_conditions, mode_admissible, state_groups, undetermined_inputs
+from lcs_exact.modes.rcpfamily import family
+from lcs_exact.modes.selection import admissibility_conditions, mode_admissible, state_groups, undetermined_inputs
 
 s = RationalFunction.s()
 

@@ -1,4 +1,4 @@
-"""Exact reals and vectors (lcs_exact.reals): anchored evaluation in a loop, structural signs,
+"""Exact reals and vectors (lcs_exact.numbers.reals): anchored evaluation in a loop, structural signs,
 homogeneity, composition, closed forms derived on demand."""
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import sympy as sp
 from flint import arb, fmpq, fmpq_mat
 
 import lcs_exact as L
-from lcs_exact.reals import RationalReal, SumReal, as_real, linear_terms
-from lcs_exact.vectors import RationalVector, ScaledVector, expm_action, homogenized
+from lcs_exact.numbers.reals import RationalReal, SumReal, as_real, linear_terms
+from lcs_exact.numbers.vectors import RationalVector, ScaledVector, expm_action, homogenized
 
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
 
@@ -93,7 +93,7 @@ def test_a_label_of_a_ball_around_zero_shows_only_its_bound():
     """sin²(π/7) + cos²(π/7) − 1 is 0 but not known to be: its ball straddles 0, and a label
     that printed the ball's midpoint would show digits of noise. A nonzero number as small
     relative to its parts, e^(π√163) − 640320³ − 744 ≈ −7.5e−13, keeps its digits."""
-    from lcs_exact.reals import ClosedFormReal
+    from lcs_exact.numbers.reals import ClosedFormReal
     s, c = sp.sin(sp.pi / 7), sp.cos(sp.pi / 7)
     z = ClosedFormReal(s**2) + ClosedFormReal(c**2) - 1
     lab = z.label()

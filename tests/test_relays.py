@@ -1,4 +1,4 @@
-"""Relay systems x' = Ax + Bw, w in Sgn(Cx), as LCSs (lcs_exact.relays): the data of (4.12) derived
+"""Relay systems x' = Ax + Bw, w in Sgn(Cx), as LCSs (lcs_exact.builders.relays): the data of (4.12) derived
 by hand, embed, mode selection against hand-derived sign patterns, the exact switching law of the
 spiral (4.12) from (1, 2), and sliding/rest of a single relay and of a Coulomb-friction oscillator.
 
@@ -23,7 +23,7 @@ from lcs_exact import RationalFunction
 from lcs_exact.errors import InvalidArgument, LimitExceeded, NotAutonomous, ShapeError, ZenoDetected
 from lcs_exact.examples import filippov_spiral
 from lcs_exact.models import relay
-from lcs_exact.selection import admissibility_conditions
+from lcs_exact.modes.selection import admissibility_conditions
 
 s = RationalFunction.s()
 ALL_MODES = [frozenset(c) for r in range(5) for c in combinations(range(4), r)]

@@ -11,8 +11,8 @@ from flint import arb, fmpq, fmpq_mat
 
 from lcs_exact import simulate
 from lcs_exact.errors import ZenoDetected
-from lcs_exact.balls import workprec
-from lcs_exact.circuits import circuit
+from lcs_exact.numbers.balls import workprec
+from lcs_exact.builders.circuits import circuit
 from lcs_exact.examples import ball_column, ball_on_spring, newtons_cradle, sine_rectifier
 from lcs_exact.sources import sine
 

@@ -7,8 +7,8 @@ import sympy as sp
 from helpers import A_CARTS, carts, close, modes, num
 
 import lcs_exact as L
-from lcs_exact.flow import theta
-from lcs_exact.trajectory import Status
+from lcs_exact.dynamics.flow import theta
+from lcs_exact.dynamics.trajectory import Status
 
 mp.mp.dps = 60
 
@@ -194,8 +194,8 @@ def test_unprovable_touch_is_reported_not_guessed():
 
 def test_accumulation_detector_on_geometric_phases():
     # Remark 4.11: phases 2^-i starting at t = 0 accumulate at t = 2 (< t_end = 3)
-    from lcs_exact.reals import RationalReal
-    from lcs_exact.zeno import check_accumulation as _check_accumulation
+    from lcs_exact.numbers.reals import RationalReal
+    from lcs_exact.dynamics.zeno import check_accumulation as _check_accumulation
     durations, t = [], RationalReal(0)
     with pytest.raises(L.ZenoDetected, match="accumulate"):
         for i in range(40):
@@ -358,7 +358,7 @@ def test_event_exactly_at_t_end_is_reported():
 def test_decimal_error_bounds_are_upper_bounds():
     """decimal(): a rounded rational carries a bound >= the true error; exact values stand alone."""
     from fractions import Fraction
-    from lcs_exact.reals import as_real
+    from lcs_exact.numbers.reals import as_real
     assert as_real("1/4").decimal(5) == "0.25" and as_real(0).decimal(5) == "0"
     for q in ("1/3", "2/7", 123456789012345):
         text, _, err = as_real(q).decimal(5).partition(" +/- ")

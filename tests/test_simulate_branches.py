@@ -8,7 +8,7 @@ import mpmath as mp
 import pytest
 
 import lcs_exact as L
-from lcs_exact.selection import initial_solution_groups
+from lcs_exact.modes.selection import initial_solution_groups
 
 # x' = -x + u, y = x - u, 0 <= y ⊥ u >= 0.  Mode ∅: u = 0, y = x (needs x >= 0), x = x0 e^-t.
 # Mode {0}: y = 0 so u = x, x' = 0 (needs u = x >= 0): x = x0 for ever.  From x0 > 0 both are

@@ -12,7 +12,7 @@ import sympy as sp
 from flint import fmpq
 
 import lcs_exact as L
-from lcs_exact.balls import dyadic_lower
+from lcs_exact.numbers.balls import dyadic_lower
 from lcs_exact.models import mechanical, two_carts_with_hook
 
 mp.mp.dps = 60

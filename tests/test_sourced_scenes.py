@@ -16,7 +16,7 @@ from helpers import mpmath_digits, num
 from lcs_exact import sources
 from lcs_exact.errors import InvalidArgument, NotRational, ShapeError
 from lcs_exact.models import mechanical, relay
-from lcs_exact.relays import LevelEmbedding
+from lcs_exact.builders.relays import LevelEmbedding
 
 _mp = mpmath_digits(40)
 DIGITS25 = mp.mpf(10) ** -25

@@ -1,4 +1,4 @@
-"""Sources and driven systems (lcs_exact.sources, lcs_exact.exosystems; DESIGN.md section 7).
+"""Sources and driven systems (lcs_exact.sources, lcs_exact.builders.exosystems; DESIGN.md section 7).
 
 Exosystem data are checked entry by entry against the definitions; the driven rectifier against a
 hand solution derived here (conduction: v' = sin t - 2v from v(0) = 0, so
@@ -11,9 +11,9 @@ import pytest
 from flint import fmpq, fmpq_mat
 
 from lcs_exact import InvalidArgument, LCS, NotRational, ShapeError, simulate, sources
-from lcs_exact.circuits import circuit
-from lcs_exact.exosystems import driven
-from lcs_exact.mechanics import mechanical
+from lcs_exact.builders.circuits import circuit
+from lcs_exact.builders.exosystems import driven
+from lcs_exact.builders.mechanics import mechanical
 from lcs_exact.sources import constant, cosine, exosystem, exponential, polynomial, sine
 
 

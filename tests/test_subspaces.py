@@ -14,9 +14,9 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from lcs_exact.errors import ShapeError
-from lcs_exact.subspaces import (complement, contains, image, intersection, kernel, left_kernel,
+from lcs_exact.algebra.subspaces import (complement, contains, image, intersection, kernel, left_kernel,
                                  projection, rref, same_subspace, solve_any, subspace_sum)
-from lcs_exact.subspaces import rank as lib_rank
+from lcs_exact.algebra.subspaces import rank as lib_rank
 
 from reference.linalg import eye, mm, rank
 from reference.linalg import span_le as ref_span_le

@@ -17,7 +17,7 @@ import mpmath as mp
 import pytest
 
 import lcs_exact as L
-from lcs_exact import zoo
+from lcs_exact.verify import zoo
 from lcs_exact.cli import main
 
 SCHEMA = json.loads(files("lcs_exact").joinpath("schemas", "trajectory-1.schema.json").read_text())

@@ -15,7 +15,7 @@ import pytest
 from solvers import backward_euler, moreau_jean
 
 import lcs_exact as L
-from lcs_exact import zoo
+from lcs_exact.verify import zoo
 
 def ball_law():
     """The zoo's bouncing ball: g = 981/100, e = 9/10, dropped from H = 1 (at the test's 60 digits)."""

@@ -1,0 +1,266 @@
+"""Exact subspace arithmetic over Q on ``fmpq_mat`` (sections 3-4 use it for V_I, T_I, P_I).
+
+Representation: a subspace of Q^n is an n x d ``fmpq_mat`` whose d columns are a basis (d = 0
+is the zero subspace, an n x 0 matrix).  Every function returns such a basis, reduced
+(columns of a reduced row echelon form of the transpose), so equal subspaces have equal bases.
+"""
+from __future__ import annotations
+
+from flint import fmpq_mat
+
+from ..errors import ShapeError
+from .rational import hstack, identity, submatrix, vstack, zeros
+
+__all__ = [
+    "rref", "rank", "kernel", "image", "left_kernel", "subspace_sum", "intersection",
+    "complement", "contains", "same_subspace", "solve_any", "projection",
+    "row_basis", "in_row_span", "RowSpan", "orbit_zero_forms", "invariant_forms", "pulled_back_forms",
+]
+
+
+def rref(m: fmpq_mat) -> tuple[fmpq_mat, list[int]]:
+    """Reduced row echelon form and the pivot columns."""
+    if m.nrows() == 0 or m.ncols() == 0:
+        return m, []
+    r, rk = m.rref()
+    pivots = []
+    for i in range(rk):
+        j = next(j for j in range(m.ncols()) if r[i, j] != 0)
+        pivots.append(j)
+    return r, pivots
+
+
+def rank(m: fmpq_mat) -> int:
+    return 0 if m.nrows() == 0 or m.ncols() == 0 else m.rank()
+
+
+def kernel(m: fmpq_mat) -> fmpq_mat:
+    """Basis (columns) of Ker m.
+
+    >>> kernel(fmpq_mat([[1, 0, 0, 0], [0, 0, 1, 0]])).transpose()
+    [0, 1, 0, 0]
+    [0, 0, 0, 1]
+    """
+    n = m.ncols()
+    if m.nrows() == 0:
+        return identity(n)
+    r, piv = rref(m)
+    free = [j for j in range(n) if j not in piv]
+    out = fmpq_mat(n, len(free))
+    for c, f in enumerate(free):
+        out[f, c] = 1
+        for i, p in enumerate(piv):
+            out[p, c] = -r[i, f]
+    return image(out)
+
+
+def image(m: fmpq_mat) -> fmpq_mat:
+    """Canonical basis (columns) of Im m: the nonzero rows of rref(m^T), transposed."""
+    n = m.nrows()
+    if m.ncols() == 0:
+        return zeros(n, 0)
+    r, piv = rref(m.transpose())
+    return submatrix(r, range(len(piv)), None).transpose() if piv else zeros(n, 0)
+
+
+def left_kernel(m: fmpq_mat) -> fmpq_mat:
+    """Rows spanning {w : w m = 0} (returned as a d x nrows matrix)."""
+    if m.ncols() == 0:
+        return identity(m.nrows())
+    return kernel(m.transpose()).transpose()
+
+
+def subspace_sum(*spaces: fmpq_mat) -> fmpq_mat:
+    """V1 + V2 + ..."""
+    return image(hstack(*spaces))
+
+
+def intersection(v: fmpq_mat, w: fmpq_mat) -> fmpq_mat:
+    """V ∩ W from bases: the kernel of [V, -W] mapped through V."""
+    n = v.nrows()
+    if v.ncols() == 0 or w.ncols() == 0:
+        return zeros(n, 0)
+    k = kernel(hstack(v, -w))
+    if k.ncols() == 0:
+        return zeros(n, 0)
+    return image(v * submatrix(k, range(v.ncols()), None))
+
+
+def complement(v: fmpq_mat) -> fmpq_mat:
+    """A complement of V in Q^n spanned by coordinate vectors (the non-pivot coordinates)."""
+    n = v.nrows()
+    _, piv = rref(v.transpose()) if v.ncols() else (None, [])
+    free = [j for j in range(n) if j not in piv]
+    return submatrix(identity(n), None, free)
+
+
+def contains(v: fmpq_mat, x: fmpq_mat) -> bool:
+    """x (columns) lies in Im v."""
+    return rank(hstack(v, x)) == rank(v)
+
+
+def same_subspace(v: fmpq_mat, w: fmpq_mat) -> bool:
+    return v.ncols() == w.ncols() and contains(v, w) and contains(w, v)
+
+
+def solve_any(m: fmpq_mat, rhs: fmpq_mat) -> fmpq_mat | None:
+    """One solution X of m X = rhs (free variables set to 0), or None when inconsistent."""
+    r, c = m.nrows(), m.ncols()
+    if rhs.nrows() != r:
+        raise ShapeError(f"solve_any: rhs has {rhs.nrows()} rows, matrix has {r}")
+    k = rhs.ncols()
+    if r == 0:
+        return zeros(c, k)
+    aug, piv = rref(hstack(m, rhs))
+    if any(p >= c for p in piv):
+        return None
+    x = zeros(c, k)
+    for i, p in enumerate(piv):
+        for j in range(k):
+            x[p, j] = aug[i, c + j]
+    return x
+
+
+def projection(v: fmpq_mat, t: fmpq_mat) -> fmpq_mat:
+    """The projection P onto V along T (requires V ⊕ T = Q^n): P = [V 0] [V T]^{-1}.
+
+    >>> v = fmpq_mat([[0, 0], [1, 0], [0, 0], [0, 1]]); t = fmpq_mat([[0, 1], [0, 0], [1, 0], [0, 0]])
+    >>> projection(v, t) * fmpq_mat([[0], [-1], [-1], [0]])
+    [ 0]
+    [-1]
+    [ 0]
+    [ 0]
+    """
+    n = v.nrows()
+    if v.ncols() + t.ncols() != n:
+        raise ShapeError(f"V (dim {v.ncols()}) and T (dim {t.ncols()}) do not split Q^{n}")
+    s = hstack(v, t) if n else zeros(0, 0)
+    if n == 0:
+        return s
+    if s.det() == 0:
+        raise ShapeError("V and T intersect: no projection onto V along T")
+    # coordinates of e_j in the basis [V T]: S^{-1}; keep the V block
+    coords = s.solve(identity(n))
+    return v * submatrix(coords, range(v.ncols()), None) if v.ncols() else zeros(n, n)
+
+
+
+# ---------------------------------------------------------------------------------------------
+# linear forms (rows) known to vanish on a vector, an orbit or a projection (section 4)
+# ---------------------------------------------------------------------------------------------
+
+
+def row_basis(*ms: fmpq_mat) -> fmpq_mat:
+    """A canonical basis (rows) of the span of the rows of all the matrices.
+
+    >>> row_basis(fmpq_mat([[1, 1], [2, 2]]), fmpq_mat([[0, 1]]))
+    [1, 0]
+    [0, 1]
+    """
+    nonempty = [m for m in ms if m.nrows()]
+    if not nonempty:
+        return zeros(0, ms[0].ncols() if ms else 0)
+    m = vstack(*nonempty)
+    return image(m.transpose()).transpose()
+
+
+class RowSpan:
+    """The row span of R, built once (rref rows and pivots) for many membership tests: a phase
+    or an exact vector tests many forms against the same known relations.
+
+    >>> Z = RowSpan(fmpq_mat([[1, 1, 0], [0, 0, 1]]))
+    >>> fmpq_mat([[2, 2, 0]]) in Z, fmpq_mat([[1, 0, 0]]) in Z, Z.dim
+    (True, False, 2)
+    """
+
+    __slots__ = ("rows", "pivots", "n")
+
+    def __init__(self, R: fmpq_mat):
+        self.n = n = R.ncols()
+        r, piv = rref(R) if R.nrows() else (R, [])
+        e = r.entries()
+        self.rows = [e[i * n:(i + 1) * n] for i in range(len(piv))]
+        self.pivots = piv
+
+    @property
+    def dim(self) -> int:
+        return len(self.pivots)
+
+    def __contains__(self, form: fmpq_mat) -> bool:
+        return not any(self.reduce(form))
+
+    def reduce(self, form: fmpq_mat) -> list:
+        """The entries of form minus its part in the span along the pivots: a linear map whose
+        kernel is the span (two forms agree modulo the span iff their reductions are equal)."""
+        f = form.entries()
+        for row, p in zip(self.rows, self.pivots):
+            c = f[p]
+            if c != 0:
+                f = [a - c * b for a, b in zip(f, row)]
+        return f
+
+    def proportional(self, fa: fmpq_mat, fb: fmpq_mat) -> bool:
+        """fa = c fb modulo the span for some c != 0, neither form in the span.
+
+        >>> Z = RowSpan(fmpq_mat([[0, 0, 1]]))
+        >>> Z.proportional(fmpq_mat([[2, 4, 7]]), fmpq_mat([[1, 2, 0]]))
+        True
+        >>> Z.proportional(fmpq_mat([[0, 0, 1]]), fmpq_mat([[0, 0, 2]]))  # both in the span
+        False
+        """
+        a, b = self.reduce(fa), self.reduce(fb)
+        j = next((i for i, v in enumerate(b) if v != 0), None)
+        if j is None or a[j] == 0:
+            return False
+        c = a[j] / b[j]
+        return all(x == c * y for x, y in zip(a, b))
+
+    def has_unit(self, i: int) -> bool:
+        """e_i in the span (coordinate i vanishes wherever the relations hold)."""
+        return fmpq_mat(1, self.n, [int(j == i) for j in range(self.n)]) in self
+
+
+def in_row_span(form: fmpq_mat, R: fmpq_mat) -> bool:
+    """True when the row ``form`` lies in the row span of R (exact); see :class:`RowSpan` for
+    many tests against one R."""
+    return form in RowSpan(R)
+
+
+def orbit_zero_forms(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
+    """Every form g with g e^{Mt} q = 0 for all t: the left kernel of the Krylov matrix
+    [q, Mq, ..., M^{n-1} q] (Cayley-Hamilton), exact.
+
+    >>> orbit_zero_forms(fmpq_mat([[0, 1, 0], [-1, 0, 0], [0, 0, 1]]), fmpq_mat([[1], [0], [0]]))
+    [0, 0, 1]
+    """
+    cols, v = [], q
+    for _ in range(M.nrows()):
+        cols.append(v)
+        v = M * v
+    return left_kernel(hstack(*cols))
+
+
+def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
+    """The largest subspace U of rowspan(R) with U M in U (rows): R x = 0 implies U e^{Mt} x = 0."""
+    n = M.nrows()
+    U = row_basis(R) if R.nrows() else zeros(0, n)
+    while U.nrows():
+        d = U.nrows()
+        k = kernel(hstack((U * M).transpose(), -U.transpose()))  # a U M in span(U)
+        a = submatrix(k, range(d), None) if k.ncols() else zeros(d, 0)
+        newU = row_basis(a.transpose() * U) if a.ncols() else zeros(0, n)
+        if newU.nrows() == U.nrows():
+            return U
+        U = newU
+    return U
+
+
+def pulled_back_forms(P: fmpq_mat, Z: fmpq_mat) -> fmpq_mat:
+    """Rows r with r P in rowspan(Z): the forms that vanish on P v whenever Z v = 0."""
+    m = P.nrows()
+    if not Z.nrows():
+        return left_kernel(P)
+    k = kernel(hstack(P.transpose(), -Z.transpose()))  # (r, s) with P^T r = Z^T s
+    if not k.ncols():
+        return zeros(0, m)
+    return row_basis(submatrix(k, range(m), None).transpose())

@@ -1,0 +1,421 @@
+"""The continuous phase in mode I (section 4.1): x(t) = e^{A_I t} z and its constraint functions.
+
+From a consistent state z in V_I the phase is x(t) = e^{A_I t} z with A_I = A + B_.I F_I; the
+monitored functions (4.5) are u_i = (F_I)_i x (i in I) and y_i = (C_i + D_{i,I} F_I) x (i not
+in I), each f(t) = g e^{A_I t} z with a rational row g (:class:`Constraint`).
+
+Representation.  The spectral data of A_I live on the mode (computed once per mode); the phase
+computes the modal vectors K_lambda N^j z / j! of its start once per precision, and every
+constraint is then an exponential sum (:class:`PhaseFunction`, :class:`~lcs_exact.roots.ExpSum`).
+Homogeneity: when z = c v with c > 0 proven (:class:`~lcs_exact.vectors.ScaledVector`), the
+functions are those of v - the same roots, exactly, with no dependence on c.
+
+Forms vanishing on the whole phase (``zero_forms``): for a rational start q, the left kernel of
+the Krylov matrix [q, A_I q, ..., A_I^{n-1} q]; otherwise the annihilator of V_I and the
+A_I-invariant part of the relations known on z.
+"""
+from __future__ import annotations
+
+import decimal
+from dataclasses import dataclass
+from typing import Any
+
+from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
+
+from ..numbers import calcium
+from ..numbers import Policy, dyadic_lower, workprec
+from ..modes import format_mode
+from ..numbers import RationalReal, as_real
+from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, ca_matvec, orbit_start
+from ..algebra import eliminate
+from ..algebra import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, submatrix, to_fmpq, zeros
+from .roots import ExpSum, RootReal, newton_ball
+from ..algebra import RowSpan, invariant_forms, orbit_zero_forms, row_basis
+
+__all__ = ["Constraint", "Phase", "PhaseFunction", "EventState", "phase_horizon"]
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """One monitored function of a phase: ``kind`` 'u' or 'y', constraint ``index``, row ``g``.
+    In a mode that is not autonomous, ``kind`` 'c' is a condition on the state left by
+    eliminating the free inputs (``label`` names the rows it combines, e.g. ``"u_1 & y_0"``)."""
+
+    kind: str
+    index: int
+    g: fmpq_mat
+    label: str = ""
+
+    @property
+    def name(self) -> str:
+        return self.label or f"{self.kind}_{self.index}"
+
+
+class PhaseFunction:
+    """f(t) = g e^{A_I t} v on a phase (v its start, or the base of a scaled start) as a
+    :class:`~lcs_exact.roots.RootFunction`: exponential sums at any precision."""
+
+    def __init__(self, phase: "Phase", g: fmpq_mat, name: str):
+        self.phase, self.g, self.name = phase, g, name
+        self.policy = phase.policy
+        self._sum: ExpSum | None = None
+
+    def at(self, prec: int) -> ExpSum:
+        if self._sum is None or self._sum.prec < prec:
+            modal = self.phase.modal(prec)
+            with workprec(prec):
+                gc = acb_mat(self.g)
+                terms = [(lam, w, [(gc * v)[0, 0] for v in ws]) for lam, w, ws in modal]
+            self._sum = ExpSum(terms, prec)
+        return self._sum
+
+    def deps(self) -> tuple:
+        return (self.phase.base,)
+
+    def __getstate__(self):
+        # the exponential sum is a ball cache of the exact data (rebuilt on demand): a pickled
+        # trajectory (sweeps) carries its exact definitions and computed digits, not its caches
+        return {**self.__dict__, "_sum": None}
+
+    def exact_coefficients(self) -> list | None:
+        """f as an exact polynomial in t, sum_j c_j t^j with c_j = g N^j z / j!, when A_I is
+        nilpotent (a free fall, a relay's constant field, a chain of integrators) and the start
+        z is known exactly: ``fmpq`` coefficients for a rational z, Calcium numbers for an
+        algebraic one; None otherwise."""
+        z = self.phase.exact_start
+        if z is None:
+            return None
+        rows = [self.g * P for P in self.phase.spectrum.nilpotent]
+        if isinstance(z, fmpq_mat):
+            return [(r * z)[0, 0] for r in rows]
+        return [ca_matvec(r, z)[0] for r in rows]
+
+    def describe(self) -> str:
+        return self.name
+
+    def derivative(self) -> "PhaseFunction":
+        """f' = g A_I e^{A_I t} v."""
+        return PhaseFunction(self.phase, self.g * self.phase.M, f"{self.name}'")
+
+
+class Phase:
+    """The continuous phase in mode I from the consistent state z (x(t) = e^{A_I t} z)."""
+
+    def __init__(self, mode, z: ExactVector, policy: Policy):
+        self.mode = mode
+        self.lcs = mode.lcs
+        self.policy = policy
+        self.spectrum = mode.spectrum()
+        self.M = self.spectrum.M
+        self.z = z
+        if isinstance(z, ScaledVector):
+            self.base, self.scale = z.v, z.c
+        else:
+            self.base, self.scale = z, None
+        inner, _ = orbit_start(self.base, self.M)
+        q = inner.known_rational()
+        if q is not None:
+            self.zero_forms = orbit_zero_forms(self.M, q)
+        else:
+            W = mode.annihilator()
+            inv = invariant_forms(self.base.zero_forms, self.M) if self.base.zero_forms.nrows() else W
+            self.zero_forms = row_basis(W, inv) if W.nrows() or inv.nrows() else zeros(0, self.M.nrows())
+        self.constraints = self._constraints()
+        q0 = self.base.known_rational()
+        # A_I z = 0, proven: x(t) = z throughout, so every monitored function is constant (no
+        # event ever, at any horizon).  Exact for a rational start; for another, when every row
+        # of A_I is among the forms proven to vanish on the phase
+        self.equilibrium = is_zero(self.M * q0) if q0 is not None else \
+            all(submatrix(self.M, [i], None) in self.zero_span for i in range(self.M.nrows()))
+        # a polynomial phase (A_I nilpotent) from an exactly known start: exact roots and states
+        self.exact_start = None
+        if self.spectrum.nilpotent_only:
+            q = self.base.known_rational()
+            self.exact_start = q if q is not None else self.base.known_ca()
+        self._powers: dict = {}
+        self._modal = None
+        self._modal_prec = 0
+        self._functions: dict = {}
+
+    def _constraints(self) -> list[Constraint]:
+        mode, C, D = self.mode, self.lcs.C, self.lcs.D
+        F = mode.feedback()
+        cons = [Constraint("u", i, submatrix(F, [r], None)) for r, i in enumerate(mode.I)]
+        for i in mode.Ic:
+            g = submatrix(C, [i], None)
+            if mode.I:
+                g = g + submatrix(D, [i], mode.I) * F
+            cons.append(Constraint("y", i, g))
+        W = mode.free_inputs() if mode.I else None
+        if W is None or W.ncols() == 0:
+            return cons
+        # a state-determined mode with free inputs b (u_I = F x + W b): the phase lasts while
+        # some b keeps u_I >= 0 and y_Ic >= 0, i.e. while the rows left by Fourier-Motzkin hold
+        d = W.ncols()
+        rows = []
+        for r, c in enumerate(cons):
+            if c.kind == "u":
+                h = [W[r, j] for j in range(d)]
+            else:
+                DW = submatrix(D, [c.index], mode.I) * W
+                h = [DW[0, j] for j in range(d)]
+            rows.append(([c.g[0, j] for j in range(c.g.ncols())], h, frozenset({c.name})))
+        out = []
+        for k, (g, label) in enumerate(eliminate(rows, d)):
+            names = sorted(label)
+            kind, _, idx = names[0].partition("_")
+            row = fmpq_mat(1, len(g), g)
+            out.append(Constraint(kind, int(idx), row) if len(names) == 1 else
+                       Constraint("c", k, row, " & ".join(names)))
+        return out
+
+    def __getstate__(self):
+        return {**self.__dict__, "_modal": None, "_modal_prec": 0}  # ball caches, as above
+
+    # --- data per precision -------------------------------------------------------------------
+    def ball_state(self, dt: arb, prec: int) -> arb_mat:
+        """x(t) at a ball dt = t - t_s (relative to the phase start), at ``prec`` bits: one
+        exponential per eigenvalue from the modal data (sampling, plots)."""
+        with workprec(prec):
+            x = self.spectrum.apply(dt, self.base.arb(prec), prec, self.modal(prec))
+            return x * self.scale.arb(prec) if self.scale is not None else x
+
+    def modal(self, prec: int) -> list:
+        """Modal vectors of the phase's base start at ``prec`` bits (cached at the highest)."""
+        if self._modal_prec < prec:
+            modal = self.spectrum.modal(self.base.arb, prec, lambda: self.policy.check_deadline(
+                f" while computing the spectral data of mode {format_mode(self.mode.I)} at {prec} bits"))
+            zero = self.zero_coordinates()
+            if zero:  # x_i = 0 on the whole phase: every modal coefficient of x_i is 0 exactly
+                for _, _, ws in modal:
+                    for w in ws:
+                        for i in zero:
+                            w[i, 0] = 0
+            self._modal, self._modal_prec = modal, prec
+        return self._modal
+
+    def zero_coordinates(self) -> list[int]:
+        """The coordinates i with x_i(t) = 0 on the whole phase (e_i in the span of the forms
+        that vanish on it).  The exponentials e^{lambda t} t^j are independent, so each modal
+        coefficient of such an x_i is exactly 0: balls computed through the spectral factors
+        are replaced by exact zeros (a constrained cart's position samples as exactly 0)."""
+        if "_zero_coords" not in self.__dict__:
+            span = self.zero_span
+            self._zero_coords = [i for i in range(self.M.nrows()) if span.dim and span.has_unit(i)]
+        return self._zero_coords
+
+    @property
+    def zero_span(self) -> RowSpan:
+        """The span of the forms vanishing on the phase, for membership tests (built once)."""
+        if "_zero_span" not in self.__dict__:
+            self._zero_span = RowSpan(self.zero_forms)
+        return self._zero_span
+
+    def function(self, c: Constraint) -> PhaseFunction:
+        key = (c.kind, c.index)
+        if key not in self._functions:
+            self._functions[key] = PhaseFunction(self, c.g, c.name)
+        return self._functions[key]
+
+    def gM(self, c: Constraint, j: int) -> fmpq_mat:
+        """g A_I^j (cached)."""
+        key = (c.kind, c.index, j)
+        if key not in self._powers:
+            self._powers[key] = c.g if j == 0 else self.gM(c, j - 1) * self.M
+        return self._powers[key]
+
+    # --- the start of the phase (Lemma 5.1) ----------------------------------------------------
+    def start_order(self, c: Constraint) -> tuple[int, int]:
+        """(sign, order) of f at t = 0+: the first nonzero f^{(j)}(0) = g A_I^j z; (0, -1) if f = 0
+        identically (Cayley-Hamilton: n zeros suffice)."""
+        for j in range(self.lcs.n):
+            form = self.gM(c, j)
+            if form in self.zero_span:
+                continue
+            s = self.base.sign_of_form(form)
+            if s:
+                return s, j
+        return 0, -1
+
+    def vanishing(self, c: Constraint) -> bool:
+        """f = 0 on the whole phase (proven)."""
+        return self.start_order(c)[0] == 0
+
+    # --- states -------------------------------------------------------------------------------
+    def state(self, t: Any, extra_zero_forms: fmpq_mat | None = None) -> ExactVector:
+        """x(t) = e^{A_I t} z (t relative to the phase start), with the phase's vanishing forms and
+        ``extra_zero_forms`` (the constraints proven zero at t) as its known relations."""
+        t = as_real(t, self.policy)
+        zf = self.zero_forms
+        if extra_zero_forms is not None and extra_zero_forms.nrows():
+            zf = row_basis(zf, extra_zero_forms) if zf.nrows() else row_basis(extra_zero_forms)
+        if t.known_rational() == 0 or self.equilibrium:
+            return self.z
+        x = self._exact_state(t, zf)
+        if x is None:
+            x = ExpVector(self.spectrum, t, self.base, zf, self.policy, modal=self.modal)
+        return ScaledVector(self.scale, x, self.policy) if self.scale is not None else x
+
+    def _exact_state(self, t, zero_forms) -> ExactVector | None:
+        """e^{N t} z = sum_j N^j z t^j / j! exactly, on a polynomial phase from an exact start at
+        an exactly known time t (rational or algebraic); None otherwise."""
+        z = self.exact_start
+        if z is None:
+            return None
+        tq = t.known_rational()
+        nil = self.spectrum.nilpotent
+        if tq is not None and isinstance(z, fmpq_mat):
+            out, tp = nil[0] * z, fmpq(1)
+            for P in nil[1:]:
+                tp *= tq
+                out = out + P * z * tp
+            return RationalVector(out, self.policy)
+        tc = t.known_ca()
+        if tc is None:
+            return None
+        zc = z if not isinstance(z, fmpq_mat) else [calcium.Ca(z[i, 0]) for i in range(z.nrows())]
+        acc = None
+        for P in reversed(nil):  # Horner in t: ((N^2/2 z) t + N z) t + z
+            term = ca_matvec(P, zc)
+            acc = term if acc is None else [((a * tc).compact() + b).compact() for a, b in zip(acc, term)]
+        return algebraic_vector(acc, zero_forms, self.policy)
+
+    def event_state(self, theta: RootReal, zero_forms: fmpq_mat | None = None) -> ExactVector:
+        """x(theta-) at the end of the phase (theta a root of a constraint of this phase), with
+        the phase's vanishing forms and ``zero_forms`` (the triggers) as known relations."""
+        zf = self.zero_forms
+        if zero_forms is not None and zero_forms.nrows():
+            zf = row_basis(zf, zero_forms) if zf.nrows() else row_basis(zero_forms)
+        x = self._exact_state(theta, zf)
+        if x is None:
+            x = EventState(self, theta, zf)
+        return ScaledVector(self.scale, x, self.policy) if self.scale is not None else x
+
+    def proportional(self, ga: fmpq_mat, gb: fmpq_mat) -> bool:
+        """g_a x(t) = c g_b x(t) on the whole phase with c != 0, proven exactly: g_a lies in
+        span(g_b, forms vanishing on the phase) but not in the span of the vanishing forms alone
+        (e.g. u_0 = 2 q_1 - q_2 and y_1 = q_1 - q_2 while q_1 = 0)."""
+        return self.zero_span.proportional(ga, gb)
+
+    def describe_state(self) -> str:
+        return repr(self.z)
+
+    def __repr__(self):
+        return f"<Phase in mode {format_mode(self.mode.I)} from {self.z!r}>"
+
+
+#: precision of the Jacobian in an event state's centered form (it bounds a radius only)
+RADIUS_PREC = 64
+
+
+class EventState(ExpVector):
+    """x(theta-) = e^{A_I theta} z where theta = theta(z) is the root of a constraint g e^{A_I t} z
+    that ends the phase: an :class:`~lcs_exact.vectors.ExpVector` whose ball is computed by the
+    mean-value (centered) form
+
+        x(z) in x(z_c) + J(Z) (Z - z_c),   J = (I - A_I x g / (g A_I x)) e^{A_I theta},
+
+    J the Jacobian of z -> x(theta(z)) (implicit function theorem; g A_I x != 0 at a simple
+    root) enclosed over the ball Z of the phase start, z_c its exact center.  Plain ball
+    arithmetic treats theta and z as independent and loses ~1.4 bits an event on the two carts
+    (the wrapping effect); the centered form keeps their correlation, so a long run's anchors
+    keep their accuracy.  The plain enclosure is intersected in (both are rigorous)."""
+
+    def __init__(self, phase: "Phase", theta: RootReal, zero_forms: fmpq_mat | None):
+        super().__init__(phase.spectrum, theta, phase.base, zero_forms, phase.policy, modal=phase.modal)
+        self.g = theta.function.g
+
+    def _compute(self, prec):
+        plain = super()._compute(prec)
+        Z = self.v.arb(prec)
+        n = self.n
+        if all(Z[i, 0].rad() == 0 for i in range(n)):
+            return plain  # an exact start: no correlation to keep
+        sp = self.spectrum
+        zc = arb_mat([[Z[i, 0].mid()] for i in range(n)])
+        old = self.__dict__.get("_jacobian")  # (Z', Theta', J') of an earlier precision
+        if old is not None and all(old[0][i, 0].contains(Z[i, 0]) for i in range(n)):
+            # Z inside Z': Theta' holds theta(z) and J' the Jacobian for every z in Z (both were
+            # certified over Z'); the 64-bit propagator and its check are not redone
+            _, Theta, J = old
+        else:
+            got = self._jacobian_over(Z, prec)
+            if got is None:
+                return plain
+            Theta, J = got
+            self._jacobian = (Z, Theta, J)
+        # the root for the center z_c, inside Theta (which holds theta(z) for every z in Z)
+        fc = ExpSum([(lam, w, [(acb_mat(self.g) * v)[0, 0] for v in ws])
+                     for lam, w, ws in sp.modal(zc, prec)], prec)
+        tc = newton_ball(fc, Theta)
+        xc = sp.apply(tc, zc, prec)
+        with workprec(RADIUS_PREC):
+            # J (Z - z_c) with Z - z_c = [0 +- rad Z_j]: each product is [0 +- |J_ij| rad Z_j]
+            # or wider, so the radii of this one product bound sum_j |J_ij| rad Z_j
+            JD = J * arb_mat([[arb(0, Z[j, 0].rad())] for j in range(n)])
+        out = []
+        for i in range(n):
+            c = xc[i, 0] + arb(0, JD[i, 0].rad() + abs(JD[i, 0].mid()))
+            p = plain[i, 0]
+            out.append([c.intersection(p) if c.overlaps(p) else p])
+        return arb_mat(out)
+
+    def __getstate__(self):
+        state = super().__getstate__()
+        state.pop("_jacobian", None)  # a cache of the centered form (n x n): rebuilt on demand
+        return state
+
+    def _jacobian_over(self, Z: arb_mat, prec: int) -> tuple[arb, arb_mat] | None:
+        """(Theta, J): a ball Theta that holds theta(z) for EVERY z in Z (the mean value form
+        integrates J over the segment from z_c to z), certified on the root's rational bracket
+        with the function's ball over Z (f(lo) > 0 > f(hi), f' < 0 on [lo, hi]), and the
+        Jacobian enclosed over Theta and Z at RADIUS_PREC; None when either cannot be shown."""
+        self.t.arb(prec)
+        lo, hi = self.t.interval() if hasattr(self.t, "interval") else (None, None)
+        if lo is None or lo == hi:  # lo == hi: an exact rational root (polynomial phase)
+            return None
+        fZ = self.t.function.at(prec)
+        if not (fZ.value(lo) > 0 and fZ.value(hi) < 0 and fZ.sign_enclose(lo, hi, 1) < 0):
+            return None
+        Theta = arb(lo).union(arb(hi))
+        sp = self.spectrum
+        with workprec(RADIUS_PREC):  # J only bounds the radius: 64-bit balls suffice
+            E = sp.matrix(Theta, RADIUS_PREC)
+            v = arb_mat(sp.M) * (E * Z)
+            s = (arb_mat(self.g) * v)[0, 0]
+            if s.contains(0):
+                return None
+            return Theta, E - v * ((arb_mat(self.g) * E) * (1 / s))
+
+
+def phase_horizon(phase: Phase, H):
+    """(horizon to search, None) when H is within the limits of docs/limits.md for this phase's
+    rates, else (the largest horizon they allow, a reason): H max|lambda(A_I)| <= MAX_HORIZON_FAST
+    and H min{|lambda(A_I)| != 0} <= MAX_HORIZON_SLOW.  Applied to the phases evaluated (a mode
+    can be faster than A: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0}); a nilpotent A_I
+    has no limit (its constraints are polynomials), nor has an equilibrium (x constant: no event)."""
+    quick = phase.spectrum.modulus_bounds()  # bounds from chi's coefficients: no roots
+    if quick is None or phase.equilibrium:
+        return H, None
+    with workprec(64):
+        if H.arb(64) * quick[0] <= MAX_HORIZON_FAST and H.arb(64) * quick[1] <= MAX_HORIZON_SLOW:
+            return H, None
+    eig = phase.spectrum.eigenvalues(64)
+    with workprec(64):
+        mods = [abs(lam) for lam, _ in eig]
+        nonzero = [m for m in mods if m > 0]
+        if not nonzero:
+            return H, None
+        fast = max(nonzero, key=lambda b: b.upper()).upper()
+        slow = min(nonzero, key=lambda b: b.lower()).upper()
+        allowed = min(arb(MAX_HORIZON_FAST) / fast, arb(MAX_HORIZON_SLOW) / slow)
+        if H.arb(64) <= allowed:
+            return H, None
+        q = dyadic_lower(allowed)
+        with decimal.localcontext() as dc:  # a short decimal below it: readable, and exact to resume from
+            dc.prec, dc.rounding = 3, decimal.ROUND_FLOOR
+            cap = to_fmpq(str(decimal.Decimal(int(q.p)) / decimal.Decimal(int(q.q))))
+        which = "fast" if arb(MAX_HORIZON_FAST) / fast <= arb(MAX_HORIZON_SLOW) / slow else "slow"
+        reason = ("t * max|eigenvalue| <= 10^12, MAX_HORIZON_FAST" if which == "fast" else
+                  "t * min nonzero |eigenvalue| <= 10^6, MAX_HORIZON_SLOW")
+    return RationalReal(cap, phase.policy), reason

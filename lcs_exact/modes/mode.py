@@ -1,0 +1,274 @@
+"""A mode I of an LCS (section 4): the DAE (4.2)-(4.3) with y_I = 0, u_{I^c} = 0.
+
+For the quadruple (K, L, M, N) = (A, B_{.I}, C_{I.}, D_{II}) this module computes, exactly:
+
+* V_I, the consistent subspace, by the recursion (3.2), kept as the kernel of an annihilator W;
+* T_I, the jump space, by the recursion (3.5);
+* autonomy (Lemma 3.3), checked both as V_I ⊕ T_I = Q^n with Ker[B_I; D_II] = 0 and as
+  det G_II(s) != 0 (the two must agree);
+* P_I, the projection onto V_I along T_I (section 4.2);
+* a feedback F_I with u_I = F_I x on V_I (section 4.1), chosen with F_I T_I = 0, and the
+  closed-loop matrix A_I = A + B_{.I} F_I, so that x(t) = e^{A_I t} z for z in V_I.
+
+Beyond Assumption 4.1 (docs/extensions.md): a mode that is not autonomous only because some
+inputs do nothing to the state - Ker[B_I; D_II] != {0} (the *free inputs*: a floating node's
+potential, a current that circulates in a loop of diodes) - while V_I ⊕ T_I = Q^n still holds, is
+*state-determined*: every solution of (4.2) from a state has the same x, and P_I, F_I and A_I are
+defined as above (F_I is one particular feedback: the free inputs w with B_I w = 0, D_II w = 0
+may be added to u_I without changing x or y_I).  Such a mode can be followed; the free part of
+u is undetermined (:attr:`Mode.free_inputs`).
+
+A Mode is created by ``lcs.mode(I)`` and cached there; all data are computed on first use.
+Indices are 0-based.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+from flint import fmpq_mat
+
+from ..errors import LCSError, NotAutonomous
+from ..numbers import Spectrum
+from ..interfaces import SystemLike
+from ..algebra import hstack, identity, matrix_to_sympy, submatrix, vstack, zeros
+from ..algebra import image, intersection, kernel, left_kernel, projection, rank, solve_any
+
+__all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
+
+#: ``_repr_latex_`` of a mode (and of results showing n x n matrices) returns None above this n
+LATEX_MAX_N = 12
+
+
+def format_mode(I) -> str:
+    """{0, 2} style (0-based), ∅ for the empty mode.
+
+    >>> format_mode({2, 0}), format_mode(set())
+    ('{0, 2}', '∅')
+    """
+    return "{" + ", ".join(str(i) for i in sorted(I)) + "}" if I else "∅"
+
+
+def mode_order(I) -> tuple:
+    """The order in which modes are tried and listed: fewer indices first, then lexicographically
+    (the smallest admissible mode of Remark 4.8 is ``min(S, key=mode_order)``).
+
+    >>> sorted([{1}, {0, 1}, set(), {0}], key=mode_order)
+    [set(), {0}, {1}, {0, 1}]
+    """
+    return len(I), sorted(I)
+
+
+def latex_mode(I) -> str:
+    """The mode as LaTeX: ``\\{0, 2\\}`` (braces escaped so they render), ``\\emptyset``.
+
+    >>> print(latex_mode({0, 2}), latex_mode(()))
+    \\{0, 2\\} \\emptyset
+    """
+    return r"\{" + ", ".join(str(i) for i in sorted(I)) + r"\}" if I else r"\emptyset"
+
+
+class Mode:
+    """Mode I of an LCS: V_I, T_I, P_I, F_I and autonomy, computed lazily and exactly.
+
+    >>> from lcs_exact import LCS
+    >>> carts = LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]], [[0], [0], [1], [0]],
+    ...             [[1, 0, 0, 0]], [[0]])
+    >>> m = carts.mode({0})
+    >>> m.consistent_subspace().transpose()
+    [0, 1, 0, 0]
+    [0, 0, 0, 1]
+    >>> m.projection() * fmpq_mat([[0], [-1], [-1], [0]])
+    [ 0]
+    [-1]
+    [ 0]
+    [ 0]
+    """
+
+    def __init__(self, lcs: SystemLike, I: frozenset):
+        self.lcs = lcs
+        self.index_set = frozenset(I)
+        self.I = sorted(I)
+        self.Ic = [i for i in range(lcs.k) if i not in I]
+        self._cache: dict[str, Any] = {}
+
+    # the quadruple (A, B_.I, C_I., D_II)
+    @property
+    def _L(self) -> fmpq_mat:
+        return submatrix(self.lcs.B, None, self.I)
+
+    @property
+    def _M(self) -> fmpq_mat:
+        return submatrix(self.lcs.C, self.I, None)
+
+    @property
+    def _N(self) -> fmpq_mat:
+        return submatrix(self.lcs.D, self.I, self.I)
+
+    # --- V_I (3.2) ---------------------------------------------------------------------------
+    def annihilator(self) -> fmpq_mat:
+        """W with V_I = Ker W, by (3.2): V_{i+1} = {x : exists u, Kx + Lu in V_i, Mx + Nu = 0}."""
+        if "W" not in self._cache:
+            n, A = self.lcs.n, self.lcs.A
+            L, M, N = self._L, self._M, self._N
+            W = zeros(0, n)
+            dim = n
+            for _ in range(n + 1):
+                lhs = vstack(W * A, M, ncols=n)
+                rhs = vstack(W * L, N, ncols=len(self.I))
+                Q = left_kernel(rhs)  # rows q with q [WL; N] = 0 eliminate u
+                W_next = Q * lhs if Q.nrows() else zeros(0, n)
+                d = n - rank(W_next)
+                W = W_next
+                if d == dim:
+                    break
+                dim = d
+            self._cache["W"] = W
+        return self._cache["W"]
+
+    def consistent_subspace(self) -> fmpq_mat:
+        """V_I = ``V(A, B_.I, C_I., D_II)`` (Def. 3.1, recursion (3.2)): an n x dim basis (columns)."""
+        if "V" not in self._cache:
+            self._cache["V"] = kernel(self.annihilator())
+        return self._cache["V"]
+
+    # --- T_I (3.5) ---------------------------------------------------------------------------
+    def jump_space(self) -> fmpq_mat:
+        """T_I = ``T(A, B_.I, C_I., D_II)`` (recursion (3.5)): an n x dim basis (columns)."""
+        if "T" not in self._cache:
+            n, A = self.lcs.n, self.lcs.A
+            L, M, N = self._L, self._M, self._N
+            T = zeros(n, 0)
+            for _ in range(n + 1):
+                # T_{i+1} = {A x + L u : x in T_i, M x + N u = 0}; x = T a
+                k = kernel(hstack(M * T, N, nrows=len(self.I)))
+                T_next = image(hstack(A * T, L, nrows=n) * k) if k.ncols() else zeros(n, 0)
+                if T_next.ncols() == T.ncols():
+                    break
+                T = T_next
+            self._cache["T"] = T
+        return self._cache["T"]
+
+    # --- autonomy (Lemma 3.3) ----------------------------------------------------------------
+    def _autonomy(self) -> tuple[bool, str]:
+        if "aut" not in self._cache:
+            n, m = self.lcs.n, len(self.I)
+            V, T = self.consistent_subspace(), self.jump_space()
+            reason = ""
+            if rank(vstack(self._L, self._N, ncols=m)) < m:
+                reason = "Ker[B_I; D_II] != {0} (the inputs u_I are not determined by the state)"
+            elif intersection(V, T).ncols() > 0:
+                reason = f"V_I ∩ T_I != {{0}} (dim V_I = {V.ncols()}, dim T_I = {T.ncols()})"
+            elif V.ncols() + T.ncols() != n:
+                reason = f"V_I + T_I != Q^{n} (dim V_I = {V.ncols()}, dim T_I = {T.ncols()})"
+            # equivalently det G_II(s) != 0 (Lemma 3.3; tests/test_properties.py checks the two
+            # agree on random systems: the transfer matrix is not built on the hot path)
+            if reason:
+                reason += "; G_II(s) is singular"
+            self._cache["aut"] = (not reason, reason)
+        return self._cache["aut"]
+
+    @property
+    def is_autonomous(self) -> bool:
+        """Lemma 3.3: V_I ⊕ T_I = Q^n and Ker[B_I; D_II] = 0, equivalently det G_II(s) != 0."""
+        return self._autonomy()[0]
+
+    @property
+    def autonomy_reason(self) -> str:
+        """Why the mode is not autonomous ('' when it is)."""
+        return self._autonomy()[1]
+
+    def require_autonomous(self) -> None:
+        if not self.is_autonomous:
+            raise NotAutonomous(f"mode {format_mode(self.I)} is not autonomous: {self.autonomy_reason}")
+
+    def free_inputs(self) -> fmpq_mat:
+        """A basis (columns, ``|I| x d``) of ``Ker[B_I; D_II]``: directions of u_I that change neither
+        the state nor y_I (d = 0 for an autonomous mode)."""
+        if "free" not in self._cache:
+            m = len(self.I)
+            self._cache["free"] = kernel(vstack(self._L, self._N, ncols=m)) if m else zeros(0, 0)
+        return self._cache["free"]
+
+    @property
+    def is_state_determined(self) -> bool:
+        """True when the state of every solution of (4.2) is unique and P_I is defined: autonomous,
+        or V_I ⊕ T_I = Q^n with only free inputs left undetermined (module docstring)."""
+        if self.is_autonomous:
+            return True
+        if "det" not in self._cache:
+            V, T = self.consistent_subspace(), self.jump_space()
+            self._cache["det"] = (V.ncols() + T.ncols() == self.lcs.n and intersection(V, T).ncols() == 0)
+        return self._cache["det"]
+
+    def require_state_determined(self) -> None:
+        if not self.is_state_determined:
+            raise NotAutonomous(f"mode {format_mode(self.I)} is not autonomous ({self.autonomy_reason}) and the "
+                                f"state is not determined in it (V_I ⊕ T_I != Q^{self.lcs.n})")
+
+    # --- P_I, F_I, A_I ------------------------------------------------------------------------
+    def projection(self) -> fmpq_mat:
+        """P_I: projection onto V_I along T_I (section 4.2); x(0+) = P_I x0."""
+        if "P" not in self._cache:
+            self.require_state_determined()
+            self._cache["P"] = projection(self.consistent_subspace(), self.jump_space())
+        return self._cache["P"]
+
+    def feedback(self) -> fmpq_mat:
+        """F_I (``|I| x n``): u_I = F_I x keeps x in V_I and y_I = 0 (section 4.1); F_I T_I = 0."""
+        if "F" not in self._cache:
+            self.require_state_determined()
+            n, m = self.lcs.n, len(self.I)
+            V, T, W = self.consistent_subspace(), self.jump_space(), self.annihilator()
+            if m == 0:
+                self._cache["F"] = zeros(0, n)
+                return self._cache["F"]
+            # for each basis vector v of V: [W L; N] u = -[W A; M] v (unique when the mode is
+            # autonomous; otherwise one solution, up to the free inputs, which change nothing in x)
+            lhs = vstack(W * self._L, self._N, ncols=m)
+            rhs = -(vstack(W * self.lcs.A, self._M, ncols=n) * V)
+            U = solve_any(lhs, rhs)
+            if U is None:
+                raise LCSError(f"internal inconsistency: V_I of mode {format_mode(self.I)} is not invariant")
+            coords = hstack(V, T).solve(identity(n))
+            self._cache["F"] = U * submatrix(coords, range(V.ncols()), None) if V.ncols() else zeros(m, n)
+        return self._cache["F"]
+
+    def closed_loop(self) -> fmpq_mat:
+        """A_I = ``A + B_.I F_I``: x' = A_I x on V_I."""
+        if "AI" not in self._cache:
+            self._cache["AI"] = self.lcs.A + self._L * self.feedback() if self.I else self.lcs.A
+        return self._cache["AI"]
+
+    def spectrum(self):
+        """The spectral data of e^{A_I t} (:class:`~lcs_exact.expm.Spectrum`), computed once."""
+        if "spectrum" not in self._cache:
+            self._cache["spectrum"] = Spectrum(self.closed_loop())
+        return self._cache["spectrum"]
+
+    def memo(self, key: str, build):
+        """Data of this mode computed once by ``build()`` (e.g. the RCP forms of selection)."""
+        if key not in self._cache:
+            self._cache[key] = build()
+        return self._cache[key]
+
+    def contains(self, x: fmpq_mat) -> bool:
+        """x in V_I (Algorithm 7.1, step two), exact for rational x."""
+        return rank(hstack(self.consistent_subspace(), x)) == self.consistent_subspace().ncols()
+
+    # --- display ------------------------------------------------------------------------------
+    def __repr__(self):
+        aut = "autonomous" if self.is_autonomous else f"NOT autonomous ({self.autonomy_reason})"
+        return (f"<Mode {format_mode(self.I)}: dim V_I = {self.consistent_subspace().ncols()}, "
+                f"dim T_I = {self.jump_space().ncols()}, {aut}>")
+
+    def _repr_latex_(self):
+        import sympy
+        if self.lcs.n > LATEX_MAX_N:
+            return None
+        V, T = self.consistent_subspace(), self.jump_space()
+        f = lambda m: sympy.latex(matrix_to_sympy(m)) if m.ncols() else r"\{0\}"  # noqa: E731
+        name = latex_mode(self.I)
+        s = rf"\text{{mode }} I = {name}:\ V_I = \operatorname{{Im}}{f(V)},\ T_I = \operatorname{{Im}}{f(T)}"
+        if self.is_autonomous:
+            s += rf",\ P_I = {f(self.projection())}"
+        return f"${s}$"

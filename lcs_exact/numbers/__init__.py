@@ -1,0 +1,32 @@
+"""Exact and certified numbers: the precision policy and balls (``balls``), FLINT's Calcium
+through ctypes (``flintlib``, ``calcium``), light closed forms (``forms``), e^{At} (``expm``),
+exact reals and vectors (``nodes``, ``reals``, ``vectors``), closed-form candidates and their
+proofs (``closedforms``) and Taylor models (``taylormodels``).  Imports ``algebra``.
+
+This is the subpackage's door: other subpackages and users import what ``__all__`` names,
+from here; the modules behind it are its own.
+"""
+from __future__ import annotations
+
+from .balls import (ACCURACY_HEADROOM, DEFAULT_POLICY, MAX_DIGITS, accuracy_bits, ball_sign, Deadline,
+                    digits_to_bits, dyadic, dyadic_lower, dyadic_upper, Policy, workprec)
+from . import calcium
+from .forms import Closed, sympy_proves_zero
+from .expm import Spectrum, spectrum_of
+from .reals import AlgebraicReal, as_real, RationalReal, Real
+from .vectors import (algebraic_vector, as_exact_vector, as_state, ca_matvec, ComponentsVector, ExactVector,
+                      expm_action, ExpVector, homogenized, orbit_start, ProjectedVector, RationalVector,
+                      ScaledVector)
+from .closedforms import (candidates, prove_root, prove_root_is, prove_touch, prove_zero_at,
+                          symbolic_candidates)
+from .taylormodels import (Box, interval, ipow, Model, NoProof, positive_on, series_root, shift, Space, terms,
+                           truncate, WorkBudget)
+
+__all__ = ["ACCURACY_HEADROOM", "DEFAULT_POLICY", "MAX_DIGITS", "accuracy_bits", "ball_sign", "Deadline",
+           "digits_to_bits", "dyadic", "dyadic_lower", "dyadic_upper", "Policy", "workprec", "calcium",
+           "Closed", "sympy_proves_zero", "Spectrum", "spectrum_of", "AlgebraicReal", "as_real",
+           "RationalReal", "Real", "algebraic_vector", "as_exact_vector", "as_state", "ca_matvec",
+           "ComponentsVector", "ExactVector", "expm_action", "ExpVector", "homogenized", "orbit_start",
+           "ProjectedVector", "RationalVector", "ScaledVector", "candidates", "prove_root", "prove_root_is",
+           "prove_touch", "prove_zero_at", "symbolic_candidates", "Box", "interval", "ipow", "Model",
+           "NoProof", "positive_on", "series_root", "shift", "Space", "terms", "truncate", "WorkBudget"]

@@ -1,0 +1,585 @@
+"""Closed forms of event times: candidates and their proofs (docs/numerics.md).
+
+A root theta of f(t) = g e^{A_I t} v (a phase function) may have a closed form: a small-height
+rational, a rational multiple of pi/omega (omega a frequency of A_I) plus nothing else, a
+logarithm of a rational over a rational eigenvalue, a logarithm of an algebraic root of f written
+as a polynomial in e^{gamma t}, or an exact solution of a one-frequency f.  A candidate is
+accepted only when proven:
+
+1. it lies inside the certified bracket of the root (a ball comparison well above the bracket's
+   width), and
+2. f vanishes there exactly: with Calcium (:mod:`lcs_exact.calcium`: f(t*) = g sum_lambda
+   e^{lambda t*} K_lambda ... v evaluated exactly, then its zero test, which never answers wrongly),
+   or, when Calcium is unavailable or undecided, SymPy's simplification of the symbolic f(t*) to
+   a literal 0 under the run's deadline (last resort, off the hot path).
+
+Nothing here runs unless a closed form is asked for (``closed_form`` on first access, fixtures,
+``closed_forms=True``) or an exact zero is needed by a sign decision, an order of roots or a
+grazing test.  SymPy is imported lazily.
+"""
+from __future__ import annotations
+
+import functools
+from fractions import Fraction
+from typing import Any
+
+from flint import arb, arb_mat, fmpq, fmpq_mat
+
+from . import calcium
+from .balls import closed_form_arb, workprec
+from ..errors import InvalidArgument, LCSError, UnresolvedSign
+from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
+from .forms import Closed, SympyOutOfTime, sympy_budget, sympy_proves_zero
+from ..algebra import matrix_to_sympy
+from .reals import radical_form
+from .vectors import RationalVector, orbit_start
+from ..algebra import in_row_span
+
+__all__ = ["candidates", "prove_root", "prove_root_is", "prove_zero_at", "function_closed_form", "prove_touch",
+           "exp_candidates", "solve_candidates", "harmonic_candidates", "symbolic_candidates"]
+
+_MAX_SIMPLIFY_OPS = 400
+
+
+def _frequencies(M: fmpq_mat) -> tuple[list[fmpq], list[fmpq]]:
+    """(omega^2 of the complex-pair quadratic factors, real rational eigenvalues) of chi(M),
+    exactly (no SymPy)."""
+    squares, lambdas = [], []
+    for p, _ in M.charpoly().factor()[1]:
+        c = p.coeffs()
+        if p.degree() == 1:
+            lambdas.append(-c[0] / c[1])
+        elif p.degree() == 2:
+            q, pp, a2 = c
+            disc = q / a2 - (pp / a2) ** 2 / 4
+            if disc > 0:  # a complex pair; a real irrational pair gives no candidate here
+                squares.append(disc)
+    return squares, lambdas
+
+
+def candidates(theta: arb, M: fmpq_mat) -> list[Closed]:
+    """Small-height candidates near the ball ``theta``: rationals, (p/q) pi/omega, log(p/q)/lambda
+    (light :class:`~lcs_exact.forms.Closed` forms, nonnegative, without repetition)."""
+    from mpmath import mp, mpf
+    out = []
+    with mp.workdps(40):
+        x = mpf(theta.mid().str(40, radius=False))
+
+        def approx(v):
+            f = Fraction(str(v))
+            return {f.limit_denominator(d) for d in (1, 2, 3, 4, 6, 8, 12, 16, 24, 100, 1000)}
+
+        for f in approx(x):
+            out.append(Closed.rational(fmpq(f.numerator, f.denominator)))
+        squares, lambdas = _frequencies(M)
+        for w2 in [fmpq(1)] + squares:
+            wv = mp.sqrt(mpf(int(w2.p)) / int(w2.q))
+            for f in approx(x * wv / mp.pi):
+                if f > 0:
+                    out.append(Closed.pi_over_sqrt(w2) * fmpq(f.numerator, f.denominator))
+        for lam in lambdas:
+            if lam != 0:
+                v = mp.exp(mpf(int(lam.p)) / int(lam.q) * x)
+                for f in approx(v):
+                    # log(f) / lam >= 0: f > 1 with lam > 0, or f < 1 with lam < 0
+                    if f > 0 and f != 1 and (f > 1) == (lam > 0):
+                        out.append(Closed.log(fmpq(f.numerator, f.denominator)) * (1 / lam))
+    seen, uniq = set(), []
+    for c in out:
+        if c not in seen and (c.terms or c.const >= 0):
+            seen.add(c)
+            uniq.append(c)
+    return uniq
+
+
+def _shifted_candidates(b: arb, spectrum: Spectrum, v: Any):
+    """Candidates near the ball b; when the start is v = e^{Ms} w with a closed-form s (e.g.
+    x0 = e^{-sqrt2 M} w), also c - s for the candidates c of the time measured on w's orbit
+    (a touch at sqrt 2 is pi-free on the orbit of w: its candidate is c - s)."""
+    yield from candidates(b, spectrum.M)
+    inner, shift = orbit_start(v, spectrum.M)
+    sc = shift.closed if shift is not None else None
+    if sc is not None and not sc.is_zero:
+        with workprec(200):
+            bs = b + sc.arb()
+        for c in candidates(bs, spectrum.M):
+            yield c - sc
+
+
+def _inside(cand, lo: fmpq, hi: fmpq) -> bool:
+    """The candidate lies in [lo, hi] (certified at a precision well above the bracket's width)."""
+    bits = 64
+    w = hi - lo
+    if w > 0:
+        bits = max(64, int(w.q.bit_length() - w.p.bit_length()) + 64)
+    with workprec(bits):
+        cb = cand.arb()
+        return bool(cb >= arb(lo) and cb <= arb(hi))
+
+
+def prove_zero_at(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, *, derivative: int = 0,
+                  deadline=None) -> bool | None:
+    """g M^d e^{M t*} v == 0 at the closed form t* (``derivative`` d): True (proven), False
+    (proven nonzero), None (unknown).  Calcium first; SymPy simplification as a last resort."""
+    gd = g
+    for _ in range(derivative):
+        gd = gd * spectrum.M
+    inner, shift = orbit_start(v, spectrum.M)
+    if shift is not None:  # v = e^{M s} w: f(t*) = g e^{M (t* + s)} w
+        sc = shift.closed
+        if sc is not None:
+            v, cand = inner, cand + sc
+    q = v.exact_rational()
+    if q is not None:
+        if cand.is_zero:
+            return (gd * q)[0, 0] == 0
+        v = RationalVector(q)
+    elif calcium.available():
+        # a (p/q) pi / omega time after an irrational start: when e^{M t*} is a rational matrix E
+        # (proven by Calcium), f(t*) = (g E) v, decided by the relations known on v (the trigger
+        # that started the phase) - no closed form of v is needed
+        proof = _rational_propagator_zero(spectrum, gd, v, cand)
+        if proof is not None:
+            return proof
+    if calcium.available():
+        try:
+            tc = cand.to_ca()
+            vc = v.to_ca()
+            if tc is not None and vc is not None:
+                x = spectrum.ca_apply(tc, vc, calcium)
+                if x is not None:
+                    acc = calcium.Ca(0)
+                    for j in range(spectrum.n):
+                        if gd[0, j] != 0:
+                            acc = acc + x[j] * calcium.Ca(gd[0, j])
+                    z = acc.is_zero()
+                    if z is not None:
+                        return z
+        except (ValueError, ZeroDivisionError, UnresolvedSign):
+            pass  # Calcium could not build f(t*) (an undecided divisor): try SymPy
+    return _sympy_vanishes(spectrum, gd, v, cand, deadline)
+
+
+def _rational_propagator_zero(spectrum: Spectrum, g: fmpq_mat, v: Any, cand) -> bool | None:
+    """g e^{M t*} v == 0 through a rational e^{M t*} (e.g. -I at t* = pi for a unit-frequency
+    oscillator): True when g E lies in the span of v's proven zero forms, False when its sign at v
+    is certified nonzero, None otherwise (also when e^{M t*} is not rational)."""
+    if not cand.has_pi:
+        return None
+    try:
+        tc = cand.to_ca()
+        E = spectrum.exact_at(tc, calcium) if tc is not None else None
+    except (ValueError, ZeroDivisionError, UnresolvedSign):
+        return None
+    if E is None:
+        return None
+    form = g * E
+    if all(form[0, j] == 0 for j in range(form.ncols())):
+        return True
+    if v.zero_forms.nrows() and in_row_span(form, v.zero_forms):
+        return True
+    return None
+
+
+def _sympy_vanishes(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadline) -> bool | None:
+    import sympy
+    try:
+        with sympy_budget(deadline, "the symbolic value of a phase function at a candidate"):
+            sym = function_closed_form(spectrum, g, v)
+            if sym is None:
+                return None
+            expr = sympy.expand_trig(sym.subs(t_symbol(), cand.to_sympy()))
+            if sympy.count_ops(expr) > _MAX_SIMPLIFY_OPS:
+                return None  # SymPy's simplify can take minutes on large expressions
+    except SympyOutOfTime:
+        return None
+    if deadline is not None:
+        deadline.check(" while proving a closed form")
+    return sympy_proves_zero(expr, deadline)
+
+
+def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
+    """f(t) = g e^{Mt} v as a SymPy expression in t, or None; cross-checked against the certified
+    ball of f at two rational times (a defect in the symbolic inversion must never become a
+    false proof)."""
+    q = v.exact_rational()
+    if q is not None:
+        key = (spectrum.M.nrows(), tuple(spectrum.M.entries()), tuple(g.entries()), tuple(q.entries()))
+        if key in _SYMBOLIC:
+            return _SYMBOLIC[key]
+        sym = laplace_closed_form(spectrum.M, g, q)
+    else:
+        vc = _radical_start(v)
+        if vc is None:
+            vc = v.closed_form()
+        E = symbolic_expm(spectrum) if vc is not None else None
+        sym = None if E is None else (matrix_to_sympy(g) * E * vc)[0, 0].expand()
+    if sym is not None:
+        import sympy
+        t = t_symbol()
+        if sym.has(sympy.I):
+            return None  # SymPy's general inversion (a repeated complex pair) wrote it with I
+        for tq in (fmpq(1, 7), fmpq(5, 3)):
+            with workprec(128):
+                want = (arb_mat(g) * spectrum.apply(arb(tq), v.arb(128), 128))[0, 0]
+                got = closed_form_arb(sym.subs(t, sympy.Rational(int(tq.p), int(tq.q))))
+            if not want.overlaps(got):
+                raise LCSError(f"internal error: the symbolic form {sym} of g e^(Mt) v disagrees "
+                               f"with its certified value at t = {tq}")
+    if q is not None:  # the same function recurs (a source's, event after event): keep it
+        if len(_SYMBOLIC) > 256:
+            _SYMBOLIC.clear()
+        _SYMBOLIC[key] = sym
+    return sym
+
+
+def _radical_start(v: Any):
+    """v as a SymPy column of radicals when every component is a real algebraic number of degree
+    <= 4 (each proven equal by Calcium, :func:`~lcs_exact.reals.radical_form`), else None.  The
+    state after an impact at t1 = 2 pi - 2 atan(sqrt(3)/2) is algebraic, but its symbolic form is
+    a tangle of cos(2 atan(..)) in which the next phase's zero (an atan of a radical) is not
+    found; in radicals it is."""
+    if not calcium.available():
+        return None
+    cs = v.to_ca()
+    if cs is None:
+        return None
+    out = []
+    for c in cs:
+        r = radical_form(c)
+        if r is None:
+            return None
+        out.append(r)
+    import sympy
+    return sympy.Matrix(out)
+
+
+#: symbolic forms g e^{Mt} q of rational starts, by (M, g, q) (bounded)
+_SYMBOLIC: dict = {}
+
+
+def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None):
+    """(expr, Calcium number or None) for the root's proven closed form, or None.
+
+    ``root`` is a :class:`~lcs_exact.roots.RootReal` of f = g e^{Mt} v."""
+    b = root.arb(200)
+    if not root.simple:
+        # a bracket that may hold several roots (a multiple root, a cluster): a zero of f inside
+        # it need not be the first crossing, so no candidate can be accepted
+        return None
+    lo, hi = root.interval()
+    for cand in _shifted_candidates(b, spectrum, v):
+        if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
+            return cand, cand.to_ca()
+    for cand in symbolic_candidates(spectrum, g, v, b, deadline):
+        if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
+            return cand, cand.to_ca()
+    return None
+
+
+def symbolic_candidates(spectrum: Spectrum, g: fmpq_mat, v: Any, b: arb, deadline=None,
+                        generators: tuple = ()):
+    """Candidates (:class:`Closed`) near the ball b from the symbolic form of f = g e^{Mt} v:
+    ``generators`` (default: exp_candidates, solve_candidates, harmonic_candidates, cheap ones
+    first).  Each SymPy step runs under :func:`~lcs_exact.forms.sympy_budget` (its work counted:
+    a simplification of a harmonic sum once took 25 s past a run's ``time_limit``); a step out of
+    work gives none."""
+    try:
+        with sympy_budget(deadline, "the symbolic inversion of a phase function"):
+            sym = function_closed_form(spectrum, g, v)
+    except SympyOutOfTime:
+        return
+    if sym is None:
+        return
+    for more in generators or (exp_candidates, solve_candidates, harmonic_candidates):
+        try:
+            with sympy_budget(deadline, f"the search of {getattr(more, '__name__', 'candidates')}"):
+                exprs = list(_representable(more(sym, b)))
+        except SympyOutOfTime:
+            continue
+        yield from exprs
+
+
+def prove_root_is(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, cand: Closed, deadline=None) -> bool:
+    """True when the root (a :class:`~lcs_exact.roots.RootReal` of f = g e^{Mt} v) is proven to
+    be the closed form ``cand``, a candidate the caller knows of (the horizon of the run): its
+    bracket holds one root, ``cand`` lies in it and f(cand) = 0."""
+    if not root.simple:
+        return False
+    lo, hi = root.interval()
+    return _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True
+
+
+def _representable(exprs):
+    """The candidates (SymPy expressions) that are closed forms of the supported set, as
+    :class:`Closed`; the others (a root written with I, a RootOf) are skipped: a candidate is a
+    guess to be proven, and one that cannot be written is simply not tried."""
+    for expr in exprs:
+        try:
+            yield Closed.of_sympy(expr)
+        except InvalidArgument:
+            continue
+
+
+def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, deadline=None) -> bool | None:
+    """A tangential touch at the critical point t* in [lo, hi] (f' = 0 there, f'' > 0 on it):
+    True when a closed form t* is proven with f'(t*) = f(t*) = 0; None otherwise."""
+    with workprec(128):
+        mid = arb(lo).union(arb(hi))
+
+    def stream():
+        yield from _shifted_candidates(mid, spectrum, v)
+        # t* is a root of f'
+        yield from symbolic_candidates(spectrum, g * spectrum.M, v, mid, deadline, (exp_candidates, solve_candidates))
+
+    for cand in stream():
+        if not _inside(cand, lo, hi):
+            continue
+        if prove_zero_at(spectrum, g, v, cand, derivative=1, deadline=deadline) is True and \
+                prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
+            return True
+    return None
+
+
+def exp_candidates(sym, b: arb | None = None) -> list:
+    """Roots of an exponential sum f = sum c_k e^{mu_k t} whose exponents are integer multiples of
+    one gamma (rational ratios): f is a polynomial in u = e^{gamma t}; each positive real root r of
+    a factor of degree <= 2 gives t = log(r) / gamma. (Candidates only: they are proven by the
+    caller.)"""
+    import sympy
+    t = t_symbol()
+    if sym.has(sympy.sin, sympy.cos):
+        return []
+    f = sympy.powsimp(sympy.expand(sym.rewrite(sympy.exp)))
+    terms: dict = {}
+    for term in sympy.Add.make_args(f):
+        coeff, mu = term, sympy.Integer(0)
+        for e in term.atoms(sympy.exp):
+            mu += sympy.diff(e.args[0], t)
+            coeff = coeff.subs(e, 1)
+        if coeff.has(t) or mu.has(t):
+            return []  # t^m e^{mu t} terms or non-linear exponents: no polynomial in e^{gamma t}
+        terms[mu] = terms.get(mu, 0) + coeff
+    mus = [m for m in terms if m != 0]
+    if not mus:
+        return []
+    ratios = [sympy.nsimplify(sympy.simplify(m / mus[0])) for m in mus]
+    if not all(r.is_Rational for r in ratios):
+        return []
+    num = sympy.gcd([r.p for r in ratios])
+    den = sympy.lcm([r.q for r in ratios])
+    gam = sympy.simplify(mus[0] * num / den)
+    u = sympy.Symbol("u", positive=True)
+    powers = {m: int(sympy.nsimplify(sympy.simplify(m / gam))) for m in terms}
+    low = min(powers.values())
+    if max(powers.values()) - low > 12:
+        return []  # (rates 1 and 10^-400: a polynomial of degree 10^400 in u is not built)
+    poly = sympy.Poly(sum(terms[m] * u ** (powers[m] - low) for m in terms), u)
+    if poly.degree() < 1 or poly.degree() > 12:
+        return []
+    out = []
+    for factor, _ in poly.factor_list()[1]:
+        if factor.degree() > 2:
+            continue  # cubic/quartic radicals: unreadable and slow to prove
+        for r in sympy.roots(factor, filter=None):
+            if r.is_real and r.is_positive and r != 1:
+                out.append(sympy.log(r) / gam)
+    return out
+
+
+@functools.lru_cache(maxsize=256)
+def _one_frequency_solutions(sym):
+    """(times, angles, step, w) of :func:`solve_candidates`: the solutions t of f = 0 are
+    times[i] + k step / w and angles[j] / w + k step / w; None when f is not of that form.
+    Cached: a source's function recurs event after event."""
+    import sympy
+    t = t_symbol()
+    trig = sym.atoms(sympy.sin, sympy.cos)
+    if sym.has(sympy.exp) and trig:
+        sym = _without_common_exp(sym)  # e^{-at} (c1 cos wt + c2 sin wt): the zeros of the sum
+    if sym is None or sym.has(sympy.exp, sympy.cosh, sympy.sinh) or not trig:
+        return None
+    freqs = {sympy.simplify(sympy.diff(f.args[0], t)) for f in trig}
+    if len(freqs) != 1:
+        return None
+    (w,) = freqs
+    if w.has(t) or not all(sympy.diff(f.args[0], t, 2) == 0 or f.args[0] == w * t for f in trig):
+        return None
+    if any(sympy.simplify(f.args[0] - w * t) != 0 for f in trig):
+        return None  # a phase shift inside the argument: not of the form handled here
+    expanded = sympy.expand(sym)
+    A = expanded.coeff(sympy.cos(w * t))
+    B = expanded.coeff(sympy.sin(w * t))
+    c = sympy.simplify(expanded - A * sympy.cos(w * t) - B * sympy.sin(w * t))
+    if c.has(t) or A.has(t) or B.has(t) or (A == 0 and B == 0):
+        return None
+    times: list = []  # candidate times t, each repeating with period ``step`` / w
+    if c == 0 and B != 0:  # tan(wt) = -A/B: wt = atan(-A/B) + pi k
+        angles, step = [sympy.atan(-A / B)], sympy.pi
+    else:
+        R = sympy.sqrt(sympy.nsimplify(A ** 2 + B ** 2))
+        if A == 0:
+            phi = sympy.pi / 2 if B > 0 else -sympy.pi / 2
+        else:
+            phi = sympy.atan(B / A) + (sympy.pi if A < 0 else 0)
+        ratio = sympy.radsimp(-c / R)
+        try:
+            if abs(float(ratio)) > 1:
+                return None  # R cos(.) = -c has no real solution
+        except TypeError:
+            return None
+        psi = sympy.pi / 2 if ratio == 0 else sympy.acos(ratio)
+        angles, step = [phi - psi, phi + psi], 2 * sympy.pi
+        try:  # SymPy's own forms first (half-angle atan): often simpler, and proven the same way
+            times = [sol for sol in sympy.solve(sym, t) if sol.is_number]
+        except Exception:  # noqa: BLE001 - SymPy could not solve: the explicit branches remain
+            times = []
+    return tuple(times), tuple(angles), step, w
+
+
+def _without_common_exp(sym):
+    """f e^{-sigma t} when every term of f carries the same e^{sigma t} (a damped harmonic
+    e^{sigma t} (c1 cos wt + c2 sin wt)): the same zeros, without the exponential; None otherwise."""
+    import sympy
+    t = t_symbol()
+    f = sympy.powsimp(sympy.expand(sym))
+    rates = set()
+    for term in sympy.Add.make_args(f):
+        rate = sympy.Integer(0)
+        for e in term.atoms(sympy.exp):
+            rate += sympy.diff(e.args[0], t)
+        if rate.has(t):
+            return None
+        rates.add(sympy.nsimplify(rate) if rate.is_number else rate)
+    if len(rates) != 1:
+        return None
+    (rate,) = rates
+    out = sympy.powsimp(sympy.expand(f * sympy.exp(-rate * t)))
+    return None if out.has(sympy.exp) else out
+
+
+def solve_candidates(sym, b: arb) -> list:
+    """Exact solutions of a one-frequency f = a cos(wt) + b sin(wt) + c near the root ball b:
+    with R = sqrt(a^2 + b^2) and phi the angle of (a, b), f = R cos(wt - phi) + c vanishes at
+    wt = phi +- acos(-c / R) + 2 pi k (both branches: SymPy's solve may return one of them only),
+    at wt = atan(-a/b) + pi k when c = 0; SymPy's own solutions come first (candidates only: the
+    caller proves them).
+
+    >>> from lcs_exact.expm import t_symbol
+    >>> import sympy
+    >>> t = t_symbol()
+    >>> solve_candidates(sympy.cos(t) + sympy.sin(t) / 3, arb("1.8925"))   # tan t = -3
+    [pi - atan(3)]
+    >>> solve_candidates(4 * sympy.cos(2 * t) - 1, arb("0.659"))[0]        # cos 2t = 1/4
+    acos(1/4)/2
+    """
+    import sympy
+    from mpmath import mp, mpf
+    family = _one_frequency_solutions(sym)
+    if family is None:
+        return []
+    times, angles, step, w = family
+    out = []
+    with mp.workdps(30):
+        target = mpf(b.mid().str(30, radius=False))
+        period = mpf(str(sympy.N(step / w, 30)))
+        for tb in list(times) + [a / w for a in angles]:
+            k = int(mp.nint((target - mpf(str(sympy.N(tb, 30)))) / period))
+            cand = sympy.expand(tb + step * k / w)
+            if cand not in out:
+                out.append(cand)
+    return sorted(out, key=lambda e: abs(float(e) - float(target)))
+
+
+@functools.lru_cache(maxsize=256)
+def _harmonic_roots(sym):
+    """(w, the real roots r in [-1, 1] of the factors of degree <= 4 in x = cos(wt)) of
+    :func:`harmonic_candidates`, or None when f is not a polynomial in cos(wt), sin(wt) of one
+    base frequency.  Cached (a source's function recurs event after event)."""
+    import sympy
+    t = t_symbol()
+    trig = sym.atoms(sympy.sin, sympy.cos)
+    if sym.has(sympy.exp, sympy.cosh, sympy.sinh) or len(trig) < 2:
+        return None
+    freqs = set()
+    for f in trig:
+        k = sympy.simplify(sympy.diff(f.args[0], t))
+        if k.has(t) or sympy.simplify(f.args[0] - k * t) != 0:
+            return None
+        freqs.add(k)
+    base = min(freqs, key=lambda v: float(v))
+    mult = {}
+    for v in freqs:
+        r = sympy.nsimplify(sympy.simplify(v / base))
+        if not r.is_Integer or r > 8:
+            return None
+        mult[v] = int(r)
+    x = sympy.Symbol("x")
+    expanded = sympy.expand(sym)
+    P, Q = sympy.Integer(0), sympy.Integer(0)
+    rest = expanded
+    for v, k in mult.items():
+        a = expanded.coeff(sympy.cos(v * t))
+        bb = expanded.coeff(sympy.sin(v * t))
+        if a.has(t) or bb.has(t):
+            return None  # t cos(vt) (a repeated pair): not a polynomial in cos t
+        rest = rest - a * sympy.cos(v * t) - bb * sympy.sin(v * t)
+        P += a * sympy.chebyshevt(k, x)
+        Q += bb * (sympy.chebyshevu(k - 1, x) if k >= 1 else 0)
+    rest = sympy.simplify(rest)
+    if rest.has(t):
+        return None
+    P += rest
+    poly = sympy.Poly(sympy.expand(P ** 2 - (1 - x ** 2) * Q ** 2) if Q != 0 else sympy.expand(P), x)
+    if poly.degree() < 1 or poly.degree() > 16:
+        return None
+    roots = []
+    for factor, _ in sympy.factor_list(poly)[1]:
+        fp = sympy.Poly(factor, x)
+        if fp.degree() > 4:
+            continue
+        for r in sympy.roots(fp, multiple=True):
+            # numerically: a real root may be written with I (casus irreducibilis), and
+            # float() of an expression SymPy cannot decide is real raises
+            try:
+                rv = complex(sympy.N(r, 30))
+            except TypeError:  # not a number SymPy can evaluate
+                continue
+            if r.is_real is not True or abs(rv.imag) > 1e-20 or abs(rv.real) > 1:  # (a form with I)
+                continue
+            roots.append(r)
+    return base, tuple(roots)
+
+
+def harmonic_candidates(sym, b: arb) -> list:
+    """Roots of f = sum_k (a_k cos(k w t) + b_k sin(k w t)) + c whose frequencies are integer
+    multiples of one w (a spring and its harmonics): with x = cos(wt), cos(kwt) = T_k(x) and
+    sin(kwt) = sin(wt) U_{k-1}(x), so f = P(x) + sin(wt) Q(x) and every root has
+    P(x)^2 = (1 - x^2) Q(x)^2: a polynomial whose roots r in [-1, 1] (in radicals, degree <= 4
+    per factor) give the candidates t = (+-acos(r) + 2 pi m) / w near the ball b, e.g.
+    acos((1 + sqrt(129))/16) (candidates only: the caller proves them).
+
+    >>> from lcs_exact.expm import t_symbol
+    >>> import sympy
+    >>> t = t_symbol()
+    >>> harmonic_candidates(16 * sympy.cos(2 * t) - 2 * sympy.cos(t) + 8, arb("0.67"))[0]  # 32x^2 - 2x - 8
+    acos(1/32 + sqrt(257)/32)
+    """
+    import sympy
+    from mpmath import mp, mpf
+    family = _harmonic_roots(sym)
+    if family is None:
+        return []
+    base, roots = family
+    out = []
+    with mp.workdps(30):
+        target = mpf(b.mid().str(30, radius=False))
+        wv = mpf(str(sympy.N(base, 30)))
+        for r in roots:
+            for branch in (sympy.acos(r), -sympy.acos(r)):
+                val = mpf(str(sympy.N(branch, 30))) / wv
+                m = int(mp.nint((target - val) / (2 * mp.pi / wv)))
+                cand = (branch + 2 * sympy.pi * m) / base
+                if cand not in out:
+                    out.append(cand)
+    return sorted(out, key=lambda e: abs(float(e) - float(target)))
