@@ -7,6 +7,7 @@ from fractions import Fraction
 
 import numpy as np
 import pandas as pd
+import control  # in the test extra: a missing python-control is a broken environment, not a skip
 import pytest
 from flint import fmpq
 from helpers import mat
@@ -66,7 +67,6 @@ def test_undetermined_inputs_are_nan():
 
 @pytest.mark.slow
 def test_from_statespace_reads_python_control_exactly():
-    control = pytest.importorskip("control")
     sys = control.ss([[0, 1], [-2.5, -0.1]], [[0], [1]], [[1, 0]], [[0]])
     lcs = LCS.from_statespace(sys, constraint_names=["stop"])
     assert lcs.A[1, 0] == fmpq(-5, 2) and lcs.A[1, 1] == fmpq(-1, 10)  # shortest decimals, exact
@@ -112,7 +112,6 @@ OSC = dict(A=[[0, 1], [-1, 0]], B=[[0], [1]], C=[[1, 0]], D=[[0]])  # x'' = -x +
 
 
 def test_to_statespace_names_and_floats():
-    control = pytest.importorskip("control")
     ss = LCS(**OSC).to_statespace()
     assert isinstance(ss, control.StateSpace)
     assert (ss.state_labels, ss.input_labels, ss.output_labels) == (["x_0", "x_1"], ["u_0"], ["y_0"])
@@ -133,7 +132,6 @@ def test_to_statespace_names_and_floats():
 def test_statespace_round_trip_is_exact_for_decimal_data():
     """Decimal entries of at most 15 significant digits: the float64 nearest each has that
     decimal as its shortest repr, which from_statespace reads back: the same exact rationals."""
-    pytest.importorskip("control")
     data = dict(A=[["0.1", "-2.5", "123.456"], ["1e-3", "-0.3", "7"], ["0", "1.5e7", "-0.125"]],
                 B=[["0.3", "1"], ["-7", "0"], ["0.05", "2.75"]], C=[["1/4", "0.2", "0"], ["0", "0", "-1.1"]],
                 D=[["0.01", "0"], ["0", "3"]])
@@ -165,7 +163,6 @@ def test_an_entry_beyond_float64_is_named_not_infinite():
 
 
 def test_from_statespace_reads_python_controls_default_names_as_no_names():
-    control = pytest.importorskip("control")
     lcs = LCS.from_statespace(control.ss(OSC["A"], OSC["B"], OSC["C"], OSC["D"]))  # x[0], u[0], y[0]
     assert lcs.state_names == ("x_0", "x_1") and lcs.constraint_names == ("0",)
     own = LCS.from_statespace(control.ss(OSC["A"], OSC["B"], OSC["C"], OSC["D"], inputs=["push"], outputs=["gap"]))
@@ -193,7 +190,6 @@ def test_to_control_oscillator_against_its_closed_form():
     """From (1, 0): x = (cos t, -sin t), u = 0, y = cos t until y reaches 0 at pi/2 (x = (0, -1));
     the stop resets the velocity (an impulse: u is a delta there, no function value), so x = 0
     from pi/2 on, and the smallest mode at 0 is the free one: u = 0, y = x_0 = 0."""
-    control = pytest.importorskip("control")
     import mpmath as mp
     mp.mp.dps = 50
     tr = simulate(LCS(**OSC), [1, 0], 4)
@@ -217,7 +213,6 @@ def test_to_control_section7_input_is_cos_of_t_minus_1():
     q1'' = q0 - q1 = -q1 from (-1, 0): q1 = -cos(t - 1), v1 = sin(t - 1), and v0' = -2 q0 + q1 + u = 0
     gives u = cos(t - 1) > 0, y = q0 = 0, until u reaches 0 at 1 + pi/2.  At t = 1 itself the row
     holds the right limits: x(1+), u(1+) = cos 0 = 1, y = 0 (u(1-) = 0 before the impact)."""
-    pytest.importorskip("control")
     import mpmath as mp
     from helpers import A_CARTS, carts
     mp.mp.dps = 50
@@ -237,7 +232,6 @@ def test_to_control_multi_input_multi_output():
     (1, 0, 1, 0): x1 = cos t until pi/2, x3 = cos 2t (v = -2 sin 2t) until pi/4; each stop then
     resets its velocity and holds 0.  Inputs and outputs are 2 x len(t) (python-control refuses
     to guess whether such data are SISO)."""
-    pytest.importorskip("control")
     import mpmath as mp
     mp.mp.dps = 50
     lcs = LCS([[0, 1, 0, 0], [-1, 0, 0, 0], [0, 0, 0, 1], [0, 0, -4, 0]], [[0, 0], [1, 0], [0, 0], [0, 1]],
@@ -263,7 +257,6 @@ def test_to_control_multi_input_multi_output():
 
 
 def test_to_control_of_a_partial_run_says_so():
-    pytest.importorskip("control")
     with pytest.raises(L.LimitExceeded) as err:
         simulate(LCS([[0, -1], [0, 0]], [[1], [0]], [[1, 0]], [[0]]), [1, 1], 3, max_events=0)
     tr = err.value.trajectory  # x_0 = 1 - t up to the stop at t = 1, where the run stopped
