@@ -84,6 +84,11 @@ def p_matrix_violation(m: Any) -> tuple[int, ...] | None:
     never enumerate.  A nonsymmetric M above ``MAX_P_TEST_K`` = 20 that fails the second test
     is refused (:class:`~lcs_exact.errors.Unsupported`).
 
+    Parameters
+    ----------
+    m : k x k matrix of rationals
+        The matrix M.
+
     >>> p_matrix_violation([[1, 2], [0, 1]]) is None
     True
     >>> p_matrix_violation([[1, 2], [1, 1]])
@@ -119,7 +124,13 @@ def p_matrix_violation(m: Any) -> tuple[int, ...] | None:
 
 
 def is_p_matrix(m: Any) -> bool:
-    """All principal minors positive (section 3)."""
+    """All principal minors positive (section 3).
+
+    Parameters
+    ----------
+    m : k x k matrix of rationals
+        The matrix M (Theorem 3.4: LCP(q, M) has a unique solution for every q iff M is a P-matrix).
+    """
     return p_matrix_violation(m) is None
 
 
@@ -134,6 +145,17 @@ def murty(m: fmpq_mat, q_forms: fmpq_mat, x: Any = None, *, max_pivots: int | No
     ``q_forms`` is k x n (q = Q x); with ``x=None`` it is the k x 1 vector q itself.
     Returns (basis, U, Y): u = U x, y = Y x as k x n forms (exact), with u_i = 0 off the basis.
     Every sign is decided by :func:`~lcs_exact.rational.sign_of_form` (exact, or raises).
+
+    Parameters
+    ----------
+    m : fmpq_mat
+        The k x k P-matrix M.
+    q_forms : fmpq_mat
+        Q (k x n), with q = Q x; with ``x=None`` the k x 1 vector q itself.
+    x : state, optional
+        The point at which the signs of the forms are decided (None: Q is q).
+    max_pivots : int, optional
+        A bound on the pivots (LimitExceeded beyond it); None: no bound but Murty's finiteness.
     """
     k, n = q_forms.nrows(), q_forms.ncols()
     if m.nrows() != k or m.ncols() != k:
@@ -225,6 +247,13 @@ def lemke(q: Any, m: Any, *, max_pivots: int = 10_000) -> LCPSolution | None:
 def solve_lcp(q: Any, m: Any) -> LCPSolution:
     """One solution of LCP(q, M): Murty when M is a P-matrix (unique, Theorem 3.4), else Lemke.
 
+    Parameters
+    ----------
+    q : k-vector of rationals
+        The vector q of LCP(q, M) (section 3): find u >= 0 with y = q + M u >= 0, u ⊥ y.
+    m : k x k matrix of rationals
+        The matrix M.
+
     >>> solve_lcp([-1, 1], [[2, 1], [1, 2]])
     LCPSolution(u=(1/2, 0), y=(0, 3/2))
     """
@@ -247,6 +276,13 @@ def all_solutions(q: Any, m: Any) -> list[LCPSolution]:
 
     When all principal minors of M are nonzero (e.g. a P-matrix) these are all solutions.
     Cost 2^k linear solves: for small k.
+
+    Parameters
+    ----------
+    q : k-vector of rationals
+        The vector q of LCP(q, M) (section 3).
+    m : k x k matrix of rationals
+        The matrix M.
     """
     m = to_matrix(m, "M")
     k = m.nrows()

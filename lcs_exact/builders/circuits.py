@@ -242,6 +242,11 @@ def _structure(elements: Sequence[Element]):
 def circuit_ports(netlist: Any) -> tuple[Port, ...]:
     """Which of (current, reverse voltage) is u and which is y for each diode (module docstring).
 
+    Parameters
+    ----------
+    netlist : str
+        The netlist, in :func:`circuit`'s format.
+
     >>> [(p.name, p.u, p.y) for p in circuit_ports("C1 1 0 1\\nL1 1 0 1\\nD1 1 2\\nR1 2 0 1")]
     [('D1', 'i(D1)', '-v(D1)')]
     >>> [(p.name, p.u, p.y) for p in circuit_ports("C1 1 0 1\\nL1 1 2 1\\nD1 2 0")]

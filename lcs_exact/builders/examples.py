@@ -75,6 +75,13 @@ def half_wave_rectifier(L: Any = 1, C: Any = 1, R: Any = "13/10") -> LCS:
     R = 13/10): decay 1/(2RC) = 5/13, omega_d = 12/13, so from v = 0, v' > 0 the events are at
     13pi/12, 25pi/12, 19pi/6, ... and each conduction shrinks the tank's energy by e^(-5pi/6).
 
+    Parameters
+    ----------
+    L, C : rational, optional
+        The tank's inductance and capacitance.
+    R : rational, optional
+        The load.
+
     >>> rect = half_wave_rectifier()
     >>> rect.A, rect.D, rect.state_names
     ([0, -1]
@@ -103,6 +110,17 @@ def diode_bridge(L: Any = 1, C: Any = 1, R: Any = "7/6", r: Any = "1/3", R_groun
     load current flows from p to 0 in both half-waves.  Defaults (L = C = 1, r = 1/3, R = 7/6,
     R_ground = 3): R_eq = 1 + 3/10 = 13/10, the rectifier's conduction: omega_d = 12/13, decay
     5/13, events every 13pi/12.
+
+    Parameters
+    ----------
+    L, C : rational, optional
+        The tank's inductance and capacitance.
+    R : rational, optional
+        The load.
+    r : rational, optional
+        Each diode's series on-resistance.
+    R_ground : rational, optional
+        The two resistors tying the tank's nodes to ground.
 
     >>> bridge = diode_bridge()
     >>> bridge.constraint_names, bool(bridge.well_posedness())
@@ -148,6 +166,13 @@ def cart_chain(N: int, stops: Any = None) -> LCS:
     (near-coincident impacts: the benchmarks' and tests' chain).  The two carts of section 2 are
     ``cart_chain(2)``.
 
+    Parameters
+    ----------
+    N : int
+        The number of carts.
+    stops : iterable of int, optional
+        The carts with a stop q_i >= 0 (default: 0, 2, 4, ...).
+
     >>> cart_chain(2).A == two_carts().A
     True
     >>> cart_chain(5).k, cart_chain(5, stops=[4]).constraint_names
@@ -179,6 +204,17 @@ def bouncing_ball(g: Any = "981/100", e: Any = "9/10", radius: Any = 0, mass: An
     Dropped from rest at h: impacts at t1 (1 + 2e + ... + 2e^(k-1)), t1 = sqrt(2 (h - r) / g),
     accumulating at t* = t1 (1 + e) / (1 - e), after which it rests (``traj.accumulations``).
 
+    Parameters
+    ----------
+    g : rational, optional
+        Gravity.
+    e : rational, optional
+        The restitution coefficient.
+    radius : rational, optional
+        The ball's radius (the constraint is its lowest point).
+    mass : rational, optional
+        The ball's mass.
+
     >>> ball = bouncing_ball(g=10, e="1/2")
     >>> ball.state_names, ball.restitution, ball.embed([5, 0]).transpose()
     (('q', "q'", '1'), (1/2,), [5, 0, 1])
@@ -195,6 +231,19 @@ def ball_on_spring(k: Any = 1, mass: Any = 1, g: Any = 10, e: Any = "1/2", rest:
     impact takes energy until the oscillation clears the floor: then it oscillates forever.
     State (q, q', 1).
 
+    Parameters
+    ----------
+    k : rational, optional
+        The spring's stiffness.
+    mass : rational, optional
+        The ball's mass.
+    g : rational, optional
+        Gravity.
+    e : rational, optional
+        The restitution coefficient at the floor.
+    rest : rational, optional
+        The spring's rest height (without gravity).
+
     >>> spring = ball_on_spring()
     >>> spring.A
     [ 0, 1, 0]
@@ -210,6 +259,19 @@ def ball_column(N: int = 3, g: Any = 10, e: Any = "1/2", radius: Any = "1/20", m
     """N beads of one radius stacked on a floor under gravity (Siconos' column of beads,
     Newton's law at every contact): q_i is the height of bead i's centre, the contacts are the
     floor y_0 = q_0 - r and neighbours y_i = q_i - q_(i-1) - 2r.  State (q, q', 1).
+
+    Parameters
+    ----------
+    N : int, optional
+        The number of beads.
+    g : rational, optional
+        Gravity.
+    e : rational, optional
+        The restitution coefficient of every contact (Newton's law, section 8).
+    radius : rational, optional
+        The beads' radius.
+    mass : rational, optional
+        Each bead's mass.
 
     >>> col = ball_column(3)
     >>> col.constraint_names, col.C
@@ -232,6 +294,15 @@ def newtons_cradle(N: int = 3, e: Any = 1, gap: Any = 0) -> LCS:
     """N unit balls in a row on a line, no gravity, contacts between neighbours
     y_i = q_(i+1) - q_i - gap >= 0 with restitution e (a Newton's cradle hit by ball 0).
     State (q, q') (with a constant state '1' when gap != 0).
+
+    Parameters
+    ----------
+    N : int, optional
+        The number of balls.
+    e : rational, optional
+        The restitution coefficient of every contact.
+    gap : rational, optional
+        The gap between neighbours at contact.
 
     >>> cradle = newtons_cradle(3)
     >>> cradle.constraint_names, cradle.n
@@ -256,6 +327,15 @@ def sine_rectifier(omega: Any = 1, amplitude: Any = 1, R: Any = 1, C: Any = 1, f
     block, the source's potential against ground is undetermined (the state is not).  State
     (v(C1), sin(omega t), cos(omega t)); start from ``rect.embed([v0])``.
 
+    Parameters
+    ----------
+    omega, amplitude : rational, optional
+        The source amplitude * sin(omega t).
+    R, C : rational, optional
+        The load and the capacitor.
+    full_wave : bool, optional
+        A four-diode bridge fed by a floating source instead of one diode.
+
     >>> rect = sine_rectifier()
     >>> rect.state_names, rect.constraint_names
     (('v(C1)', 'sin(t)', 'cos(t)'), ('D1',))
@@ -275,6 +355,15 @@ def diode_bridge_cap_filter(L: Any = "1/100", C: Any = "1/1000000", Cf: Any = "3
     with a filter capacitor Cf = 300 nF and a load R = 1 kOhm; x0 = (10, 0, 0), t_end = 5 ms in
     the tutorial.  The tank floats: while all four diodes block its potential against ground is
     undetermined, the state (v(C1), i(L1), v(Cf)) is not (docs/extensions.md).
+
+    Parameters
+    ----------
+    L, C : rational, optional
+        The tank's inductance and capacitance.
+    Cf : rational, optional
+        The filter capacitor.
+    R : rational, optional
+        The load.
 
     >>> bridge = diode_bridge_cap_filter()
     >>> bridge.state_names, bridge.constraint_names
@@ -299,6 +388,17 @@ def buck_converter(E: Any = 2, L: Any = "1/10", C: Any = 1, R: Any = 1, period: 
     switch closes again (the switch conducts one way, so i >= 0 in both phases).  The defaults
     (E = 2, L = 1/10, C = R = 1, duty 1/4 of a period 1) conduct discontinuously from the first
     period on.  Start from ``buck.embed([i0, v0])``.
+
+    Parameters
+    ----------
+    E : rational, optional
+        The DC source voltage.
+    L, C, R : rational, optional
+        The inductance, the output capacitance and the load resistance.
+    period : rational, optional
+        The PWM period.
+    duty : rational, optional
+        The duty cycle in (0, 1): the switch is on for ``duty * period`` of each period.
 
     >>> buck = buck_converter()
     >>> buck.state_names, [p.duration for p in buck.schedule.phases], buck.embed([0, 0]).transpose()

@@ -53,7 +53,7 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
         Stiffness matrix.
     E : k x m matrix
         Constraint matrix: the constraints are E q >= 0 (a flat list is one constraint).
-    damping : m x m matrix, optional
+    damping, D : m x m matrix, optional
         Damping matrix (the paper's D); zero by default.  ``D=`` is accepted as its old name.
     force : sequence of m rationals or Source objects, optional
         External force on each coordinate: a constant (gravity: ``-m g``) or a source of
@@ -80,6 +80,8 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
         q names followed by the same names primed (the velocities): ``q_0, q_1, q_0', q_1'``,
         then the exosystem's states (``'1'`` for constant forces and gaps, ``'sin(2t)'``, ...).
     constraint_names : sequence of k str, optional
+    *legacy
+        The old call's damping, ``mechanical(M, D, K, E)`` (see Notes).
 
     Notes
     -----

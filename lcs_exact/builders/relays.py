@@ -156,7 +156,7 @@ def relay(A: Any, B: Any, C: Any, E: Any = None, F: Any = None, *, w: Any = None
     F : m x p matrix, optional
         How the sources enter the relays' inputs (zero by default): relay j switches where
         C_j x + F_j s(t) changes sign (a belt speed, a sine bias).
-    w : sequence of p sources, optional
+    w, sources : sequence of p sources, optional
         s(t): :mod:`lcs_exact.sources` objects, or rationals for constants, as ``w`` of
         :func:`~lcs_exact.exosystems.driven`.  Needs E or F.  ``sources=`` is the same argument
         under a name that does not clash with the relays' outputs w (give one of the two).

@@ -47,6 +47,17 @@ def pair_label(lcs: SystemLike, which: str, i: int, latex: bool = True) -> str:
     builder's words (``force (stop)``, ``i(D1)``), ``u (name)`` for a named pair, ``$u_{i}$``
     otherwise (``u_i`` with ``latex=False``).
 
+    Parameters
+    ----------
+    lcs : LCS
+        The system whose pair is named.
+    which : {"u", "y"}
+        The input u_i or the output y_i of the pair.
+    i : int
+        The pair's index (0-based).
+    latex : bool, optional
+        ``$u_{i}$`` (True) or ``u_i`` for an unnamed pair.
+
     >>> from lcs_exact.examples import two_carts
     >>> pair_label(two_carts(), "u", 0), pair_label(two_carts(), "y", 0)
     ('force (stop)', 'gap (stop)')
@@ -235,6 +246,11 @@ def derived_outputs(lcs: Any) -> Any:
     """The outputs w = W_x x + W_u u a builder declared (``names``, ``Wx``, ``Wu``, ``symbol``;
     :class:`lcs_exact.relays.RelayOutputs` for relays), or None: ``lcs.outputs`` when the LCS
     carries them, else its embedding's.
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system (or anything with its public interface).
 
     >>> from lcs_exact.models import relay, two_carts
     >>> derived_outputs(relay([[0]], [[-1]], [[1]])).names, derived_outputs(two_carts())

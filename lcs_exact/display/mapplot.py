@@ -122,6 +122,10 @@ def plot_mode_map(mm, ax=None, *, window: Sequence[Any] | None = None, arrows: b
     arrows : bool
     grid : int
         Arrows on a grid x grid lattice (offset by half a step).
+    ax : matplotlib Axes, optional
+        Where to draw (None: a new figure).
+    title : str, optional
+        The axes' title.
 
     Examples
     --------

@@ -260,7 +260,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     ----------
     traj : Trajectory
         The result of :func:`lcs_exact.simulate` (or anything with its public interface).
-    states : sequence of int or str, optional
+    states, components : sequence of int or str, optional
         Which states to draw (indices or names); by default the system's own states (the
         sources' states appended by a builder are left out unless ``sources``).
         ``components`` is an alias.

@@ -144,9 +144,10 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         ``time_limit`` each) and return :class:`~lcs_exact.trajectory.Branches` (``.unique`` False
         when there were choices), each trajectory with its ``.choices`` and ``certified`` when no
         sign was assumed on it (each is one solution, exactly; none is *the* solution).
-
     progress : if True, a progress bar (tqdm) over [0, t_end], advanced at every event (needs
         tqdm: ``pip install tqdm``, or ``lcs_exact[sweep]``).
+    max_prec : int, optional
+        The ceiling of sign refinement in bits (see ``digits``); 64..2^20, None: the default.
 
     Raises
     ------

@@ -454,6 +454,24 @@ def param_sweep(make_lcs: Callable[[Any], LCS], params: Iterable, x0: Any, t_end
     ``make_lcs`` runs here (it need not pickle); only the systems' rational data travel.
     Results are in the order of ``params``, each with ``.param`` set.
 
+    Parameters
+    ----------
+    make_lcs : callable
+        p -> LCS: the family of systems; it runs in this process (it need not pickle).
+    params : iterable
+        The family parameters p, one run each, results in this order.
+    x0 : vector
+        The initial state of every run (any form :func:`simulate` accepts).
+    t_end : rational
+        The horizon of every run.
+    executor : concurrent.futures.Executor, optional
+        Where the runs go (a process or thread pool, a dask client's executor); None: in turn,
+        in this process.
+    progress : bool, optional
+        A tqdm progress bar (needs the extra ``data``).
+    **simulate_options
+        Passed on to :func:`~lcs_exact.simulate.simulate` (``digits``, ``max_events``, ...).
+
     Examples
     --------
     >>> from concurrent.futures import ThreadPoolExecutor

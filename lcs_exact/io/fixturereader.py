@@ -185,7 +185,13 @@ class FixtureTrajectory:
         """Use ``traj`` (a :class:`~lcs_exact.Trajectory` of the same problem, e.g. recomputed from
         the recipe of the fixture's provenance when x0 is not rational) as the exact recomputation
         between the samples, after checking it against every event and sample of the fixture
-        (:class:`~lcs_exact.errors.FixtureMismatch` otherwise).  Returns the fixture."""
+        (:class:`~lcs_exact.errors.FixtureMismatch` otherwise).  Returns the fixture.
+
+        Parameters
+        ----------
+        traj : Trajectory
+            The exact run of the fixture's problem.
+        """
         self._verify(traj)
         self._exact = traj
         return self
@@ -293,7 +299,13 @@ class FixtureTrajectory:
                                               f"outside the fixture's {b}")
 
     def state(self, t: Any):
-        """x(t) as an exact vector (from the recomputed run); see :meth:`sample` for balls."""
+        """x(t) as an exact vector (from the recomputed run); see :meth:`sample` for balls.
+
+        Parameters
+        ----------
+        t : rational
+            The time.
+        """
         if self.exact is None:
             raise FormatError(f"{self.source}: x0 is not rational, so the run cannot be recomputed "
                               f"exactly; the fixture's samples are certified at their grid times "
@@ -302,7 +314,15 @@ class FixtureTrajectory:
 
     def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list]:
         """Certified balls of x(t) for t in ts: from the fixture's samples at grid times, else from
-        the exact recomputation (FormatError when neither is available)."""
+        the exact recomputation (FormatError when neither is available).
+
+        Parameters
+        ----------
+        ts : sequence of rationals
+            The times.
+        digits : int, optional
+            Correct digits of each component.
+        """
         times = [to_fraction(t, "t") for t in ts]
         rows: list = [self._by_time.get(t) for t in times]
         missing = [i for i, r in enumerate(rows) if r is None]
@@ -320,6 +340,11 @@ class FixtureTrajectory:
         """A float64 array of shape (len(t), n): the certified states at the times t (right limits),
         rounded to float; as :meth:`lcs_exact.Trajectory.to_numpy` (from the samples at grid times,
         else from the exact recomputation).
+
+        Parameters
+        ----------
+        t : sequence of rationals or floats
+            The times.
 
         >>> import lcs_exact as L
         >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
@@ -481,6 +506,11 @@ def read_fixture(path_or_dict: Any) -> FixtureTrajectory:
     whose content does not match its digest is refused (:class:`~lcs_exact.errors.FixtureMismatch`);
     one without a digest (written before digests existed, or with them removed) is recomputed from
     its system when x0 is rational and refused when an event or sample disagrees.
+
+    Parameters
+    ----------
+    path_or_dict : str, path or dict
+        The fixture's JSON file, or its dict.
 
     Examples
     --------

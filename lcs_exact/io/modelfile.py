@@ -63,6 +63,13 @@ def check_exponents(v: Any, where: str) -> None:
     anything turns them into rationals (1e999999999 would be a gigabyte-sized rational); the
     command applies it to its own options too (``--x0``, ``--t-end``, ``--sample``).
 
+    Parameters
+    ----------
+    v : str, number or nested list
+        The values to check.
+    where : str
+        What they are, for the error message.
+
     >>> check_exponents(["1", ["2e5000"]], "x0")
     >>> check_exponents(["1", ["2e50000"]], "x0")
     Traceback (most recent call last):
@@ -91,6 +98,11 @@ def _kind(v: Any) -> str:
 def read_model_data(path: str) -> dict:
     """The model file's data, checked: an object with A, B, C, D and only the known keys, each of
     its kind (shapes and values are checked by :func:`load_model`).
+
+    Parameters
+    ----------
+    path : str
+        The model file (TOML or JSON).
 
     >>> import json, os, tempfile
     >>> with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
@@ -185,6 +197,11 @@ def load_model(path: str) -> tuple[LCS, dict]:
     :func:`lcs_exact.models.driven`, its state (x, z) and ``x0`` the plant's state x (what
     ``lcs.embed`` takes).  An error in the data names the file.
 
+    Parameters
+    ----------
+    path : str
+        The model file (TOML or JSON).
+
     >>> import json, os, tempfile
     >>> with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as f:
     ...     json.dump({"A": [[0, 1], [-1, 0]], "B": [[0], [1]], "C": [[1, 0]], "D": [[0]],
@@ -243,6 +260,11 @@ def read_model(path: str) -> LCS:
     """The :class:`~lcs_exact.LCS` of a model file (TOML or JSON, docs/model-files.md): the
     inverse of :meth:`LCS.to_model <lcs_exact.LCS.to_model>`.  Its ``x0`` and ``t_end`` are in
     :func:`load_model`'s data.
+
+    Parameters
+    ----------
+    path : str
+        The model file (TOML or JSON).
 
     >>> import os, tempfile
     >>> from lcs_exact import examples

@@ -42,6 +42,11 @@ LATEX_MAX_N = 12
 def format_mode(I) -> str:
     """{0, 2} style (0-based), ∅ for the empty mode.
 
+    Parameters
+    ----------
+    I : iterable of int
+        The mode (0-based indices).
+
     >>> format_mode({2, 0}), format_mode(set())
     ('{0, 2}', '∅')
     """
@@ -52,6 +57,11 @@ def mode_order(I) -> tuple:
     """The order in which modes are tried and listed: fewer indices first, then lexicographically
     (the smallest admissible mode of Remark 4.8 is ``min(S, key=mode_order)``).
 
+    Parameters
+    ----------
+    I : iterable of int
+        The mode (0-based indices).
+
     >>> sorted([{1}, {0, 1}, set(), {0}], key=mode_order)
     [set(), {0}, {1}, {0, 1}]
     """
@@ -60,6 +70,11 @@ def mode_order(I) -> tuple:
 
 def latex_mode(I) -> str:
     """The mode as LaTeX: ``\\{0, 2\\}`` (braces escaped so they render), ``\\emptyset``.
+
+    Parameters
+    ----------
+    I : iterable of int
+        The mode (0-based indices).
 
     >>> print(latex_mode({0, 2}), latex_mode(()))
     \\{0, 2\\} \\emptyset
@@ -246,13 +261,27 @@ class Mode:
         return self._cache["spectrum"]
 
     def memo(self, key: str, build):
-        """Data of this mode computed once by ``build()`` (e.g. the RCP forms of selection)."""
+        """Data of this mode computed once by ``build()`` (e.g. the RCP forms of selection).
+
+        Parameters
+        ----------
+        key : str
+            The datum's name.
+        build : callable
+            () -> the datum, called on first use.
+        """
         if key not in self._cache:
             self._cache[key] = build()
         return self._cache[key]
 
     def contains(self, x: fmpq_mat) -> bool:
-        """x in V_I (Algorithm 7.1, step two), exact for rational x."""
+        """x in V_I (Algorithm 7.1, step two), exact for rational x.
+
+        Parameters
+        ----------
+        x : fmpq_mat
+            A rational state (n x 1).
+        """
         return rank(hstack(self.consistent_subspace(), x)) == self.consistent_subspace().ncols()
 
     # --- display ------------------------------------------------------------------------------

@@ -174,6 +174,13 @@ class LCS:
         the state leaves free on a phase, :meth:`Trajectory.undetermined`) are said so
         (``"D1 undetermined"``): their mode membership is a representative, not a fact.
 
+        Parameters
+        ----------
+        I : iterable of int
+            The mode (0-based indices of the active pairs, section 4).
+        undetermined : iterable of int, optional
+            Pairs whose input the state leaves free.
+
         >>> from lcs_exact.examples import two_carts
         >>> two_carts().describe_mode({0}), LCS([[0]], [[1]], [[1]], [[0]]).describe_mode({0})
         ('stop contact', '{0}')
@@ -239,6 +246,10 @@ class LCS:
     def markov(self, i: int) -> fmpq_mat:
         """H_i (5.8): H_0 = D, H_i = C A^{i-1} B (exact, k x k); 0 <= i <= MAX_MARKOV_INDEX (4096).
 
+        Parameters
+        ----------
+        i : int
+
         >>> LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]]).markov(2)
         [1]
         """
@@ -251,7 +262,12 @@ class LCS:
         return self._markov[i]
 
     def a_power_b(self, i: int) -> fmpq_mat:
-        """A^i B (used for the state jump (3.8)); 0 <= i <= MAX_MARKOV_INDEX."""
+        """A^i B (used for the state jump (3.8)); 0 <= i <= MAX_MARKOV_INDEX.
+
+        Parameters
+        ----------
+        i : int
+        """
         i = to_int(i, "power i of A^i B", 0, MAX_MARKOV_INDEX)
         while len(self._apow_b) <= i:
             self._apow_b.append(self.A * self._apow_b[-1])
@@ -372,6 +388,13 @@ class LCS:
         ``LCS.from_statespace(lcs.to_statespace())`` gives back the names and, for decimal data
         of up to 15 significant digits, the exact matrices.
 
+        Parameters
+        ----------
+        sys : control.StateSpace or object with A, B, C, D
+            The system x' = A x + B u, y = C x + D u (square: k inputs, k outputs).
+        **options
+            Passed on to :class:`LCS` (``names``, ``restitution``, ...).
+
         >>> class SS:  # a stand-in with the attributes of control.StateSpace
         ...     A, B, C, D = [[0.0, 1.0], [-2.5, -0.1]], [[0.0], [1.0]], [[1.0, 0.0]], [[0.0]]
         >>> LCS.from_statespace(SS()).A
@@ -423,6 +446,11 @@ class LCS:
         Builders that append states set the embedding: for a relay LCS (x, c) with the constant
         relay level c, ``embed(x)`` is (x, 1).  Without one, x itself (read as a rational vector
         of length n).
+
+        Parameters
+        ----------
+        x : vector of rationals
+            A state of the modelled system (or the full n-vector).
 
         >>> LCS([[0]], [[1]], [[1]], [[0]]).embed(["1/2"])
         [1/2]
@@ -538,7 +566,13 @@ class LCS:
         return s
 
     def mode(self, I: Iterable[int]):
-        """The mode I (0-based index set): V_I, T_I, P_I, F_I, autonomy.  Built once, on demand."""
+        """The mode I (0-based index set): V_I, T_I, P_I, F_I, autonomy.  Built once, on demand.
+
+        Parameters
+        ----------
+        I : iterable of int
+            The mode: the 0-based indices of the pairs with y_i = 0 (section 4).
+        """
         key = self._index_set(I)
         m = self._modes.get(key)
         if m is None:
@@ -565,6 +599,14 @@ class LCS:
         and RCP otherwise.  ``nonautonomous``: ``"raise"`` (NotAutonomous when a mode that is not
         autonomous is admissible at x0) or ``"include"``.  See
         :func:`lcs_exact.selection.select_modes`.
+
+        Parameters
+        ----------
+        x0 : vector of rationals or exact vector
+        method : {"auto", "rcp", "ldcp"}, optional
+            How S(x0) is found (above).
+        nonautonomous : {"raise", "include"}, optional
+            What to do with an admissible mode that is not autonomous (above).
         """
         return select_modes(self, x0, method=method, nonautonomous=nonautonomous)
 
@@ -583,7 +625,13 @@ class LCS:
     def mode_map(self, slice: Any = None):
         """The exact partition of the state space (or of ``slice=(base, directions)``) into the
         polyhedral regions where S(x0) and the re-initialization are constant (docs/paper-to-api.md).
-        See :func:`lcs_exact.modemap.mode_map`."""
+        See :func:`lcs_exact.modemap.mode_map`.
+
+        Parameters
+        ----------
+        slice : (base, directions), optional
+            An affine slice x0 = base + sum s_i d_i (None: the whole state space).
+        """
         return mode_map(self, slice)
 
     def is_regular(self, x0: Any) -> bool:

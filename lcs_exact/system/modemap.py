@@ -120,6 +120,11 @@ class Region:
     def contains(self, point: Sequence[Any]) -> bool:
         """True iff the rational point (map coordinates) lies in the region, by its inequalities.
 
+        Parameters
+        ----------
+        point : sequence of rationals
+            A point in the map's coordinates.
+
         >>> from lcs_exact.examples import two_carts
         >>> mm = two_carts().mode_map(slice=([0, 0, 0, 0], [[1, 0, 0, 0], [0, 0, 1, 0]]))
         >>> [r.contains([0, 0]) for r in mm.regions]   # only the origin's region
@@ -180,17 +185,34 @@ class ModeMap:
         return self.directions.ncols()
 
     def state(self, point: Sequence[Any]) -> fmpq_mat:
-        """x0 = base + sum_i s_i d_i for the map coordinates s (exact, n x 1)."""
+        """x0 = base + sum_i s_i d_i for the map coordinates s (exact, n x 1).
+
+        Parameters
+        ----------
+        point : sequence of rationals
+            The map coordinates s.
+        """
         s = to_vector(point, self.dimension, "point")
         return self.base + self.directions * s
 
     def signs(self, point: Sequence[Any]) -> tuple:
-        """The sign vector of the point (map coordinates) on the hyperplanes."""
+        """The sign vector of the point (map coordinates) on the hyperplanes.
+
+        Parameters
+        ----------
+        point : sequence of rationals
+            A point in the map's coordinates.
+        """
         s = [to_fmpq(v, "point") for v in _flat(point, self.dimension)]
         return tuple(_sign(sum((ai * si for ai, si in zip(a, s)), fmpq(0)) + b) for a, b in self.hyperplanes)
 
     def locate(self, point: Sequence[Any]) -> Region:
         """The region containing the rational point (in the map's coordinates: s for a slice).
+
+        Parameters
+        ----------
+        point : sequence of rationals
+            A point in the map's coordinates.
 
         >>> from lcs_exact.examples import two_carts
         >>> mm = two_carts().mode_map(slice=([0, 0, 0, 0], [[1, 0, 0, 0], [0, 0, 1, 0]]))
@@ -200,7 +222,13 @@ class ModeMap:
         return self._face_region[self.signs(point)]
 
     def admissible(self, mode: Any) -> tuple:
-        """The regions where ``mode`` is in S(x0) (their union is where the mode may be entered)."""
+        """The regions where ``mode`` is in S(x0) (their union is where the mode may be entered).
+
+        Parameters
+        ----------
+        mode : iterable of int
+            A mode (0-based indices).
+        """
         I = frozenset(mode)
         return tuple(r for r in self.regions if I in r.modes)
 
@@ -210,6 +238,11 @@ class ModeMap:
         For x0 = base + D s, P x0 - x0 = (P - I)(base + D s); its least-squares coordinates in
         the directions are c0 + C1 s (c0: d x 1, C1: d x d, exact rationals).  ``exact`` is True
         iff the jump stays in the slice (then c0 + C1 s is the jump itself).  None for a deadlock.
+
+        Parameters
+        ----------
+        region : Region
+            A region of this map.
         """
         if region.jump is None:
             return None
@@ -222,7 +255,15 @@ class ModeMap:
         return c0, C1, exact
 
     def plot(self, ax=None, **kw):
-        """Draw a 2-D map (regions filled and labelled, jump arrows); see plotting.plot_mode_map."""
+        """Draw a 2-D map (regions filled and labelled, jump arrows); see plotting.plot_mode_map.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw (None: a new figure).
+        **kw
+            Passed on to :func:`~lcs_exact.plotting.plot_mode_map` (``window``, ``arrows``, ...).
+        """
         return plot_mode_map(self, ax=ax, **kw)
 
     def __repr__(self):

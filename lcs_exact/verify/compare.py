@@ -49,6 +49,11 @@ def read_solution_csv(path: Any) -> tuple[list[str], list[list[str]]]:
     separated), an optional header line, ``#`` comments.  Returns (t, X) as decimal strings
     (read exactly later).
 
+    Parameters
+    ----------
+    path : str or path
+        The CSV file.
+
     >>> import tempfile, os
     >>> with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
     ...     _ = f.write("t,x1,x2\\n0,1,0\\n0.5,0.87,-0.47\\n")
@@ -199,6 +204,11 @@ class ComparisonReport:
         ``max_error_bound``); ``"events"`` one row per event (certified time, kind, the solver's
         switch time and the difference).
 
+        Parameters
+        ----------
+        what : {"components", "events"}, optional
+            The table (above).
+
         >>> import lcs_exact as L
         >>> osc = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])
         >>> tr = L.simulate(osc, [1, 0], 1)
@@ -315,6 +325,8 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     where a partial run stopped) are left out and counted as ``n_beyond``, except those within
     1e-9 of a step of it (a float grid's rounding), which are compared there.  Error balls are
     certified against the solver's numbers as given.
+    label : str, optional
+        The solution's name in the report.
 
     Examples
     --------
@@ -514,6 +526,13 @@ def convergence_order(reports: Sequence[ComparisonReport], steps: Sequence[Any] 
     """The least-squares slope p of log(max error) against log(step): error ~ C h^p.
 
     ``steps`` defaults to each report's largest step.
+
+    Parameters
+    ----------
+    reports : sequence of ComparisonReport
+        One report per step size.
+    steps : sequence of numbers, optional
+        The step sizes h.
 
     >>> class R:  # anything with max_error; the errors of a second-order method
     ...     def __init__(self, e): self.max_error = arb(e)

@@ -142,7 +142,13 @@ class Problem:
         return _BUILDERS[self.builder](**self.parameters)
 
     def initial_state(self, lcs: LCS | None = None) -> Any:
-        """x0 for the system (a list of rationals, or an exact vector for ``expm_action``)."""
+        """x0 for the system (a list of rationals, or an exact vector for ``expm_action``).
+
+        Parameters
+        ----------
+        lcs : LCS, optional
+            The problem's system (built when None).
+        """
         lcs = self.system() if lcs is None else lcs
         kind = self.x0[0]
         if kind == "state":
@@ -152,12 +158,26 @@ class Problem:
         return expm_action(lcs.A, self.x0[1], list(self.x0[2]))
 
     def run(self, digits: int = DEFAULT_DIGITS, **kw: Any):
-        """The exact run (:func:`lcs_exact.simulate`) on [0, t_end]; keywords go to simulate."""
+        """The exact run (:func:`lcs_exact.simulate`) on [0, t_end]; keywords go to simulate.
+
+        Parameters
+        ----------
+        digits : int, optional
+            Correct digits (as for simulate).
+        **kw
+            Passed on to :func:`lcs_exact.simulate`.
+        """
         lcs = self.system()
         return simulate(lcs, self.initial_state(lcs), self.t_end, digits=digits, **kw)
 
     def sample_step(self, samples: int = DEFAULT_SAMPLES) -> Fraction:
-        """The grid step t_end / samples."""
+        """The grid step t_end / samples.
+
+        Parameters
+        ----------
+        samples : int, optional
+            The number of grid steps.
+        """
         return Fraction(self.t_end) / samples
 
     def provenance(self) -> dict:
@@ -231,7 +251,13 @@ def version() -> str:
 
 
 def problem(name: str) -> Problem:
-    """The problem called ``name`` (:class:`~lcs_exact.errors.InvalidArgument` if there is none)."""
+    """The problem called ``name`` (:class:`~lcs_exact.errors.InvalidArgument` if there is none).
+
+    Parameters
+    ----------
+    name : str
+        The problem's name.
+    """
     if name not in _BY_NAME:
         raise InvalidArgument(f"the zoo has no problem {str(name)[:40]!r} (it has: {', '.join(_BY_NAME)})")
     return _BY_NAME[name]
@@ -500,7 +526,15 @@ class ZooCase:
 
     def compare(self, t: Any, X: Any, **options: Any) -> ComparisonReport:
         """:func:`lcs_exact.compare` of a solution (times t, states X: all n, or the plant's)
-        against the case (``event_tol``, ``atol``, ``rtol``, ``label`` as there)."""
+        against the case (``event_tol``, ``atol``, ``rtol``, ``label`` as there).
+
+        Parameters
+        ----------
+        t, X : sequences
+            The solver's times and states.
+        **options
+            Passed on to :func:`lcs_exact.compare`.
+        """
         return compare(self.fixture, t, X, **options)
 
     def assert_matches(self, t: Any, X: Any, atol: float = 1e-6, rtol: float = 0.0,
@@ -508,7 +542,17 @@ class ZooCase:
         """:func:`lcs_exact.testing.assert_matches_fixture` against the case: AssertionError
         naming the worst point outside ``|X - x| <= atol + rtol |x|``, away from the windows
         around every event (twice the solver's largest step by default, widened to the solver's
-        own switch; those an accumulation implies included).  X: all n states, or the plant's."""
+        own switch; those an accumulation implies included).  X: all n states, or the plant's.
+
+        Parameters
+        ----------
+        t, X : sequences
+            The solver's times and states (all n, or the plant's).
+        atol, rtol : float, optional
+            The tolerance ``|X - x| <= atol + rtol |x|``.
+        event_tol : float, optional
+            The half-width of the windows around events (default above).
+        """
         return assert_matches_fixture(self.fixture, t, X, atol=atol, rtol=rtol, event_tol=event_tol)
 
     def __repr__(self):
@@ -518,6 +562,11 @@ class ZooCase:
 def cases(names: str | Sequence[str] | None = None) -> list[ZooCase]:
     """The shipped zoo's cases (:class:`ZooCase`), in the order of :data:`PROBLEMS`; ``names``
     (a list, or a comma-separated string) selects some.  The fixtures are read on first use.
+
+    Parameters
+    ----------
+    names : str or sequence of str, optional
+        The cases to select (all when None).
 
     >>> [c.name for c in cases("relay,two_carts")]
     ['two_carts', 'relay']
