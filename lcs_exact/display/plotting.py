@@ -50,6 +50,7 @@ from flint import arb, ctx, fmpq_mat
 
 from .convergence import plot_convergence
 from ..errors import InvalidArgument, LCSError
+from ..interfaces import AccumulationWindow
 from .figlabels import (Rows, derived_outputs, draw_schedule, event_text, impulse_label, mode_colors, mode_texts, pair_label,
                         selected_indices, state_label, text_width)
 from .mapplot import plot_mode_map
@@ -149,7 +150,7 @@ def _split_at_accumulations(traj, intervals: list) -> list:
         return intervals
     windows = {}
     for rec in getattr(traj, "phases", ()) or ():
-        if hasattr(rec.phase, "offsets"):
+        if isinstance(rec.phase, AccumulationWindow):
             windows[float(rec.t1)] = rec
     out = []
     for ph in intervals:
@@ -171,7 +172,7 @@ def _split_at_accumulations(traj, intervals: list) -> list:
 def _mode_after(traj, acc):
     """The mode of the phase that starts at the accumulation time (S(x(T*)) otherwise)."""
     for rec in getattr(traj, "phases", ()) or ():
-        if not hasattr(rec.phase, "offsets") and abs(float(rec.t0) - float(acc.time)) == 0:
+        if not isinstance(rec.phase, AccumulationWindow) and abs(float(rec.t0) - float(acc.time)) == 0:
             return rec.mode
     S = traj.lcs.select_modes(acc.state)
     return min(S, key=mode_order) if S else None

@@ -45,9 +45,9 @@ from ..algebra import (MAX_PREC_BITS, is_zero, submatrix, to_fmpq, to_int, to_sh
                        vector_entries, vstack)
 from ..numbers import RationalReal, Real, as_real
 from ..numbers import ExactVector, ProjectedVector, RationalVector, as_exact_vector, homogenized
-from ..modes import (impulse_forms, initial_solution, initial_solution_groups, rcp_data, select_modes, state_groups,
-                        undetermined_inputs)
-from ..modes import format_mode, mode_order
+from ..modes import (format_mode, impulse_forms, initial_solution, initial_solution_groups, mode_order, rcp_data,
+                     select_modes, state_groups, undetermined_inputs)
+from ..interfaces import AccumulationWindow
 from ..system import LCS
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
 from .zeno import check_accumulation
@@ -428,7 +428,7 @@ class _Run:
         with workprec(prec):
             a, b = dyadic_lower(t0.arb(prec)), dyadic_upper(t1.arb(prec))
             for rec in self.phases:
-                if not hasattr(rec.phase, "spectrum"):
+                if isinstance(rec.phase, AccumulationWindow):
                     continue
                 r0, r1 = dyadic_lower(rec.t0.arb(prec)), dyadic_upper(rec.t1.arb(prec))
                 lo, hi = max(a, r0), min(b, r1)
