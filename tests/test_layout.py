@@ -41,7 +41,7 @@ LAYERS = {
     "display": ["convergence", "mapplot", "figlabels", "plotting"],
     "system": ["modemap", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
     "dynamics": ["guesses", "roots", "polyroots", "phase", "clock", "flow", "fixnumbers", "fixture", "trajectory",
-                 "accumulation", "cascade", "zeno", "bounces", "schedule", "simulate", "sweep"],
+                 "accumulation", "cascade", "zeno", "bounces", "schedule", "options", "simulate", "sweep"],
     "builders": ["exosystems", "mechanics", "circuits", "relays", "examples"],
     "io": ["fixturereader", "modelfile"],
     "verify": ["solverevents", "compare", "testing", "zoo"],
