@@ -4,6 +4,13 @@ Modes, mode selection, impacts, phases and the driver take the system as an argu
 below :class:`~lcs_exact.system.LCS` in the import order (imports point down only), so they
 cannot name the class.  :class:`SystemLike` states what they use of it; ``LCS`` satisfies it.
 It is a static description (``typing.Protocol``), never checked at run time.
+
+:class:`AccumulationWindow` is the other way round: a base class checked at run time.  The
+motion on [t_k, T*) of a proven accumulation is kept among a trajectory's phases but is not a
+:class:`~lcs_exact.dynamics.phase.Phase`; the trajectory, the driver and the drawing code tell
+the two apart by ``isinstance(phase, AccumulationWindow)``.  The windows live in ``dynamics``,
+which the drawing code (``display``) sits below, so the class that names them lives here, below
+both.
 """
 from __future__ import annotations
 
@@ -11,7 +18,7 @@ from typing import Any, Iterable, Protocol
 
 from flint import fmpq_mat
 
-__all__ = ["SystemLike"]
+__all__ = ["SystemLike", "AccumulationWindow"]
 
 
 class SystemLike(Protocol):
@@ -35,3 +42,12 @@ class SystemLike(Protocol):
     def well_posedness(self) -> Any: ...
 
     def mode(self, I: Iterable[int]) -> Any: ...
+
+
+class AccumulationWindow:
+    """The motion on [t_k, T*) of a proven accumulation of infinitely many events, kept as a
+    phase: a geometric law's scaled cycles (``dynamics.accumulation.ScaledCycle``) or a bounce
+    accumulation's iterated cycle map (``dynamics.bounces.BounceWindow``).  Unlike a continuous
+    phase it has no spectrum and no mode of its own over the window: it gives its states and
+    inputs itself (``state(dt)``, ``output(dt, kind)``, ``ball_state(dt, prec)``), its implied
+    event times (``offsets``, ``event_times``), and it has no value at T* itself."""

@@ -104,6 +104,11 @@ def raises(cls, fn, *names):
     (dict(max_prec=32), InvalidArgument, ["max_prec"]),
     (dict(max_prec=True), InvalidArgument, ["max_prec"]),
     (dict(max_prec="4096"), InvalidArgument, ["max_prec"]),
+    (dict(zeno="go"), InvalidArgument, ["zeno", "'go'"]),   # a ShapeError before issue 29: an option value
+    (dict(zeno=None), InvalidArgument, ["zeno"]),
+    (dict(branches="every"), InvalidArgument, ["branches", "'every'"]),
+    (dict(branches=["all"]), InvalidArgument, ["branches"]),
+    (dict(progress="yes"), InvalidArgument, ["progress"]),
     (dict(x0=None), ShapeError, ["x0"]),
     (dict(x0="0,1,-1,0"), ShapeError, ["x0", "str"]),
     (dict(x0=b"0110"), ShapeError, ["x0"]),

@@ -283,60 +283,111 @@ def circuit(netlist: Any, *, name: str | None = None) -> LCS:
     (('v(C1)',), ('D1',))
     """
     elements = parse_netlist(netlist)
-    tree, ports = _structure(elements)
-    nodes = sorted({v for e in elements for v in (e.plus, e.minus)} - {"0"})
-    node_ix = {v: i for i, v in enumerate(nodes)}
-    states = [e for e in elements if e.kind in "CL"]
-    st_ix = {e.name: i for i, e in enumerate(states)}
-    port_ix = {p.name: i for i, p in enumerate(ports)}
-    srcs = [e for e in elements if e.kind in "VI"]
-    src_ix = {e.name: i for i, e in enumerate(srcs)}
-    nn, nb, ns, k, nw = len(nodes), len(elements), len(states), len(ports), len(srcs)
-    if ns == 0:
+    _, ports = _structure(elements)
+    net = _Network(elements, ports)
+    if net.ns == 0:
         raise Unsupported("the circuit has no capacitor or inductor: an LCS needs at least one state")
-    if k == 0:
+    if net.k == 0:
         raise Unsupported("the circuit has no diode: an LCS needs at least one complementarity pair")
-    # unknowns: e (nn), v (nb), i (nb), x' (ns); knowns: x (ns), u (k), w (nw)
-    V, I, XD = nn, nn + nb, nn + 2 * nb
-    nz = nn + 2 * nb + ns
-    rows: list[tuple[dict, dict, dict, dict]] = []  # (unknowns, x, u, w) coefficients: lhs = x + u + w parts
-    for v in nodes:  # KCL: sum of currents leaving the node is zero
+    Z = _solved_network(net, _kirchhoff_rows(net) + _branch_law_rows(net))
+    A, B, E = _state_equation(net, Z)
+    Cm, Dm, F = _port_outputs(net, Z)
+    names = tuple(f"v({e.name})" if e.kind == "C" else f"i({e.name})" for e in net.states)
+    cnames = tuple(p.name for p in ports)
+    # in the mode (y = 0): a current port's reverse voltage is 0 (conducting), a voltage port's
+    # current is 0 (blocking)
+    roles = tuple((p.u, p.y, "conducting", "blocking") if p.kind == "current" else (p.u, p.y, "blocking", "conducting")
+                  for p in ports)
+    if net.nw == 0:
+        return LCS(A, B, Cm, Dm, name=name, state_names=names, constraint_names=cnames, roles=roles)
+    ex = exosystem([e.value for e in net.sources])
+    return extend(A, B, Cm, Dm, E * ex.W, F * ex.W, ex, name=name, state_names=names, constraint_names=cnames,
+                  roles=roles)
+
+
+class _Network:
+    """A netlist's unknowns and knowns, numbered.  Unknowns: the node potentials e (nn), the
+    branch voltages v (nb), the branch currents i (nb), the state derivatives x' (ns), at offsets
+    0, ``V``, ``I``, ``XD``; knowns: the states x (ns: capacitor voltages, inductor currents), the
+    diode ports u (k) and the sources w (nw)."""
+
+    def __init__(self, elements: Sequence[Element], ports: tuple):
+        self.elements, self.ports = elements, ports
+        self.nodes = sorted({v for e in elements for v in (e.plus, e.minus)} - {"0"})
+        self.node_ix = {v: i for i, v in enumerate(self.nodes)}
+        self.states = [e for e in elements if e.kind in "CL"]
+        self.st_ix = {e.name: i for i, e in enumerate(self.states)}
+        self.port_ix = {p.name: i for i, p in enumerate(ports)}
+        self.ports_by = {p.name: p for p in ports}
+        self.sources = [e for e in elements if e.kind in "VI"]
+        self.src_ix = {e.name: i for i, e in enumerate(self.sources)}
+        self.nn, self.nb, self.ns = len(self.nodes), len(elements), len(self.states)
+        self.k, self.nw = len(ports), len(self.sources)
+        self.V, self.I, self.XD = self.nn, self.nn + self.nb, self.nn + 2 * self.nb
+        self.nz = self.nn + 2 * self.nb + self.ns
+
+
+#: one circuit equation: (unknowns, x, u, w) coefficients, the unknowns' side equal to the sum of the others
+_Row = tuple[dict, dict, dict, dict]
+
+
+def _kirchhoff_rows(net: _Network) -> list[_Row]:
+    """Kirchhoff's laws: KCL at each node (the currents leaving it sum to zero), KVL on each
+    branch (v_b = e(plus) - e(minus))."""
+    rows: list[_Row] = []
+    V, I = net.V, net.I
+    for v in net.nodes:  # KCL: sum of currents leaving the node is zero
         c = {}
-        for b, e in enumerate(elements):
+        for b, e in enumerate(net.elements):
             if e.plus == v:
                 c[I + b] = c.get(I + b, 0) + 1
             if e.minus == v:
                 c[I + b] = c.get(I + b, 0) - 1
         rows.append((c, {}, {}, {}))
-    for b, e in enumerate(elements):  # KVL: v_b = e(plus) - e(minus)
+    for b, e in enumerate(net.elements):  # KVL: v_b = e(plus) - e(minus)
         c = {V + b: fmpq(1)}
         if e.plus != "0":
-            c[node_ix[e.plus]] = c.get(node_ix[e.plus], 0) - 1
+            c[net.node_ix[e.plus]] = c.get(net.node_ix[e.plus], 0) - 1
         if e.minus != "0":
-            c[node_ix[e.minus]] = c.get(node_ix[e.minus], 0) + 1
+            c[net.node_ix[e.minus]] = c.get(net.node_ix[e.minus], 0) + 1
         rows.append((c, {}, {}, {}))
-    ports_by = {p.name: p for p in ports}
-    for b, e in enumerate(elements):  # branch laws
+    return rows
+
+
+def _branch_law_rows(net: _Network) -> list[_Row]:
+    """Each element's law: Ohm's (v = R i), a capacitor's (v = x, i = C x'), an inductor's (i = x,
+    v = L x'), a source's (v or i = w) and a diode's port (i = u for a current port, v = -u for a
+    voltage port)."""
+    rows: list[_Row] = []
+    V, I, XD = net.V, net.I, net.XD
+    for b, e in enumerate(net.elements):  # branch laws
         if e.kind == "R":
             rows.append(({V + b: 1, I + b: -e.value}, {}, {}, {}))
         elif e.kind == "C":
-            s = st_ix[e.name]
+            s = net.st_ix[e.name]
             rows.append(({V + b: 1}, {s: 1}, {}, {}))
             rows.append(({I + b: 1, XD + s: -e.value}, {}, {}, {}))
         elif e.kind == "L":
-            s = st_ix[e.name]
+            s = net.st_ix[e.name]
             rows.append(({I + b: 1}, {s: 1}, {}, {}))
             rows.append(({V + b: 1, XD + s: -e.value}, {}, {}, {}))
         elif e.kind == "V":
-            rows.append(({V + b: 1}, {}, {}, {src_ix[e.name]: 1}))
+            rows.append(({V + b: 1}, {}, {}, {net.src_ix[e.name]: 1}))
         elif e.kind == "I":
-            rows.append(({I + b: 1}, {}, {}, {src_ix[e.name]: 1}))
+            rows.append(({I + b: 1}, {}, {}, {net.src_ix[e.name]: 1}))
         else:
-            p = port_ix[e.name]
-            if ports_by[e.name].kind == "current":
+            p = net.port_ix[e.name]
+            if net.ports_by[e.name].kind == "current":
                 rows.append(({I + b: 1}, {}, {p: 1}, {}))
             else:
                 rows.append(({V + b: 1}, {}, {p: -1}, {}))
+    return rows
+
+
+def _solved_network(net: _Network, rows: list[_Row]) -> fmpq_mat:
+    """Z (nz x (ns + k + nw)): every unknown as a linear map of (x, u, w), from the circuit
+    equations M_z z = R (x, u, w)."""
+    nz, ns, k, nw = net.nz, net.ns, net.k, net.nw
     if len(rows) != nz:
         raise ShapeError(f"internal inconsistency: {len(rows)} circuit equations for {nz} unknowns")
     Mz = fmpq_mat(nz, nz)
@@ -353,31 +404,32 @@ def circuit(netlist: Any, *, name: str | None = None) -> LCS:
     if Mz.rank() < nz:
         raise Unsupported("the circuit equations do not determine the branch voltages and currents "
                           "from the states and the diode ports (a degenerate network)")
-    Z = Mz.solve(R)  # every unknown as a linear map of (x, u, w)
+    return Mz.solve(R)  # every unknown as a linear map of (x, u, w)
+
+
+def _state_equation(net: _Network, Z: fmpq_mat) -> tuple[fmpq_mat, fmpq_mat, fmpq_mat]:
+    """(A, B, E) of x' = A x + B u + E w: the rows of Z for the state derivatives."""
+    ns, k, nw, XD = net.ns, net.k, net.nw, net.XD
     A = fmpq_mat(ns, ns, [Z[XD + i, j] for i in range(ns) for j in range(ns)])
     B = fmpq_mat(ns, k, [Z[XD + i, ns + j] for i in range(ns) for j in range(k)])
     E = fmpq_mat(ns, nw, [Z[XD + i, ns + k + j] for i in range(ns) for j in range(nw)])
+    return A, B, E
+
+
+def _port_outputs(net: _Network, Z: fmpq_mat) -> tuple[fmpq_mat, fmpq_mat, fmpq_mat]:
+    """(C, D, F) of y = C x + D u + F w: y = -v_D for a current port, y = i_D for a voltage port."""
+    ns, k, nw = net.ns, net.k, net.nw
     Cm, Dm, F = fmpq_mat(k, ns), fmpq_mat(k, k), fmpq_mat(k, nw)
-    for b, e in enumerate(elements):
+    for b, e in enumerate(net.elements):
         if e.kind != "D":
             continue
-        p = port_ix[e.name]
+        p = net.port_ix[e.name]
         # y = -v_D for a current port, y = i_D for a voltage port
-        row, sign = (V + b, -1) if ports_by[e.name].kind == "current" else (I + b, 1)
+        row, sign = (net.V + b, -1) if net.ports_by[e.name].kind == "current" else (net.I + b, 1)
         for j in range(ns):
             Cm[p, j] = sign * Z[row, j]
         for j in range(k):
             Dm[p, j] = sign * Z[row, ns + j]
         for j in range(nw):
             F[p, j] = sign * Z[row, ns + k + j]
-    names = tuple(f"v({e.name})" if e.kind == "C" else f"i({e.name})" for e in states)
-    cnames = tuple(p.name for p in ports)
-    # in the mode (y = 0): a current port's reverse voltage is 0 (conducting), a voltage port's
-    # current is 0 (blocking)
-    roles = tuple((p.u, p.y, "conducting", "blocking") if p.kind == "current" else (p.u, p.y, "blocking", "conducting")
-                  for p in ports)
-    if nw == 0:
-        return LCS(A, B, Cm, Dm, name=name, state_names=names, constraint_names=cnames, roles=roles)
-    ex = exosystem([e.value for e in srcs])
-    return extend(A, B, Cm, Dm, E * ex.W, F * ex.W, ex, name=name, state_names=names, constraint_names=cnames,
-                  roles=roles)
+    return Cm, Dm, F

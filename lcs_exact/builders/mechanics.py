@@ -120,6 +120,28 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
     >>> soft.D, soft.markov(0) == soft.D
     ([1/100], True)
     """
+    M, K, E, damping = _damping_in_either_order(M, K, E, legacy, damping, D)
+    Mm, Km, Dm, Em = _mechanical_matrices(M, K, damping, E)
+    m, k = Mm.nrows(), Em.nrows()
+    q_names = _coordinate_names(q_names, m)
+    A, B, C, Minv = _first_order_form(Mm, Km, Dm, Em)
+    names = q_names + tuple(f"{q}'" for q in q_names)
+    cn = tuple(constraint_names) if constraint_names is not None else tuple(str(i) for i in range(k))
+    roles = tuple((f"force ({c})", f"gap ({c})", "contact", "open") for c in cn)
+    forces = _sources(force, m, "force", "coordinate")
+    gaps = _sources(gap, k, "gap", "constraint")
+    Dc = _compliance(compliance, k, cn)
+    _check_restitution(restitution, Dc, cn)
+    options = dict(name=name, state_names=names, constraint_names=constraint_names, restitution=restitution,
+                   roles=roles)
+    if forces is None and gaps is None:
+        return LCS(A, B, C, Dc, **options)
+    return _with_forces_and_gaps(A, B, C, Dc, Minv, forces or [0] * m, gaps or [0] * k, options)
+
+
+def _damping_in_either_order(M: Any, K: Any, E: Any, legacy: tuple, damping: Any, D: Any) -> tuple:
+    """(M, K, E, damping) from the call ``mechanical(M, K, E, damping=...)``, the old order
+    ``mechanical(M, D, K, E)`` (a fourth positional argument) or the old keyword ``D=``."""
     if legacy:
         if len(legacy) > 1:
             raise InvalidArgument(f"mechanical() takes M, K, E (and damping=...), or the old M, D, K, E; "
@@ -131,6 +153,13 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
         if damping is not None:
             raise InvalidArgument("give the damping once: damping= or its old name D=, not both")
         damping = D
+    return M, K, E, damping
+
+
+def _mechanical_matrices(M: Any, K: Any, damping: Any, E: Any) -> tuple:
+    """M, K, the damping and E of M q'' + D q' + K q = E^T u as rational matrices, checked: M square,
+    nonempty and invertible, K and the damping m x m, E with m columns and at least one row (a flat
+    list is one constraint)."""
     Mm = to_matrix(M, "M")
     m = Mm.nrows()
     if m == 0 or Mm.ncols() != m:
@@ -140,40 +169,45 @@ def mechanical(M: Any, K: Any, E: Any, *legacy: Any, damping: Any = None, force:
     if isinstance(E, (list, tuple)) and E and not isinstance(E[0], (list, tuple)) and not hasattr(E[0], "tolist"):
         E = [list(E)]  # a flat list is one constraint row
     Em = to_matrix(E, "E", (None, m))
-    k = Em.nrows()
-    if k == 0:
+    if Em.nrows() == 0:
         raise ShapeError("E has no rows: give at least one constraint E q >= 0")
     if Mm.det() == 0:
         raise ShapeError("mass matrix M is singular")
+    return Mm, Km, Dm, Em
+
+
+def _coordinate_names(q_names: Any, m: int) -> tuple:
+    """The names of the m coordinates q: ``q_0, ..., q_{m-1}`` by default, else m nonempty strings."""
     if q_names is None:
-        q_names = tuple(f"q_{i}" for i in range(m))
-    elif isinstance(q_names, str) or not hasattr(q_names, "__iter__") or len(tuple(q_names)) != m:
+        return tuple(f"q_{i}" for i in range(m))
+    if isinstance(q_names, str) or not hasattr(q_names, "__iter__") or len(tuple(q_names)) != m:
         raise ShapeError(f"q_names must be {m} names (one per coordinate), got {q_names!r}")
     q_names = tuple(q_names)
     if not all(isinstance(q, str) and q for q in q_names):
         raise InvalidArgument(f"q_names must be nonempty strings, got {q_names!r}")
+    return q_names
+
+
+def _first_order_form(Mm, Km, Dm, Em) -> tuple:
+    """(A, B, C, M^{-1}) of (8.3): x = (q, q'), A = [[0, I], [-M^{-1} K, -M^{-1} D]],
+    B = [[0], [M^{-1} E^T]], C = [E, 0]."""
+    m, k = Mm.nrows(), Em.nrows()
     Minv = Mm.solve(identity(m))
     A = vstack(hstack(zeros(m, m), identity(m)), hstack(-(Minv * Km), -(Minv * Dm)))
     B = vstack(zeros(m, k), Minv * Em.transpose())
     C = hstack(Em, zeros(k, m))
-    names = q_names + tuple(f"{q}'" for q in q_names)
-    cn = tuple(constraint_names) if constraint_names is not None else tuple(str(i) for i in range(k))
-    roles = tuple((f"force ({c})", f"gap ({c})", "contact", "open") for c in cn)
-    forces = _sources(force, m, "force", "coordinate")
-    gaps = _sources(gap, k, "gap", "constraint")
-    Dc = _compliance(compliance, k, cn)
-    _check_restitution(restitution, Dc, cn)
-    if forces is None and gaps is None:
-        return LCS(A, B, C, Dc, name=name, state_names=names, constraint_names=constraint_names,
-                   restitution=restitution, roles=roles)
-    forces = forces or [0] * m
-    gaps = gaps or [0] * k
+    return A, B, C, Minv
+
+
+def _with_forces_and_gaps(A, B, C, Dc, Minv, forces: list, gaps: list, options: dict) -> LCS:
+    """The LCS (8.3) driven by the forces f (q'' gets M^{-1} f) and the gaps g (y gets g), both
+    carried by one exosystem whose states are appended to x."""
+    m, k = len(forces), len(gaps)
     ex = exosystem(forces + gaps)
     Wf = submatrix(ex.W, range(m), None)
     Wg = submatrix(ex.W, range(m, m + k), None)
     EW = vstack(zeros(m, ex.size), Minv * Wf)  # q'' gets M^{-1} f
-    return extend(A, B, C, Dc, EW, Wg, ex, name=name, state_names=names,
-                  constraint_names=constraint_names, restitution=restitution, roles=roles)
+    return extend(A, B, C, Dc, EW, Wg, ex, **options)
 
 
 def _sources(values: Any, count: int, what: str, per: str) -> list | None:

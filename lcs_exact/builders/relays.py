@@ -214,9 +214,29 @@ def relay(A: Any, B: Any, C: Any, E: Any = None, F: Any = None, *, w: Any = None
     >>> belt.embed([0, "1/2"]).transpose()     # at rest on the belt
     [0, 1/2, 1]
     """
+    sources = _one_of_w_and_sources(w, sources)
+    A, B, C = _relay_data(A, B, C)
+    n, m = B.nrows(), B.ncols()
+    names = _state_names(state_names, n)
+    S, z0, exo, level, EW, FW = _appended(sources, E, F, n, m, names)
+    Af = _relay_state_matrix(A, B, S, EW, level)
+    Bf, Cf, Df = _relay_complementarity(B, C, FW, level, S.nrows())
+    relay_names, cnames = _relay_and_pair_names(relay_names, m)
+    outputs = _relay_outputs(relay_names, n, Af.nrows(), level)
+    return LCS(Af, Bf, Cf, Df, name=name, state_names=names + exo, constraint_names=cnames,
+               embedding=LevelEmbedding(n, outputs, z0, exo))
+
+
+def _one_of_w_and_sources(w: Any, sources: Any) -> Any:
+    """The sources s(t), given as ``w=`` or ``sources=`` (not both)."""
     if w is not None and sources is not None:
         raise InvalidArgument("relay() got both w and sources: they are the same argument (the sources s(t))")
-    sources = w if w is not None else sources
+    return w if w is not None else sources
+
+
+def _relay_data(A: Any, B: Any, C: Any) -> tuple[fmpq_mat, fmpq_mat, fmpq_mat]:
+    """A (n x n), B (n x m) and C (m x n) of x' = A x + B w, w in Sgn(C x) as rational matrices,
+    checked (a flat B or C is one relay)."""
     A = to_matrix(A, "A")
     n = A.nrows()
     if n == 0 or A.ncols() != n:
@@ -230,10 +250,14 @@ def relay(A: Any, B: Any, C: Any, E: Any = None, F: Any = None, *, w: Any = None
     if isinstance(C, (list, tuple)) and C and not isinstance(C[0], (list, tuple)):
         C = [list(C)]
     C = to_matrix(C, "C", (m, n))
-    names = _state_names(state_names, n)
-    S, z0, exo, level, EW, FW = _appended(sources, E, F, n, m, names)
-    a = S.nrows()
-    N, k = n + a, 2 * m
+    return A, B, C
+
+
+def _relay_state_matrix(A: fmpq_mat, B: fmpq_mat, S: fmpq_mat, EW: fmpq_mat, level: int) -> fmpq_mat:
+    """The LCS's A on (x, z): [[A, E W - B 1 e_level^T], [0, S]] (w = u_- - c: the level c enters
+    x' through -B 1; the appended states z follow z' = S z)."""
+    n, m, a = A.nrows(), B.ncols(), S.nrows()
+    N = n + a
     Af = fmpq_mat(N, N)
     for i in range(n):
         for j in range(n):
@@ -244,6 +268,15 @@ def relay(A: Any, B: Any, C: Any, E: Any = None, F: Any = None, *, w: Any = None
     for i in range(a):
         for j in range(a):
             Af[n + i, n + j] = S[i, j]
+    return Af
+
+
+def _relay_complementarity(B: fmpq_mat, C: fmpq_mat, FW: fmpq_mat, level: int, a: int) -> tuple:
+    """(B, C, D) of the LCS's 2m complementarity pairs (the module docstring): relay j's pair
+    (u_{2j}, u_{2j+1}) enters x' through B_j on u_{2j}, with y_{2j} = -(C_j x + F_j s) + u_{2j+1}
+    and y_{2j+1} = 2 c - u_{2j}."""
+    n, m = B.nrows(), B.ncols()
+    N, k = n + a, 2 * m
     Bf, Cf, Df = fmpq_mat(N, k), fmpq_mat(k, N), fmpq_mat(k, k)
     for j in range(m):
         for i in range(n):
@@ -254,23 +287,30 @@ def relay(A: Any, B: Any, C: Any, E: Any = None, F: Any = None, *, w: Any = None
         Cf[2 * j + 1, n + level] = 2
         Df[2 * j, 2 * j + 1] = 1
         Df[2 * j + 1, 2 * j] = -1
+    return Bf, Cf, Df
+
+
+def _relay_and_pair_names(relay_names: Any, m: int) -> tuple[tuple, tuple]:
+    """The relays' names (default ``w_0, ...``) and their pairs' names (``"s-", "s+"`` for a relay
+    named ``"s"``; default ``"w0-", "w0+", ...``)."""
     if relay_names is not None:
         if isinstance(relay_names, str) or not hasattr(relay_names, "__iter__"):
             raise InvalidArgument(f"relay_names must be a sequence of {m} strings, got {type(relay_names).__name__}")
         relay_names = tuple(str(nm) for nm in relay_names)
         if len(relay_names) != m:
             raise ShapeError(f"relay_names has {len(relay_names)} names, expected {m} (one per column of B)")
-        cnames = tuple(f"{nm}{sign}" for nm in relay_names for sign in "-+")
-    else:
-        relay_names = tuple(f"w_{j}" for j in range(m))
-        cnames = tuple(f"w{j}{sign}" for j in range(m) for sign in "-+")
-    Wx, Wu = fmpq_mat(m, N), fmpq_mat(m, k)
+        return relay_names, tuple(f"{nm}{sign}" for nm in relay_names for sign in "-+")
+    return tuple(f"w_{j}" for j in range(m)), tuple(f"w{j}{sign}" for j in range(m) for sign in "-+")
+
+
+def _relay_outputs(relay_names: tuple, n: int, N: int, level: int) -> RelayOutputs:
+    """The relays' outputs w_j = u_{2j} - c (:class:`RelayOutputs`) on the state of dimension N."""
+    m = len(relay_names)
+    Wx, Wu = fmpq_mat(m, N), fmpq_mat(m, 2 * m)
     for j in range(m):  # w_j = u_{2j} - c
         Wx[j, n + level] = -1
         Wu[j, 2 * j] = 1
-    outputs = RelayOutputs(relay_names, Wx, Wu)
-    return LCS(Af, Bf, Cf, Df, name=name, state_names=names + exo, constraint_names=cnames,
-               embedding=LevelEmbedding(n, outputs, z0, exo))
+    return RelayOutputs(relay_names, Wx, Wu)
 
 
 def _state_names(state_names: Any, n: int) -> tuple:

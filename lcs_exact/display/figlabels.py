@@ -17,12 +17,13 @@ from __future__ import annotations
 import weakref
 from typing import Any, Iterable
 
+from ..errors import InvalidArgument
 from ..interfaces import SystemLike
 from .mapplot import MODE_COLORS, default_names
 from ..modes import format_mode, mode_order
 
 __all__ = ["draw_schedule", "SCHEDULE_COLORS", "text_width", "Rows", "mode_colors", "mode_texts", "derived_outputs", "EMPTY_MODE_COLOR", "state_label",
-           "pair_label", "impulse_label", "event_text"]
+           "pair_label", "impulse_label", "event_text", "selected_indices"]
 
 #: the colour of the empty mode (every pair out: no contact, no diode conducting) and of unknown modes
 EMPTY_MODE_COLOR = "#9a9a9a"
@@ -301,3 +302,37 @@ def draw_schedule(ax: Any, schedule: Any, t_hi: float) -> int:
                     ha="center", va="center", fontsize=7, color="black", clip_on=True)
         drawn += 1
     return drawn
+
+
+def selected_indices(sel: Any, names: Any, count: int, what: str) -> list[int]:
+    """The indices a figure's selection names: all ``count`` when ``sel`` is None, else each entry
+    as a 0-based index or as one of ``names``.
+
+    Parameters
+    ----------
+    sel : sequence of int or str, or None
+        The selection (``states=`` or ``constraints=`` of a plot).
+    names : sequence of str
+        The names a string entry may take (the system's state or pair names).
+    count : int
+        The number of states or pairs.
+    what : str
+        What is selected, for the error message (``"state"``, ``"constraint"``).
+
+    >>> selected_indices(["b", 0], ("a", "b"), 2, "state"), selected_indices(None, (), 3, "state")
+    ([1, 0], [0, 1, 2])
+    """
+    if sel is None:
+        return list(range(count))
+    out = []
+    for v in sel:
+        if isinstance(v, str):
+            if v not in names:
+                raise InvalidArgument(f"unknown {what} name {v!r}; the names are {tuple(names)}")
+            out.append(tuple(names).index(v))
+        else:
+            i = int(v)
+            if not 0 <= i < count:
+                raise InvalidArgument(f"{what} index {i} outside 0..{count - 1} (indices are 0-based)")
+            out.append(i)
+    return out

@@ -137,100 +137,154 @@ def plot_mode_map(mm, ax=None, *, window: Sequence[Any] | None = None, arrows: b
     ("q_0'", "q_1'")
     """
     import matplotlib.pyplot as plt
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch, Polygon
+    from matplotlib.colors import to_rgb
 
     if mm.dimension != 2:
         raise InvalidArgument(f"plot draws a 2-D map; this map has {mm.dimension} coordinates "
                          "(give slice=(base, [d_0, d_1]))")
+    window = _map_window(mm, window)
+    x0, x1, y0, y1 = window
+    own_figure = ax is None
+    if own_figure:
+        fig, ax = plt.subplots(figsize=(8.2, 5.0), layout="constrained")
+    else:
+        fig = ax.figure
+    color = {r.modes: MODE_COLORS[i % len(MODE_COLORS)] for i, r in enumerate(mm.regions)}
+    pastel = {m: tuple(0.62 + 0.38 * v for v in to_rgb(c)) for m, c in color.items()}
+    centres = _draw_faces(ax, mm, window, color, pastel)
+    for r in mm.regions:
+        if r.modes in centres:
+            cx, cy = centres[r.modes][1]
+            ax.text(cx, cy, r.label, ha="center", va="center", fontsize=11, weight="bold",
+                    bbox=dict(boxstyle="round,pad=0.25", fc="white", ec=color[r.modes], alpha=0.85), zorder=6)
+    leaves = _draw_jump_arrows(ax, mm, window, grid) if arrows and grid > 0 else False
+    ax.set_xlim(float(x0), float(x1))
+    ax.set_ylim(float(y0), float(y1))
+    ax.set_xlabel(mm.variables[0])
+    ax.set_ylabel(mm.variables[1])
+    ax.set_aspect("equal", adjustable="box")
+    _map_legend(fig, ax, mm, color, pastel, arrows, own_figure)
+    name = title if title is not None else f"{getattr(mm.lcs, 'name', None) or 'LCS'}: mode map (exact)"
+    if leaves:
+        name += "\n(jumps leave the slice: arrows show their projection)"
+    ax.set_title(name, fontsize=11)
+    return fig
+
+
+def _map_window(mm, window: Sequence[Any] | None) -> tuple:
+    """The drawn window (xmin, xmax, ymin, ymax) as rationals: the given one, checked, or a square
+    around the vertices of the arrangement."""
     if window is None:
         window = _default_window(mm)
     window = tuple(to_fmpq(w, "window") for w in window)
     x0, x1, y0, y1 = window
     if not (x0 < x1 and y0 < y1):
         raise InvalidArgument("window must be (xmin, xmax, ymin, ymax) with xmin < xmax and ymin < ymax")
-    own_figure = ax is None
-    if own_figure:
-        fig, ax = plt.subplots(figsize=(8.2, 5.0), layout="constrained")
-    else:
-        fig = ax.figure
-    from matplotlib.colors import to_rgb
-    color = {r.modes: MODE_COLORS[i % len(MODE_COLORS)] for i, r in enumerate(mm.regions)}
-    pastel = {m: tuple(0.62 + 0.38 * v for v in to_rgb(c)) for m, c in color.items()}
+    return window
+
+
+def _draw_faces(ax, mm, window: tuple, color: dict, pastel: dict) -> dict:
+    """Draw every face of the arrangement inside the window in the colour of its S(x0): 2-D faces
+    filled, rays of their own S thick (a boundary between two regions thin), points of their own
+    S as dots.  Returns, per S, the largest drawn polygon's (area, centre) for its label."""
+    from matplotlib.patches import Polygon
+
+    x0, x1, y0, y1 = window
     rect = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
     region_of = {f.signs: r.modes for r in mm.regions for f in r.faces}
     best_poly: dict = {}
     for r in mm.regions:
         for f in r.faces:
             if f.dimension == 2:
-                poly = rect
-                for (a, b), s in zip(mm.hyperplanes, f.signs):
-                    poly = _clip(poly, a, b, s)
-                    if not poly:
-                        break
+                poly = _clipped_face(f, mm.hyperplanes, rect)
                 if len(poly) >= 3:
                     pts = [(float(p[0]), float(p[1])) for p in poly]
                     # opaque pastel with an edge of the same colour: no seams between faces
                     ax.add_patch(Polygon(pts, closed=True, facecolor=pastel[r.modes], edgecolor=pastel[r.modes],
                                          lw=0.8, zorder=1))
-                    area = abs(sum(pts[i][0] * pts[(i + 1) % len(pts)][1] - pts[(i + 1) % len(pts)][0] * pts[i][1]
-                                   for i in range(len(pts)))) / 2
+                    area, centre = _area_and_centre(pts)
                     if area > best_poly.get(r.modes, (0, None))[0]:
-                        cx = sum(p[0] for p in pts) / len(pts)
-                        cy = sum(p[1] for p in pts) / len(pts)
-                        best_poly[r.modes] = (area, (cx, cy))
+                        best_poly[r.modes] = (area, centre)
             elif f.dimension == 1:
-                # a ray of its own S is drawn thick; a boundary ray of a 2-D region thin, in the
-                # colour of the region that owns it; a ray inside one region not at all
-                j0 = f.signs.index(0)
-                sides = {region_of.get(f.signs[:j0] + (s,) + f.signs[j0 + 1:]) for s in (-1, 1)}
-                if r.dimension == 1:
-                    lw = 4.0
-                elif len(sides) > 1:
-                    lw = 1.8
-                else:
-                    continue
-                seg = _segment(f, mm.hyperplanes, window)
-                if seg is not None:
-                    ax.plot([float(seg[0][0]), float(seg[1][0])], [float(seg[0][1]), float(seg[1][1])],
-                            color=color[r.modes], lw=lw, solid_capstyle="butt", zorder=3)
+                _draw_ray(ax, mm, r, f, region_of, window, color)
             elif f.dimension == 0 and r.dimension == 0:  # a vertex inside a larger region is not special
                 p = f.point
                 if x0 <= p[0] <= x1 and y0 <= p[1] <= y1:
                     ax.plot([float(p[0])], [float(p[1])], "o", color=color[r.modes], mec="black", ms=8, zorder=4)
-    for r in mm.regions:
-        if r.modes in best_poly:
-            cx, cy = best_poly[r.modes][1]
-            ax.text(cx, cy, r.label, ha="center", va="center", fontsize=11, weight="bold",
-                    bbox=dict(boxstyle="round,pad=0.25", fc="white", ec=color[r.modes], alpha=0.85), zorder=6)
+    return best_poly
+
+
+def _clipped_face(f, hyperplanes, rect: list) -> list:
+    """A 2-D face clipped to the window exactly: the window's rectangle cut by each hyperplane on
+    the face's side (empty when nothing is left)."""
+    poly = rect
+    for (a, b), s in zip(hyperplanes, f.signs):
+        poly = _clip(poly, a, b, s)
+        if not poly:
+            break
+    return poly
+
+
+def _area_and_centre(pts: list) -> tuple[float, tuple[float, float]]:
+    """The area of a polygon (the shoelace formula) and the mean of its vertices."""
+    area = abs(sum(pts[i][0] * pts[(i + 1) % len(pts)][1] - pts[(i + 1) % len(pts)][0] * pts[i][1]
+                   for i in range(len(pts)))) / 2
+    return area, (sum(p[0] for p in pts) / len(pts), sum(p[1] for p in pts) / len(pts))
+
+
+def _draw_ray(ax, mm, r, f, region_of: dict, window: tuple, color: dict) -> None:
+    """A ray of its own S is drawn thick; a boundary ray of a 2-D region thin, in the colour of the
+    region that owns it; a ray inside one region not at all."""
+    j0 = f.signs.index(0)
+    sides = {region_of.get(f.signs[:j0] + (s,) + f.signs[j0 + 1:]) for s in (-1, 1)}
+    if r.dimension == 1:
+        lw = 4.0
+    elif len(sides) > 1:
+        lw = 1.8
+    else:
+        return
+    seg = _segment(f, mm.hyperplanes, window)
+    if seg is not None:
+        ax.plot([float(seg[0][0]), float(seg[1][0])], [float(seg[0][1]), float(seg[1][1])],
+                color=color[r.modes], lw=lw, solid_capstyle="butt", zorder=3)
+
+
+def _draw_jump_arrows(ax, mm, window: tuple, grid: int) -> bool:
+    """Arrows of the re-initializations x0 -> P_I x0 (in slice coordinates, exact, rounded for
+    drawing) from a grid x grid lattice of rational points offset by half a step; True when some
+    jump leaves the slice (its arrow is then its projection)."""
+    x0, x1, y0, y1 = window
     leaves = False
-    if arrows and grid > 0:
-        us, vs, xs, ys = [], [], [], []
-        for i in range(grid):
-            for j in range(grid):
-                s = (x0 + (x1 - x0) * fmpq(2 * i + 1, 2 * grid), y0 + (y1 - y0) * fmpq(2 * j + 1, 2 * grid))
-                reg = mm.locate(s)
-                jm = mm.slice_jump(reg)
-                if jm is None:
-                    continue
-                c0, C1, exact = jm
-                dx = c0[0, 0] + C1[0, 0] * s[0] + C1[0, 1] * s[1]
-                dy = c0[1, 0] + C1[1, 0] * s[0] + C1[1, 1] * s[1]
-                if dx == 0 and dy == 0:
-                    continue
-                leaves = leaves or not exact
-                xs.append(float(s[0]))
-                ys.append(float(s[1]))
-                us.append(float(dx))
-                vs.append(float(dy))
-        if xs:
-            ax.quiver(xs, ys, us, vs, angles="xy", scale_units="xy", scale=1, width=0.004, color="0.15",
-                      zorder=5, alpha=0.8)
-    ax.set_xlim(float(x0), float(x1))
-    ax.set_ylim(float(y0), float(y1))
-    ax.set_xlabel(mm.variables[0])
-    ax.set_ylabel(mm.variables[1])
-    ax.set_aspect("equal", adjustable="box")
+    us, vs, xs, ys = [], [], [], []
+    for i in range(grid):
+        for j in range(grid):
+            s = (x0 + (x1 - x0) * fmpq(2 * i + 1, 2 * grid), y0 + (y1 - y0) * fmpq(2 * j + 1, 2 * grid))
+            reg = mm.locate(s)
+            jm = mm.slice_jump(reg)
+            if jm is None:
+                continue
+            c0, C1, exact = jm
+            dx = c0[0, 0] + C1[0, 0] * s[0] + C1[0, 1] * s[1]
+            dy = c0[1, 0] + C1[1, 0] * s[0] + C1[1, 1] * s[1]
+            if dx == 0 and dy == 0:
+                continue
+            leaves = leaves or not exact
+            xs.append(float(s[0]))
+            ys.append(float(s[1]))
+            us.append(float(dx))
+            vs.append(float(dy))
+    if xs:
+        ax.quiver(xs, ys, us, vs, angles="xy", scale_units="xy", scale=1, width=0.004, color="0.15",
+                  zorder=5, alpha=0.8)
+    return leaves
+
+
+def _map_legend(fig, ax, mm, color: dict, pastel: dict, arrows: bool, own_figure: bool) -> None:
+    """One legend entry per region (its S and, for a single mode, the constraints active in it),
+    and the jump arrows'."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
     handles = [Patch(facecolor=pastel[r.modes] if r.dimension == 2 else color[r.modes], label=_region_legend(mm.lcs, r))
                for r in mm.regions]
     if arrows:
@@ -239,8 +293,3 @@ def plot_mode_map(mm, ax=None, *, window: Sequence[Any] | None = None, arrows: b
         fig.legend(handles=handles, loc="outside right upper", fontsize=9, frameon=False)
     else:
         ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=9, frameon=False)
-    name = title if title is not None else f"{getattr(mm.lcs, 'name', None) or 'LCS'}: mode map (exact)"
-    if leaves:
-        name += "\n(jumps leave the slice: arrows show their projection)"
-    ax.set_title(name, fontsize=11)
-    return fig

@@ -50,8 +50,9 @@ from flint import arb, ctx, fmpq_mat
 
 from .convergence import plot_convergence
 from ..errors import InvalidArgument, LCSError
+from ..interfaces import AccumulationWindow
 from .figlabels import (Rows, derived_outputs, draw_schedule, event_text, impulse_label, mode_colors, mode_texts, pair_label,
-                        state_label, text_width)
+                        selected_indices, state_label, text_width)
 from .mapplot import plot_mode_map
 from ..modes import format_mode, mode_order
 from ..numbers import ProjectedVector
@@ -149,7 +150,7 @@ def _split_at_accumulations(traj, intervals: list) -> list:
         return intervals
     windows = {}
     for rec in getattr(traj, "phases", ()) or ():
-        if hasattr(rec.phase, "offsets"):
+        if isinstance(rec.phase, AccumulationWindow):
             windows[float(rec.t1)] = rec
     out = []
     for ph in intervals:
@@ -171,7 +172,7 @@ def _split_at_accumulations(traj, intervals: list) -> list:
 def _mode_after(traj, acc):
     """The mode of the phase that starts at the accumulation time (S(x(T*)) otherwise)."""
     for rec in getattr(traj, "phases", ()) or ():
-        if not hasattr(rec.phase, "offsets") and abs(float(rec.t0) - float(acc.time)) == 0:
+        if not isinstance(rec.phase, AccumulationWindow) and abs(float(rec.t0) - float(acc.time)) == 0:
             return rec.mode
     S = traj.lcs.select_modes(acc.state)
     return min(S, key=mode_order) if S else None
@@ -303,24 +304,9 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
 
     lcs = traj.lcs
     outputs = derived_outputs(lcs)
-    if components is not None and states is None:
-        states = components
-    hidden: list[int] = []
-    if states is None and not sources and getattr(lcs, "sources", None) is not None:
-        hidden = sorted(lcs.sources.states)
-        states = [i for i in range(lcs.n) if i not in hidden]
-    sidx = _indices(states, getattr(lcs, "state_names", ()), lcs.n, "state")
-    cidx = _indices(constraints, getattr(lcs, "constraint_names", ()), lcs.k, "constraint")
-    if panels is None:
-        panels = ("x", "w") if outputs is not None else ("x", "u", "y")
-    if isinstance(panels, str) or any(p not in PANELS for p in panels):
-        raise InvalidArgument(f"panels must be a subset of {PANELS}, got {panels!r}")
-    panels = [p for p in PANELS if p in panels]
-    if not panels:
-        raise InvalidArgument(f"panels must contain at least one of {PANELS}")
-    if "w" in panels and outputs is None:
-        raise InvalidArgument("panel 'w' draws the outputs a builder declared (models.relay does); "
-                              "this system declares none")
+    sidx, hidden = _drawn_states(lcs, components if components is not None and states is None else states, sources)
+    cidx = selected_indices(constraints, getattr(lcs, "constraint_names", ()), lcs.k, "constraint")
+    panels = _drawn_panels(panels, outputs)
     if isinstance(points, bool) or not isinstance(points, int) or points < 1:
         raise InvalidArgument(f"points must be a positive integer, got {points!r}")
     phases = phase_intervals(traj)
@@ -353,6 +339,30 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     _draw_title(cv, phases, title)
     _place_texts(cv, evs, label_events)
     return fig
+
+
+def _drawn_states(lcs, states, sources: bool) -> tuple[list[int], list[int]]:
+    """The states drawn (indices) and the sources' states left out (unless ``sources``)."""
+    hidden: list[int] = []
+    if states is None and not sources and getattr(lcs, "sources", None) is not None:
+        hidden = sorted(lcs.sources.states)
+        states = [i for i in range(lcs.n) if i not in hidden]
+    return selected_indices(states, getattr(lcs, "state_names", ()), lcs.n, "state"), hidden
+
+
+def _drawn_panels(panels, outputs) -> list[str]:
+    """The panels drawn, in the order of PANELS; ("x", "w") with declared outputs by default."""
+    if panels is None:
+        panels = ("x", "w") if outputs is not None else ("x", "u", "y")
+    if isinstance(panels, str) or any(p not in PANELS for p in panels):
+        raise InvalidArgument(f"panels must be a subset of {PANELS}, got {panels!r}")
+    panels = [p for p in PANELS if p in panels]
+    if not panels:
+        raise InvalidArgument(f"panels must contain at least one of {PANELS}")
+    if "w" in panels and outputs is None:
+        raise InvalidArgument("panel 'w' draws the outputs a builder declared (models.relay does); "
+                              "this system declares none")
+    return panels
 
 
 @dataclass
@@ -678,20 +688,3 @@ def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
     accs = [a for a in getattr(cv.traj, "accumulations", ()) or () if hasattr(a, "time")]
     notes += [f"infinitely many events before t = {float(a.time):.4g}" for a in accs]
     cv.axes[-1].set_xlabel("t" + (f"    ({'; '.join(notes)})" if notes else ""))
-
-
-def _indices(sel, names, count: int, what: str) -> list[int]:
-    if sel is None:
-        return list(range(count))
-    out = []
-    for v in sel:
-        if isinstance(v, str):
-            if v not in names:
-                raise InvalidArgument(f"unknown {what} name {v!r}; the names are {tuple(names)}")
-            out.append(tuple(names).index(v))
-        else:
-            i = int(v)
-            if not 0 <= i < count:
-                raise InvalidArgument(f"{what} index {i} outside 0..{count - 1} (indices are 0-based)")
-            out.append(i)
-    return out

@@ -37,8 +37,8 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 from ..numbers import calcium
 from ..numbers import digits_to_bits, dyadic_lower, dyadic_upper, workprec
 from ..errors import InvalidArgument, LCSError
-from ..algebra import submatrix
-from ..algebra import solve_any
+from ..algebra import solve_any, submatrix
+from ..interfaces import AccumulationWindow
 from ..numbers import Real, as_real
 from .trajectory import full_feedback
 from ..numbers import ExactVector, ProjectedVector, RationalVector, algebraic_vector, ca_matvec
@@ -518,7 +518,7 @@ def _cycle_guess(dt: float, T: Any, rho: fmpq) -> int:
     return max(0, int(math.log(max(1e-300, 1 - min(frac, 1 - 1e-16))) / math.log(float(rho)))) if frac > 0 else 0
 
 
-class ScaledCycle:
+class ScaledCycle(AccumulationWindow):
     """The continuous motion on [t_k, T*) of a proven geometric law, as a phase-like object: a time
     in cycle m (the reference cycle scaled by rho^(m+1)) is mapped back into the reference cycle
     and the reference trajectory is scaled there (x by rho^e, u by rho^a, y by rho^b).  Times and

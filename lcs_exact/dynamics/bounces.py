@@ -42,6 +42,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from ..algebra import hstack, identity, kernel, rank, submatrix, vstack, zeros
 from ..errors import LimitExceeded, UnresolvedSign
+from ..interfaces import AccumulationWindow
 from ..numbers import ExactVector, ProjectedVector, RationalVector, Real, as_real, dyadic_lower, dyadic_upper, workprec
 from .accumulation import event_signature
 
@@ -463,7 +464,7 @@ class _Iteration:
                 m += 1
 
 
-class BounceWindow:
+class BounceWindow(AccumulationWindow):
     """The motion on [t_k, T*) of a proven bounce accumulation (:class:`BounceProof`), as a
     phase-like object: impact times, states inside the window and the limit, as balls of any
     precision from the cycle map iterated on balls (see the module docstring)."""

@@ -41,11 +41,11 @@ not hold (or that the models cannot decide) makes the proof fail, never guess.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from math import factorial
 from typing import Sequence
 
-from flint import arb, fmpq, fmpq_mat
+from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from .accumulation import event_signature
 from ..numbers import dyadic_lower, dyadic_upper, workprec
@@ -98,6 +98,46 @@ def _norm_inf(M: fmpq_mat) -> arb:
     return arb(max((sum(abs(M[i, j]) for j in range(M.ncols())) for i in range(M.nrows())), default=fmpq(0)))
 
 
+def _vanishing_orders(cons: list, triggers: tuple, K: fmpq_mat, A: fmpq_mat, U: fmpq_mat) -> dict:
+    """The order of vanishing at t = 0 of each monitored function other than the triggers, on the
+    whole family (structural: f A^r vanishes on U for r below it); those that vanish on the orbit
+    K are left out."""
+    orders = {}
+    for name, f in cons:
+        if name in triggers or _vanishes(f, K):
+            continue
+        r = 0
+        while _vanishes(f * A ** r, U):
+            r += 1
+        orders[name] = r
+    return orders
+
+
+@dataclass
+class _Phase:
+    """One phase of the cycle on the family, on its trigger's time scale (module docstring):
+    t = eps^mu sigma^nu tau, the trigger g's gap g x = eps^m0 sigma^a0 (gamma + ...) closing at a
+    speed with the rational leading coefficient omega < 0; tau0 = gamma / -omega, tau in
+    [0, tau_max].  ``X`` = [x, A x, ..., A^Jmax x] are the Taylor coefficients of x(t) (filled by
+    :meth:`_Cascade.expand`), with |x| <= xbound, |A| <= alpha and e^(alpha t) <= growth on the
+    phase (for the series' tails)."""
+
+    A: fmpq_mat
+    alpha: arb
+    g: fmpq_mat
+    m0: int
+    a0: int
+    omega: fmpq
+    mu: int
+    nu: int
+    tau0: object
+    tau_max: fmpq
+    X: list = field(default_factory=list)
+    Jmax: int = 0
+    xbound: arb = None
+    growth: arb = None
+
+
 class _Cascade:
     """One cycle of a cascade run on the family (module docstring)."""
 
@@ -140,17 +180,44 @@ class _Cascade:
         """The next event from x (in the exact subspace U, a consistent state of ``mode_now``) with
         signature ``sig`` (mode before, chain, mode after, triggers): (state after, its subspace,
         the phase's duration t*)."""
-        box, lcs, sp = self.box, self.lcs, self.box.sp
+        box = self.box
         J, chain, after, triggers = sig
         if J != mode_now:
             raise NoProof("the cycle's modes do not follow one another")
-        mode = lcs.mode(J)
+        mode = self.lcs.mode(J)
         if not mode.is_autonomous:
             raise NoProof(f"mode {sorted(J)} is not autonomous")
-        cons = _monitored(lcs, mode)
+        cons = _monitored(self.lcs, mode)
+        ph, K = self.trigger(x, U, mode, cons, triggers)
+        orders = _vanishing_orders(cons, triggers, K, ph.A, U)
+        self.expand(ph, x, orders)
+        tau_m, rt = self.trigger_root(ph)
+        tstar = box.up_s(box.up(tau_m, ph.mu), ph.nu)
+        top = dyadic_upper(rt)
+        # every other monitored function stays positive on (0, t*]
+        at_end = []
+        for name, f in cons:
+            if name in orders and self.positive(name, f, ph.A, orders[name], ph.X, ph.mu, ph.nu, top, ph.alpha,
+                                                ph.xbound, ph.growth):
+                at_end.append((name, f))
+        xm = self.state_at(ph, tstar)
+        Um = intersection(K, kernel(ph.g))
+        for name, f in at_end:
+            if _vanishes(f, Um) or box.sign(box.lin(_row(f, 0), xm)) != 1:
+                raise NoProof(f"{name} is not certified positive at the event", order=True)
+        z, Uz = self.reinitialized(xm, Um, chain, after)
+        return z, Uz, tstar
+
+    def trigger(self, x: list, U: fmpq_mat, mode, cons: list, triggers: tuple) -> tuple["_Phase", fmpq_mat]:
+        """The phase in ``mode`` from x on its trigger's time scale (:class:`_Phase`), and K, the
+        smallest A_J-invariant subspace holding the family (the orbit): the triggers are
+        monitored, simultaneous ones positive multiples of the first on the orbit, and the first
+        a positive gap eps^m0 sigma^a0 gamma closing at the speed eps^m1 sigma^a1 omega < 0, omega
+        rational, on a small time scale t = eps^mu sigma^nu tau."""
+        box, sp = self.box, self.box.sp
         named = dict(cons)
         if not triggers or any(name not in named for name in triggers):
-            raise NoProof(f"triggers {triggers} are not monitored in mode {sorted(J)}")
+            raise NoProof(f"triggers {triggers} are not monitored in mode {sorted(mode.I)}")
         g = named[triggers[0]]
         A = mode.closed_loop()
         alpha = _norm_inf(A)
@@ -172,40 +239,53 @@ class _Cascade:
             raise NoProof("the trigger's time scale is not small")
         tau0 = gamma * (-1 / omega)
         tau_max = 2 * dyadic_upper(box.param_range(tau0))
-        orders = {}  # the order of vanishing at t = 0 of each monitored function (structural)
-        for name, f in cons:
-            if name in triggers or _vanishes(f, K):
-                continue
-            r = 0
-            while _vanishes(f * A ** r, U):
-                r += 1
-            orders[name] = r
-        Jmax = -(-(self.N + 1) // mu) + max(orders.values(), default=0) + 1
-        X = [x]
-        for _ in range(Jmax):
-            X.append(box.matvec(A, X[-1]))
-        xbound = max((abs(box.range(c)).upper() for c in x), default=arb(0))
-        Tmax = box.pw(mu).upper() * box.ps(nu).upper() * arb(tau_max)  # t <= S^mu Sigma^nu tau_max
-        growth = (alpha * Tmax).exp()
+        return _Phase(A, alpha, g, m0, a0, omega, mu, nu, tau0, tau_max), K
+
+    def expand(self, ph: "_Phase", x: list, orders: dict) -> None:
+        """The phase's Taylor coefficients X_j = A^j x, j <= Jmax (enough for models of order N
+        after the slowest monitored function's vanishing order), and the bounds of their tails."""
+        box = self.box
+        ph.Jmax = -(-(self.N + 1) // ph.mu) + max(orders.values(), default=0) + 1
+        ph.X = [x]
+        for _ in range(ph.Jmax):
+            ph.X.append(box.matvec(ph.A, ph.X[-1]))
+        ph.xbound = max((abs(box.range(c)).upper() for c in x), default=arb(0))
+        Tmax = box.pw(ph.mu).upper() * box.ps(ph.nu).upper() * arb(ph.tau_max)  # t <= S^mu Sigma^nu tau_max
+        ph.growth = (ph.alpha * Tmax).exp()
+
+    def blown_up_trigger(self, ph: "_Phase") -> tuple[list, int, arb, int, int]:
+        """H(tau) = g x(eps^mu sigma^nu tau) / (eps^m0 sigma^a0) = sum_j H_j tau^j, the series'
+        tail in H_0: (H, the models' order nH, |g|, and the orders eps^lost sigma^lost_s of the
+        tail)."""
+        box, g, mu, nu, m0, a0 = self.box, ph.g, ph.mu, ph.nu, ph.m0, ph.a0
         phi = arb(sum(abs(c) for c in g.entries()))
-        # H(tau) = g x(eps^mu sigma^nu tau) / (eps^m0 sigma^a0) = sum_j H_j tau^j (+ the series' tail)
         H = []
-        for j, Xj in enumerate(X):
+        for j, Xj in enumerate(ph.X):
             dj = box.lin(_row(g, 0), Xj)
             if j >= 2 and box.val(dj) + mu * j <= m0:
                 raise NoProof("the trigger is not ruled by its gap and speed", order=box.val(dj) > dj.n)
             hj = box.up(dj, mu * j - m0) if mu * j >= m0 else box.down(dj, m0 - mu * j)
             hj = box.up_s(hj, nu * j - a0) if nu * j >= a0 else box.down_s(hj, a0 - nu * j)
             H.append(box.scale(hj, fmpq(1, factorial(j))))
-        lost, lost_s = mu * (Jmax + 1) - m0, nu * (Jmax + 1) - a0
+        lost, lost_s = mu * (ph.Jmax + 1) - m0, nu * (ph.Jmax + 1) - a0
         if lost < 1 or lost_s < 0:
             raise NoProof("series too short", order=True)
-        eH = phi * xbound * ipow(alpha * arb(tau_max), Jmax + 1) / factorial(Jmax + 1) * growth
+        eH = (phi * ph.xbound * ipow(ph.alpha * arb(ph.tau_max), ph.Jmax + 1) / factorial(ph.Jmax + 1)
+              * ph.growth)
         H[0] = box.add(H[0], box.error(lost, lost_s, eH))
         nH = min(h.n for h in H)
         if nH < 0:
             raise NoProof("the trigger's model is too short", order=True)
-        tau = series_root(sp, [truncate(sp, h.p, nH) for h in H], tau0, omega, nH)
+        return H, nH, phi, lost, lost_s
+
+    def trigger_root(self, ph: "_Phase") -> tuple[Model, arb]:
+        """The trigger's root tau* of H (a power series in the parameters by Newton's method,
+        exact) as a Taylor model whose remainder is certified by the monotonicity of H on
+        [0, tau_max] (dH/dtau < 0 on the whole box, H(tau_max) < 0); and its range, inside
+        (0, tau_max)."""
+        box, sp = self.box, self.box.sp
+        H, nH, phi, lost, lost_s = self.blown_up_trigger(ph)
+        tau = series_root(sp, [truncate(sp, h.p, nH) for h in H], ph.tau0, ph.omega, nH)
         tau_m = Model(tau, nH, 0, arb(0))
         resid, power = box.const(0, nH), box.const(1, nH)
         for hj in H:
@@ -214,11 +294,12 @@ class _Cascade:
         resid = box.trunc(resid, nH)
         if box.val(resid) <= nH:
             raise NoProof("internal: the series root does not solve the truncated equation")
+        tau_max = ph.tau_max
         tI = interval(fmpq(0), tau_max)
         dH = arb(0)
         for j in range(1, len(H)):
             dH += j * box.range(H[j]) * ipow(tI, j - 1)
-        edH = phi * xbound * alpha * ipow(alpha * arb(tau_max), Jmax) / factorial(Jmax) * growth
+        edH = phi * ph.xbound * ph.alpha * ipow(ph.alpha * arb(tau_max), ph.Jmax) / factorial(ph.Jmax) * ph.growth
         dH += arb(0, (edH * box.pw(lost) * box.ps(lost_s)).upper())
         if not dH < 0:
             raise NoProof("the trigger is not certified monotone on the phase")
@@ -231,28 +312,25 @@ class _Cascade:
         rt = box.range(tau_m)
         if not (rt > 0 and rt < arb(tau_max)):
             raise NoProof("the trigger's root leaves the box")
-        tstar = box.up_s(box.up(tau_m, mu), nu)
-        top = dyadic_upper(rt)
-        # every other monitored function stays positive on (0, t*]
-        at_end = []
-        for name, f in cons:
-            if name in orders and self.positive(name, f, A, orders[name], X, mu, nu, top, alpha, xbound, growth):
-                at_end.append((name, f))
-        # the state at t*: sum_j A^j x t*^j / j! plus the tail
+        return tau_m, rt
+
+    def state_at(self, ph: "_Phase", tstar: Model) -> list:
+        """The state at t*: sum_j A^j x t*^j / j! plus the tail."""
+        box = self.box
         xm = None
         power = box.const(1, self.N)
-        for j, Xj in enumerate(X):
+        for j, Xj in enumerate(ph.X):
             term = [box.scale(box.mul(c, power), fmpq(1, factorial(j))) for c in Xj]
             xm = term if xm is None else [box.add(a, b) for a, b in zip(xm, term)]
             power = box.mul(power, tstar)
-        ex = box.error(mu * (Jmax + 1), nu * (Jmax + 1),
-                       xbound * ipow(alpha * arb(tau_max), Jmax + 1) / factorial(Jmax + 1) * growth)
-        xm = [box.add(c, ex) for c in xm]
-        Um = intersection(K, kernel(g))
-        for name, f in at_end:
-            if _vanishes(f, Um) or box.sign(box.lin(_row(f, 0), xm)) != 1:
-                raise NoProof(f"{name} is not certified positive at the event", order=True)
-        # the re-initialization chain, as Algorithm 7.1 runs it
+        ex = box.error(ph.mu * (ph.Jmax + 1), ph.nu * (ph.Jmax + 1),
+                       ph.xbound * ipow(ph.alpha * arb(ph.tau_max), ph.Jmax + 1) / factorial(ph.Jmax + 1) * ph.growth)
+        return [box.add(c, ex) for c in xm]
+
+    def reinitialized(self, xm: list, Um: fmpq_mat, chain: tuple, after) -> tuple[list, fmpq_mat]:
+        """The re-initialization chain, as Algorithm 7.1 runs it: each chain mode selected with the
+        state outside its V_I before the jump P_I, the mode after selected and holding the state."""
+        box, lcs = self.box, self.lcs
         z, Uz = xm, Um
         for I in chain:
             self.selected(I, z, Uz)
@@ -263,7 +341,7 @@ class _Cascade:
         W = lcs.mode(after).annihilator()
         if W.nrows() and not _vanishes(W, Uz):
             raise NoProof(f"the state after the jumps is not proven in V_{sorted(after)}")
-        return z, Uz, tstar
+        return z, Uz
 
     def profile(self, name, f, phi, X, mu, nu, r, top, alpha, xbound, growth):
         """F(t) = sum_j f X_j t^j / j! (+ its series' tail) on t = eps^mu sigma^nu tau, tau in
@@ -399,6 +477,65 @@ def _certify_cycle(lcs, ev, k0: int, pattern: list, N: int, prec: int, max_prec:
     background the small variable is eta = eps / sigma^cusp (the family is the cusp eps <= S sigma^cusp,
     which the cycle keeps: eps shrinks far faster than sigma)."""
     n = lcs.n
+    dec = _decomposition(lcs, ev, pattern)
+    nb = dec.Vbg.ncols()
+    if nb and N > min(background_order, MAX_BACKGROUND_ORDER):
+        raise NoProof("models of this order are too costly with a background")
+    zb, co, pbits = _start_coordinates(ev.state_after, dec.Ldec, nb, n, prec, max_prec)
+    with workprec(max(prec, pbits)):
+        fam = _corner_family(dec, co, n) if nb == 0 else _background_family(dec, zb, co, n, cusp)
+        box = Box(fam.sp, check)
+        x = [box.model(xi, N) for xi in fam.x_of]
+        casc = _Cascade(lcs, box, N)
+        D, mode_now, U = None, ev.mode_after, dec.V
+        for sig in pattern:
+            if check is not None:
+                check()
+            x, U, tstar = casc.event(x, U, mode_now, sig)
+            D, mode_now = (tstar if D is None else box.add(D, tstar)), sig[2]
+        if rank(hstack(dec.V, U, nrows=n)) != dec.V.ncols():
+            raise NoProof("the cycle does not return to V_I")
+        gx, gAx = box.lin(_row(dec.g, 0), x), box.lin(_row(dec.gA, 0), x)
+        if box.sign(gx) != 1 or box.sign(gAx) != -1:
+            raise NoProof("the state after the cycle is not certified in the family", order=True)
+        if nb == 0:
+            kappa, eps1, drift = _corner_contraction(box, gx, gAx, fam.point)
+        else:
+            kappa, eps1, drift = _background_contraction(box, gx, gAx, x, fam, cusp)
+        if not kappa < 1:
+            raise NoProof("the cycle is not certified to contract")
+        if drift is not None and not (arb(fam.dmax) + drift * arb(fam.S) / (1 - kappa)) <= arb(fam.sp.Delta):
+            raise NoProof("the background's drift is not certified inside the box")
+        beta = box.bounds(D, 1).upper()
+        D0 = box.at(D, fam.point)
+        t0 = ev.time.ball(max(1, int(prec * 0.30103)))
+        lower = t0 + D0
+        upper = t0 + D0 + beta * eps1 / (1 - kappa)
+        return CascadeBound(dyadic_lower(lower), dyadic_upper(upper), len(pattern), k0, dyadic_upper(kappa), N,
+                            nb > 0)
+
+
+@dataclass(frozen=True)
+class _Decomposition:
+    """V_I = V_bg + span(p, r) (module docstring): V, the consistent subspace after the event;
+    ``Vbg`` the background (zero gap and speed); p and r in the cycle's jump spaces with
+    (g, gA) = (1, 0) on p and (0, 1) on r, g the first phase's trigger and A its mode's A_J;
+    ``Ldec`` the coordinates on V in the basis [Vbg, p, r]."""
+
+    V: fmpq_mat
+    g: fmpq_mat
+    gA: fmpq_mat
+    Vbg: fmpq_mat
+    p_vec: fmpq_mat
+    r_vec: fmpq_mat
+    Ldec: fmpq_mat
+
+
+def _decomposition(lcs, ev, pattern: list) -> _Decomposition:
+    """The decomposition of V_I after event ``ev`` for the cycle ``pattern``, checked: V_I inside
+    the first mode's consistent subspace, its trigger monitored, the cycle's jump spaces meeting
+    V_I in a plane on which the trigger's gap and speed are coordinates."""
+    n = lcs.n
     V = lcs.mode(ev.modes[-1]).consistent_subspace()
     d = V.ncols()
     J0, _, _, triggers = pattern[0]
@@ -423,11 +560,13 @@ def _certify_cycle(lcs, ev, k0: int, pattern: list, N: int, prec: int, max_prec:
     p_vec, r_vec = submatrix(PR, None, [0]), submatrix(PR, None, [1])
     basis = hstack(Vbg, p_vec, r_vec, nrows=n)
     Ldec = (basis.transpose() * basis).inv() * basis.transpose()  # coordinates on V
-    nb = Vbg.ncols()
-    if nb and N > min(background_order, MAX_BACKGROUND_ORDER):
-        raise NoProof("models of this order are too costly with a background")
-    # the start state's coordinates (balls, to ``prec`` bits of relative accuracy)
-    z = ev.state_after
+    return _Decomposition(V, g, gA, Vbg, p_vec, r_vec, Ldec)
+
+
+def _start_coordinates(z, Ldec: fmpq_mat, nb: int, n: int, prec: int, max_prec: int) -> tuple[arb_mat, list, int]:
+    """The start state z (balls) and its coordinates [background, gap, speed] on V, to ``prec``
+    bits of relative accuracy (the precision doubled up to ``max_prec`` until the gap is positive,
+    the speed negative and some background coordinate nonzero); and the precision used."""
     pbits = prec
     while True:
         with workprec(pbits):
@@ -439,102 +578,113 @@ def _certify_cycle(lcs, ev, k0: int, pattern: list, N: int, prec: int, max_prec:
                 ok = all(c.rel_accuracy_bits() >= prec - 8 or c.rad() == 0 for c in co[:nb]) and \
                     any(not c.contains(0) for c in co[:nb])
             if ok:
-                break
+                return zb, co, pbits
         if pbits >= max_prec:
             raise NoProof("the start state's gap is not resolved")
         pbits = min(2 * pbits, max_prec)
-    wp = max(prec, pbits)
-    with workprec(wp):
-        if nb == 0:  # no background: z = c (-r + eps p), c = -speed
-            eps0 = gap / -speed
-            S = dyadic_upper(eps0)
-            sp = Space(S)
-            point = [eps0]
-            e_g = sp.gens[0]
-            x_of = [-sp.const(r_vec[i, 0]) + e_g * p_vec[i, 0] for i in range(n)]
-            l_row, d_rows, dmax = None, [], fmpq(0)
-        else:  # z = l(beta) (beta_0 + sum delta_i b_i - sigma r + eps sigma^2 p)
-            cb = [_round_bits(dyadic_lower(c.mid()), 24) for c in co[:nb]]  # few bits: small polynomials
-            cvec = fmpq_mat(nb, 1, cb)
-            beta0 = Vbg * cvec
-            norm2 = (cvec.transpose() * cvec)[0, 0]
-            if norm2 == 0:
-                raise NoProof("no background")
-            # coordinates of the background in the basis [beta_0's direction, e_1, ..., e_{nb-1}]
-            comp = kernel(cvec.transpose())  # nb x (nb - 1)
-            Q = hstack(cvec, comp, nrows=nb).inv()  # rows: l, delta_1..delta_{nb-1} on background coordinates
-            Lbg = submatrix(Ldec, range(nb), None)
-            rows = Q * Lbg  # forms on R^n (exact on V)
-            l_row = submatrix(rows, [0], None)
-            d_rows = [submatrix(rows, [i], None) for i in range(1, nb)]
-            lz = sum((arb(l_row[0, j]) * zb[j, 0] for j in range(n)), arb(0))
-            if not lz > 0:
-                raise NoProof("the background is not certified positive along l")
-            sigma0 = -speed / lz
-            eps0 = gap * lz / (speed * speed) / ipow(sigma0, cusp)  # eta = eps / sigma^cusp
-            deltas0 = [sum((arb(r[0, j]) * zb[j, 0] for j in range(n)), arb(0)) / lz for r in d_rows]
-            S, Sigma = dyadic_upper(eps0), dyadic_upper(sigma0)
-            dmax = max((dyadic_upper(abs(c)) for c in deltas0), default=fmpq(0))
-            Delta = max(4 * dmax, S * 2 ** 10)
-            sp = Space(S, Sigma, nb - 1, Delta)
-            point = [eps0, sigma0] + deltas0
-            e_g, s_g = sp.gens[0], sp.gens[1]
-            bcols = [Vbg * submatrix(comp, None, [i]) for i in range(nb - 1)]
-            x_of = []
-            for i in range(n):
-                xi = sp.const(beta0[i, 0]) - s_g * r_vec[i, 0] + e_g * s_g ** (cusp + 2) * p_vec[i, 0]
-                for t, bc in enumerate(bcols):
-                    xi = xi + sp.gens[2 + t] * bc[i, 0]
-                x_of.append(xi)
-        box = Box(sp, check)
-        x = [box.model(xi, N) for xi in x_of]
-        casc = _Cascade(lcs, box, N)
-        D, mode_now, U = None, ev.mode_after, V
-        for sig in pattern:
-            if check is not None:
-                check()
-            x, U, tstar = casc.event(x, U, mode_now, sig)
-            D, mode_now = (tstar if D is None else box.add(D, tstar)), sig[2]
-        if rank(hstack(V, U, nrows=n)) != d:
-            raise NoProof("the cycle does not return to V_I")
-        gx, gAx = box.lin(_row(g, 0), x), box.lin(_row(gA, 0), x)
-        if box.sign(gx) != 1 or box.sign(gAx) != -1:
-            raise NoProof("the state after the cycle is not certified in the family", order=True)
-        if nb == 0:  # eps' = g x / (-gA x)
-            if not box.range(gAx) < 0:
-                raise NoProof("the cycle's speed is not certified")
-            kappa = box.bounds(gx, 1).upper() / (-box.range(gAx)).lower()
-            eps1 = box.at(gx, point) / -box.at(gAx, point)
-            drift = None
-        else:  # sigma' = -gA x / l', eta' = g x l'^(q+1) / (-gA x)^(q+2), delta' - delta = (d x - delta l') / l'
-            lx = box.lin(_row(l_row, 0), x)
-            lr = box.range(lx)
-            if not lr > 0:
-                raise NoProof("the background after the cycle is not certified positive", order=True)
-            speed1 = box.range(box.down_s(gAx, 1))  # gA x / sigma < 0
-            if not speed1 < 0:
-                raise NoProof("the cycle's speed is not certified", order=True)
-            if not (-speed1).upper() / lr.lower() <= 1:
-                raise NoProof("the speed over the background is not certified not to grow")
-            kappa = (box.bounds(box.down_s(gx, cusp + 2), 1).upper() * ipow(lr.upper(), cusp + 1)
-                     / ipow((-speed1).lower(), cusp + 2))
-            drift = arb(0)
-            for i, dr in enumerate(d_rows):
-                num = box.add(box.lin(_row(dr, 0), x), box.scale(box.mulp(lx, sp.gens[2 + i]), -1))
-                drift = max(drift, abs(box.bounds(num, 1)).upper() / lr.lower(), key=lambda b: b.upper())
-            lpt, gpt, gApt = box.at(lx, point), box.at(gx, point), box.at(gAx, point)
-            eps1 = gpt * ipow(lpt, cusp + 1) / ipow(-gApt, cusp + 2)
-        if not kappa < 1:
-            raise NoProof("the cycle is not certified to contract")
-        if drift is not None and not (arb(dmax) + drift * arb(S) / (1 - kappa)) <= arb(sp.Delta):
-            raise NoProof("the background's drift is not certified inside the box")
-        beta = box.bounds(D, 1).upper()
-        D0 = box.at(D, point)
-        t0 = ev.time.ball(max(1, int(prec * 0.30103)))
-        lower = t0 + D0
-        upper = t0 + D0 + beta * eps1 / (1 - kappa)
-        return CascadeBound(dyadic_lower(lower), dyadic_upper(upper), len(pattern), k0, dyadic_upper(kappa), N,
-                            nb > 0)
+
+
+@dataclass(frozen=True)
+class _Family:
+    """The family of states the cycle is proven on (module docstring): its parameter space ``sp``
+    (eps, and with a background sigma and delta), the run's own point in it, the state x(params)
+    (``x_of``, polynomials), the bound S on eps, and with a background the forms l and delta_i on
+    R^n and the start's largest |delta|."""
+
+    sp: Space
+    point: list
+    x_of: list
+    S: fmpq
+    l_row: fmpq_mat | None = None
+    d_rows: tuple = ()
+    dmax: fmpq = fmpq(0)
+
+
+def _corner_family(dec: _Decomposition, co: list, n: int) -> _Family:
+    """No background (the carts closing on the wall): z = c (-r + eps p), c = -speed."""
+    gap, speed = co[0], co[1]
+    eps0 = gap / -speed
+    S = dyadic_upper(eps0)
+    sp = Space(S)
+    e_g = sp.gens[0]
+    x_of = [-sp.const(dec.r_vec[i, 0]) + e_g * dec.p_vec[i, 0] for i in range(n)]
+    return _Family(sp, [eps0], x_of, S)
+
+
+def _background_family(dec: _Decomposition, zb: arb_mat, co: list, n: int, cusp: int) -> _Family:
+    """A background: z = l(beta) (beta_0 + sum delta_i b_i - sigma r + eps sigma^(cusp + 2) p),
+    beta_0 a few-bit rounding of the start's background, l = 1 on it, the b_i completing it to a
+    basis of V_bg; sigma the speed over the background, eta = eps / sigma^cusp the small variable."""
+    Vbg, Ldec = dec.Vbg, dec.Ldec
+    nb = Vbg.ncols()
+    gap, speed = co[nb], co[nb + 1]
+    cb = [_round_bits(dyadic_lower(c.mid()), 24) for c in co[:nb]]  # few bits: small polynomials
+    cvec = fmpq_mat(nb, 1, cb)
+    beta0 = Vbg * cvec
+    norm2 = (cvec.transpose() * cvec)[0, 0]
+    if norm2 == 0:
+        raise NoProof("no background")
+    # coordinates of the background in the basis [beta_0's direction, e_1, ..., e_{nb-1}]
+    comp = kernel(cvec.transpose())  # nb x (nb - 1)
+    Q = hstack(cvec, comp, nrows=nb).inv()  # rows: l, delta_1..delta_{nb-1} on background coordinates
+    Lbg = submatrix(Ldec, range(nb), None)
+    rows = Q * Lbg  # forms on R^n (exact on V)
+    l_row = submatrix(rows, [0], None)
+    d_rows = tuple(submatrix(rows, [i], None) for i in range(1, nb))
+    lz = sum((arb(l_row[0, j]) * zb[j, 0] for j in range(n)), arb(0))
+    if not lz > 0:
+        raise NoProof("the background is not certified positive along l")
+    sigma0 = -speed / lz
+    eps0 = gap * lz / (speed * speed) / ipow(sigma0, cusp)  # eta = eps / sigma^cusp
+    deltas0 = [sum((arb(r[0, j]) * zb[j, 0] for j in range(n)), arb(0)) / lz for r in d_rows]
+    S, Sigma = dyadic_upper(eps0), dyadic_upper(sigma0)
+    dmax = max((dyadic_upper(abs(c)) for c in deltas0), default=fmpq(0))
+    Delta = max(4 * dmax, S * 2 ** 10)
+    sp = Space(S, Sigma, nb - 1, Delta)
+    e_g, s_g = sp.gens[0], sp.gens[1]
+    bcols = [Vbg * submatrix(comp, None, [i]) for i in range(nb - 1)]
+    x_of = []
+    for i in range(n):
+        xi = sp.const(beta0[i, 0]) - s_g * dec.r_vec[i, 0] + e_g * s_g ** (cusp + 2) * dec.p_vec[i, 0]
+        for t, bc in enumerate(bcols):
+            xi = xi + sp.gens[2 + t] * bc[i, 0]
+        x_of.append(xi)
+    return _Family(sp, [eps0, sigma0] + deltas0, x_of, S, l_row, d_rows, dmax)
+
+
+def _corner_contraction(box: Box, gx: Model, gAx: Model, point: list) -> tuple[arb, arb, None]:
+    """No background: eps' = g x / (-gA x); (kappa, the sup of eps' / eps on the box; eps' at the
+    run's point; no drift)."""
+    if not box.range(gAx) < 0:
+        raise NoProof("the cycle's speed is not certified")
+    kappa = box.bounds(gx, 1).upper() / (-box.range(gAx)).lower()
+    eps1 = box.at(gx, point) / -box.at(gAx, point)
+    return kappa, eps1, None
+
+
+def _background_contraction(box: Box, gx: Model, gAx: Model, x: list, fam: _Family, cusp: int) -> tuple:
+    """A background: sigma' = -gA x / l', eta' = g x l'^(q+1) / (-gA x)^(q+2), delta' - delta =
+    (d x - delta l') / l'; (kappa, the sup of eta' / eta; eta' at the run's point; the drift's
+    bound per unit of eps), with the speed over the background certified not to grow."""
+    sp = fam.sp
+    lx = box.lin(_row(fam.l_row, 0), x)
+    lr = box.range(lx)
+    if not lr > 0:
+        raise NoProof("the background after the cycle is not certified positive", order=True)
+    speed1 = box.range(box.down_s(gAx, 1))  # gA x / sigma < 0
+    if not speed1 < 0:
+        raise NoProof("the cycle's speed is not certified", order=True)
+    if not (-speed1).upper() / lr.lower() <= 1:
+        raise NoProof("the speed over the background is not certified not to grow")
+    kappa = (box.bounds(box.down_s(gx, cusp + 2), 1).upper() * ipow(lr.upper(), cusp + 1)
+             / ipow((-speed1).lower(), cusp + 2))
+    drift = arb(0)
+    for i, dr in enumerate(fam.d_rows):
+        num = box.add(box.lin(_row(dr, 0), x), box.scale(box.mulp(lx, sp.gens[2 + i]), -1))
+        drift = max(drift, abs(box.bounds(num, 1)).upper() / lr.lower(), key=lambda b: b.upper())
+    lpt, gpt, gApt = box.at(lx, fam.point), box.at(gx, fam.point), box.at(gAx, fam.point)
+    eps1 = gpt * ipow(lpt, cusp + 1) / ipow(-gApt, cusp + 2)
+    return kappa, eps1, drift
 
 
 def _round_bits(q: fmpq, bits: int) -> fmpq:

@@ -21,18 +21,14 @@ the partial :class:`~lcs_exact.trajectory.Trajectory` in ``.trajectory``.
 from __future__ import annotations
 
 import decimal
-import math
 import time as _time
-from collections.abc import Iterator
-from numbers import Real as RealNumber
 from typing import Any
 
 from flint import arb, fmpq, fmpq_mat
 
-from ..numbers import (ACCURACY_HEADROOM, MAX_DIGITS, Deadline, Policy, accuracy_bits, digits_to_bits, dyadic_lower, dyadic_upper,
-                    workprec)
-from ..errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, NotRational,
-                     ShapeError, TimeLimitExceeded, UnresolvedSign, ZenoDetected)
+from ..numbers import (ACCURACY_HEADROOM, Policy, accuracy_bits, digits_to_bits, dyadic_lower, dyadic_upper, workprec)
+from ..errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, TimeLimitExceeded,
+                     UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ReferenceStates, ScaledCycle, geometric_law, symmetry_exponents
 from .bounces import BOUNCE_PATIENCE, BounceWindow, bounce_cycle, bounce_window
 from .cascade import cascade_bound
@@ -41,69 +37,17 @@ from .flow import next_event
 from ..system import newton_impact
 from .schedule import shares_clock
 from .phase import Phase, PhaseFunction, phase_horizon
-from ..algebra import (MAX_PREC_BITS, is_zero, submatrix, to_fmpq, to_int, to_short,
-                       vector_entries, vstack)
-from ..numbers import RationalReal, Real, as_real
+from ..algebra import is_zero, submatrix, vstack
+from ..numbers import RationalReal
 from ..numbers import ExactVector, ProjectedVector, RationalVector, as_exact_vector, homogenized
-from ..modes import (impulse_forms, initial_solution, initial_solution_groups, rcp_data, select_modes, state_groups,
-                        undetermined_inputs)
-from ..modes import format_mode, mode_order
-from ..system import LCS
+from ..modes import (format_mode, impulse_forms, initial_solution, initial_solution_groups, mode_order, rcp_data,
+                     select_modes, state_groups, undetermined_inputs)
+from ..interfaces import AccumulationWindow
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
+from .options import run_options
 from .zeno import check_accumulation
 
 __all__ = ["simulate"]
-_CLOSED_FORMS = {"lazy": "lazy", True: "eager", "eager": "eager", False: "off", "off": "off"}
-
-
-def _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec, *,
-             allow_unresolved=False):
-    """Validated options: every bad value is a named LCSError whose message names the argument
-    (:class:`InvalidArgument` for option values, :class:`ShapeError` / :class:`NotRational` for
-    x0 and t_end), and the limits of docs/limits.md are enforced before anything is computed."""
-    def is_int(v):
-        return isinstance(v, int) and not isinstance(v, bool)
-
-    if not isinstance(lcs, LCS):
-        raise InvalidArgument(f"lcs must be an LCS (lcs_exact.LCS), got {type(lcs).__name__}")
-    if not is_int(digits):
-        raise InvalidArgument(f"digits must be a Python int in 1..{MAX_DIGITS}, got {to_short(digits)} "
-                              f"({type(digits).__name__}{'; use int(...)' if hasattr(digits, '__index__') else ''})")
-    to_int(digits, "digits", 1, MAX_DIGITS)
-    if not is_int(max_events) or max_events < 0:
-        raise InvalidArgument(f"max_events must be a nonnegative Python int, got {to_short(max_events)}")
-    if time_limit is not None:
-        try:  # the deadline adds it to a float clock: it must be a real number a float can hold
-            seconds = float(time_limit) if isinstance(time_limit, RealNumber) else math.nan
-        except OverflowError:
-            seconds = math.nan
-        if isinstance(time_limit, bool) or type(time_limit).__name__ == "bool_" or not seconds >= 0:
-            raise InvalidArgument("time_limit must be a nonnegative number of seconds (a float can hold) or "
-                                  f"None, got {to_short(time_limit)}")
-    if not isinstance(closed_forms, (str, bool)) or closed_forms not in _CLOSED_FORMS:
-        raise InvalidArgument(f"closed_forms must be 'lazy', True or False, got {to_short(closed_forms)}")
-    if not isinstance(allow_unresolved, bool):
-        raise InvalidArgument(f"allow_unresolved must be True or False, got {to_short(allow_unresolved)}")
-    if max_prec is not None and (not is_int(max_prec) or not 64 <= max_prec <= MAX_PREC_BITS):
-        raise InvalidArgument(f"max_prec must be None or an int in 64..{MAX_PREC_BITS} (bits), got {to_short(max_prec)}")
-    if x0 is None:
-        raise ShapeError("x0 is required: a vector of length n (rational entries or an exact vector)")
-    if not isinstance(x0, (ExactVector, fmpq_mat, Iterator)):  # an iterator is read once, later
-        vector_entries(x0, lcs.n, "x0")
-    if t_end is None:
-        raise NotRational("t_end is required: a rational number or an exact real >= 0")
-    T = t_end if isinstance(t_end, Real) or type(t_end).__module__.startswith("sympy") else to_fmpq(t_end, "t_end")
-    try:
-        T = as_real(T)
-    except LCSError as e:
-        raise type(e)(f"t_end: {e}") from e
-    except (TypeError, ValueError) as e:
-        raise NotRational(f"t_end: {e}") from e
-    if T.sign() < 0:
-        raise InvalidArgument(f"t_end must be >= 0, got {T.label()}")
-    return T
-
-
 def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
              time_limit: float | None = None, allow_unresolved: bool = False,
              closed_forms: Any = "lazy", zeno: str = "cross", branches: str = "unique",
@@ -161,19 +105,13 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     >>> tr.events[0].state_after
     (0, 1, 0, 0)
     """
-    T = _options(lcs, x0, t_end, digits, max_events, time_limit, closed_forms, max_prec,
-                 allow_unresolved=allow_unresolved)
-    policy = Policy(digits=digits, max_prec=max_prec or 0, allow_unresolved=allow_unresolved,
-                    closed_forms=_CLOSED_FORMS[closed_forms], deadline=Deadline(time_limit))
-    if zeno not in ("cross", "stop"):
-        raise ShapeError(f"zeno must be 'cross' or 'stop', got {zeno!r}")
-    if branches not in ("unique", "all"):
-        raise ShapeError(f"branches must be 'unique' or 'all', got {branches!r}")
+    opts = run_options(lcs, x0, t_end, digits, max_events=max_events, time_limit=time_limit,
+                       allow_unresolved=allow_unresolved, closed_forms=closed_forms, zeno=zeno, branches=branches,
+                       max_prec=max_prec, progress=progress)
+    T, policy = opts.t_end, opts.policy
     z0 = as_exact_vector(x0, lcs.n)
-    if not isinstance(progress, bool):
-        raise InvalidArgument(f"progress must be True or False, got {progress!r}")
-    bar = _progress_bar(T) if progress else None
-    if branches == "all":
+    bar = _progress_bar(T) if opts.progress else None
+    if opts.branches == "all":
         return _all_branches(lcs, z0, T, digits, max_events, policy, zeno)
     try:
         return _run(lcs, z0, T, digits, max_events, policy, zeno, "unique", [], bar)
@@ -429,7 +367,7 @@ class _Run:
         with workprec(prec):
             a, b = dyadic_lower(t0.arb(prec)), dyadic_upper(t1.arb(prec))
             for rec in self.phases:
-                if not hasattr(rec.phase, "spectrum"):
+                if isinstance(rec.phase, AccumulationWindow):
                     continue
                 r0, r1 = dyadic_lower(rec.t0.arb(prec)), dyadic_upper(rec.t1.arb(prec))
                 lo, hi = max(a, r0), min(b, r1)

@@ -16,6 +16,7 @@ from flint import arb, fmpq, fmpq_mat
 
 from ..numbers import DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, digits_to_bits, workprec
 from ..errors import InvalidArgument, LCSError, Undetermined
+from ..interfaces import AccumulationWindow
 from .fixture import fixture_dict
 from ..modes import format_mode, latex_mode
 from ..display import derived_outputs
@@ -199,7 +200,7 @@ class Trajectory:
         i, at_end = self._locate(t)
         if at_end and i + 1 < len(self.phases):
             return self.phases[i + 1]
-        if at_end and hasattr(self.phases[i].phase, "output"):
+        if at_end and isinstance(self.phases[i].phase, AccumulationWindow):
             raise InvalidArgument(f"u and y at the accumulation time {t.label()} itself: the trajectory "
                                   "ends there, and the inputs have no limit from the left (the state does)")
         return self.phases[i]
@@ -226,7 +227,7 @@ class Trajectory:
         :class:`~lcs_exact.errors.Undetermined`)."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
-        if hasattr(rec.phase, "output"):  # an accumulation window (accumulation.ScaledCycle)
+        if isinstance(rec.phase, AccumulationWindow):
             return rec.phase.output(t - rec.t0, "u")
         v = ProjectedVector(full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
         return PartlyUndetermined(v, rec.undetermined, "u") if rec.undetermined else v
@@ -236,7 +237,7 @@ class Trajectory:
         on an undetermined input are undetermined, as for :meth:`u`)."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
-        if hasattr(rec.phase, "output"):  # an accumulation window (accumulation.ScaledCycle)
+        if isinstance(rec.phase, AccumulationWindow):
             return rec.phase.output(t - rec.t0, "y")
         lcs = rec.phase.mode.lcs  # the phase's own system (a scheduled LCS switches between several)
         v = ProjectedVector(lcs.C + lcs.D * full_feedback(rec.phase.mode), rec.phase.state(t - rec.t0))
@@ -270,7 +271,7 @@ class Trajectory:
         t = as_real(t, self.policy)
         i, at_end = self._locate(t)
         rec = self.phases[i + 1] if at_end and i + 1 < len(self.phases) else self.phases[i]
-        if at_end and hasattr(rec.phase, "output") and rec is self.phases[i]:
+        if at_end and isinstance(rec.phase, AccumulationWindow) and rec is self.phases[i]:
             raise InvalidArgument(f"the outputs at the accumulation time {t.label()} itself: the trajectory "
                                   "ends there, and the inputs have no limit from the left (the state does)")
         W = fmpq_mat(out.Wx.nrows(), self.lcs.n + self.lcs.k)
@@ -279,7 +280,7 @@ class Trajectory:
                 W[r, j] = out.Wx[r, j]
             for j in range(self.lcs.k):
                 W[r, self.lcs.n + j] = out.Wu[r, j]
-        if hasattr(rec.phase, "output"):  # an accumulation window: its exact x and u
+        if isinstance(rec.phase, AccumulationWindow):  # its exact x and u
             u = rec.phase.output(t - rec.t0, "u")
             v = ProjectedVector(W, ComponentsVector(list(self.state(t)) + list(u)))
             free = frozenset()
@@ -354,7 +355,7 @@ class Trajectory:
                 x = phase.z.arb(prec)
                 return [x[i, 0] for i in range(x.nrows())]
             dt = arb(tq) - rec.t0.arb(prec)
-            if not hasattr(phase, "spectrum"):  # an accumulation window: balls, else exact states
+            if isinstance(phase, AccumulationWindow):  # balls, else exact states
                 x = phase.ball_state(dt, prec)
                 if x is None:
                     x = phase.state(as_real(tq) - rec.t0).arb(prec)

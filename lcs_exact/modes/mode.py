@@ -23,6 +23,7 @@ Indices are 0-based.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 from flint import fmpq_mat
@@ -82,6 +83,29 @@ def latex_mode(I) -> str:
     return r"\{" + ", ".join(str(i) for i in sorted(I)) + r"\}" if I else r"\emptyset"
 
 
+@dataclass(eq=False)
+class DerivedData:
+    """The data of one mode that the modules above this one compute once and keep on the mode
+    (:attr:`Mode.derived`), in named fields rather than under string keys; None until computed.
+    Their types live in those modules, which this one may not import (imports point down):
+
+    * ``family``: the RCP family of the mode (``rcpfamily.RCPFamily``);
+    * ``rcp``: W_I(s), Z_I(s) and their Laurent forms (5.3)-(5.5) (``selection.RCPData``);
+    * ``rcp_rows``: [u(s); y(s)] of the initial solution as rows times x0, 2k x n over Q(s);
+    * ``state_response``: X_I(s) with B u(s) = X_I(s) x0, or None when the free inputs move the
+      state, so that ``state_response_known`` says whether it was computed;
+    * ``input_rows``: (U(s), free): u(s) = U(s) x0 on the rows the family fixes, and the inputs a
+      free direction moves.
+    """
+
+    family: Any = None
+    rcp: Any = None
+    rcp_rows: Any = None
+    state_response: Any = None
+    state_response_known: bool = False
+    input_rows: Any = None
+
+
 class Mode:
     """Mode I of an LCS: V_I, T_I, P_I, F_I and autonomy, computed lazily and exactly.
 
@@ -105,6 +129,7 @@ class Mode:
         self.I = sorted(I)
         self.Ic = [i for i in range(lcs.k) if i not in I]
         self._cache: dict[str, Any] = {}
+        self.derived = DerivedData()
 
     # the quadruple (A, B_.I, C_I., D_II)
     @property
@@ -259,20 +284,6 @@ class Mode:
         if "spectrum" not in self._cache:
             self._cache["spectrum"] = Spectrum(self.closed_loop())
         return self._cache["spectrum"]
-
-    def memo(self, key: str, build):
-        """Data of this mode computed once by ``build()`` (e.g. the RCP forms of selection).
-
-        Parameters
-        ----------
-        key : str
-            The datum's name.
-        build : callable
-            () -> the datum, called on first use.
-        """
-        if key not in self._cache:
-            self._cache[key] = build()
-        return self._cache[key]
 
     def contains(self, x: fmpq_mat) -> bool:
         """x in V_I (Algorithm 7.1, step two), exact for rational x.

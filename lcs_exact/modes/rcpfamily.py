@@ -385,4 +385,6 @@ def family(mode) -> RCPFamily:
     >>> fam.solution(fmpq_mat([[-2]]))
     ([RationalFunction('2'), RationalFunction('0')], [])
     """
-    return mode.memo("family", lambda: RCPFamily(mode))
+    if mode.derived.family is None:
+        mode.derived.family = RCPFamily(mode)
+    return mode.derived.family

@@ -84,7 +84,9 @@ class RCPData:
 
 def rcp_data(mode) -> RCPData:
     """The :class:`RCPData` of mode I (cached on the mode)."""
-    return mode.memo("rcp", lambda: _build_rcp_data(mode))
+    if mode.derived.rcp is None:
+        mode.derived.rcp = _build_rcp_data(mode)
+    return mode.derived.rcp
 
 
 def _build_rcp_data(mode) -> RCPData:
@@ -399,7 +401,7 @@ def _fmt_state(x) -> str:
 def _full_rcp_rows(mode) -> RationalMatrix:
     """[u(s); y(s)] of mode I as a 2k x n matrix over Q(s): rows W_I on I, Z_I on I^c, zero
     elsewhere (u_{I^c} = 0, y_I = 0), so that the initial solution's transforms are this times x0."""
-    def build():
+    if mode.derived.rcp_rows is None:
         lcs, data = mode.lcs, rcp_data(mode)
         zero = [0] * lcs.n
         rows = [list(zero) for _ in range(2 * lcs.k)]
@@ -407,8 +409,8 @@ def _full_rcp_rows(mode) -> RationalMatrix:
             rows[i] = [data.W[r, c] for c in range(lcs.n)]
         for r, i in enumerate(mode.Ic):
             rows[lcs.k + i] = [data.Z[r, c] for c in range(lcs.n)]
-        return RationalMatrix(rows)
-    return mode.memo("rcp-full", build)
+        mode.derived.rcp_rows = RationalMatrix(rows)
+    return mode.derived.rcp_rows
 
 
 def same_initial_solution(lcs: SystemLike, x0: Any, I, J) -> bool:
@@ -458,23 +460,29 @@ def state_response(mode) -> RationalMatrix | None:
     """X_I(s) (n x n over Q(s)) with B u(s) = X_I(s) x0 for every solution (u(s), y(s)) of
     RCP(x0) in mode I, so that x(s) = (sI - A)^{-1} (x0 + X_I(s) x0) (5.1); None when the free
     inputs of a mode that is not autonomous do move the state (then the state is not unique)."""
-    def build():
-        lcs = mode.lcs
-        n = lcs.n
-        if not mode.I:
-            return _rmat(zeros(n, n))
-        if mode.is_autonomous:
-            return _rmat(submatrix(lcs.B, None, mode.I)) * rcp_data(mode).W
-        fam = family(mode)
-        Q, F = list(fam.pivot_cols), list(fam.free)
-        if F:
-            moved = _rmat(submatrix(lcs.B, None, F))
-            if Q:
-                moved = moved + _rmat(submatrix(lcs.B, None, Q)) * fam.directions
-            if any(not e.is_zero() for r in moved.rows for e in r):
-                return None
-        return _rmat(submatrix(lcs.B, None, Q)) * fam.particular if Q else _rmat(zeros(n, n))
-    return mode.memo("state-response", build)
+    if not mode.derived.state_response_known:
+        mode.derived.state_response = _build_state_response(mode)
+        mode.derived.state_response_known = True
+    return mode.derived.state_response
+
+
+def _build_state_response(mode) -> RationalMatrix | None:
+    """X_I(s) of :func:`state_response`, computed (None when the free inputs move the state)."""
+    lcs = mode.lcs
+    n = lcs.n
+    if not mode.I:
+        return _rmat(zeros(n, n))
+    if mode.is_autonomous:
+        return _rmat(submatrix(lcs.B, None, mode.I)) * rcp_data(mode).W
+    fam = family(mode)
+    Q, F = list(fam.pivot_cols), list(fam.free)
+    if F:
+        moved = _rmat(submatrix(lcs.B, None, F))
+        if Q:
+            moved = moved + _rmat(submatrix(lcs.B, None, Q)) * fam.directions
+        if any(not e.is_zero() for r in moved.rows for e in r):
+            return None
+    return _rmat(submatrix(lcs.B, None, Q)) * fam.particular if Q else _rmat(zeros(n, n))
 
 
 def _equal_at(X: RationalMatrix, Y: RationalMatrix, x) -> bool:
@@ -508,24 +516,29 @@ def state_groups(lcs: SystemLike, x0: Any, modes) -> list[list[frozenset]]:
 def _input_rows(mode) -> tuple[RationalMatrix, frozenset]:
     """(U(s), free): u(s) = U(s) x0 (k x n, zero rows off I) for the rows that the family fixes,
     and the inputs a free direction moves (none for an autonomous mode)."""
-    def build():
-        lcs = mode.lcs
-        n, k = lcs.n, lcs.k
-        rows = [[RationalFunction(0)] * n for _ in range(k)]
-        free: set = set()
-        if mode.is_autonomous:
-            W = rcp_data(mode).W
-            for r, i in enumerate(mode.I):
-                rows[i] = list(W.rows[r])
-        else:
-            fam = family(mode)
-            free |= set(fam.free)
-            for r, i in enumerate(fam.pivot_cols):
-                rows[i] = list(fam.particular.rows[r])
-                if fam.free and any(not e.is_zero() for e in fam.directions.rows[r]):
-                    free.add(i)
-        return RationalMatrix(rows), frozenset(free)
-    return mode.memo("input-rows", build)
+    if mode.derived.input_rows is None:
+        mode.derived.input_rows = _build_input_rows(mode)
+    return mode.derived.input_rows
+
+
+def _build_input_rows(mode) -> tuple[RationalMatrix, frozenset]:
+    """(U(s), free) of :func:`_input_rows`, computed."""
+    lcs = mode.lcs
+    n, k = lcs.n, lcs.k
+    rows = [[RationalFunction(0)] * n for _ in range(k)]
+    free: set = set()
+    if mode.is_autonomous:
+        W = rcp_data(mode).W
+        for r, i in enumerate(mode.I):
+            rows[i] = list(W.rows[r])
+    else:
+        fam = family(mode)
+        free |= set(fam.free)
+        for r, i in enumerate(fam.pivot_cols):
+            rows[i] = list(fam.particular.rows[r])
+            if fam.free and any(not e.is_zero() for e in fam.directions.rows[r]):
+                free.add(i)
+    return RationalMatrix(rows), frozenset(free)
 
 
 def undetermined_inputs(lcs: SystemLike, x0: Any, modes) -> frozenset:

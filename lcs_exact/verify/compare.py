@@ -341,8 +341,52 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     """
     ref, live = _reference_of(fixture)
     lcs = ref.lcs
-    n, plant = lcs.n, tuple(lcs.plant)
+    n = lcs.n
     names = tuple(names) or tuple(lcs.state_names)
+    tq, rows, comps = _solution(t, X, n, tuple(lcs.plant), label)
+    tol = _tolerances(atol, rtol)
+    with ctx.workprec(_PREC):
+        Xb = [[arb(to_fmpq(v, f"{label} X[{i}][{c}]")) for c, v in enumerate(r)] for i, r in enumerate(rows)]
+    tf = [float(v) for v in tq]
+    step = max((b - a for a, b in zip(tq, tq[1:])), default=Fraction(0))
+    window, rule = _event_window_width(event_tol, step)
+
+    events = [_event_data(e, live) for e in ref.events]
+    signatures = [signature(ev, lcs, comps) for ev in events]
+    Xf = [_full_row([float(b.mid()) for b in r], comps, n) for r in Xb]
+    windows, switches = event_windows(events, signatures, ref.accumulations, tf, Xf, window,
+                                       max(window, SEARCH_STEPS * float(step)))
+    inside = in_windows(tf, windows)
+    last, known = _known_times(ref, live, tq, step)
+
+    todo = [i for i in range(len(tq)) if not inside[i] and known[i]]
+    refs, kind, mismatch, unmatched = _references(ref, live, [tq[i] for i in todo])
+    err = _Errors(len(comps))
+    with ctx.workprec(_PREC):
+        for i, r in zip(todo, refs):
+            if r is not None:
+                err.add(i, Xb[i], r, comps, tol, tf[i], names)
+        overall = arb(0)
+        for e in err.components:
+            overall = overall.max(e)
+    best = err.best
+    ev_cmp = tuple(_compare_event(j, ev, sig, sw) for j, (ev, sig, sw) in enumerate(zip(events, signatures, switches)))
+    return ComparisonReport(
+        label=label, reference=kind, n_points=len(tq), n_compared=err.compared,
+        n_in_windows=sum(1 for i, w in enumerate(inside) if w and known[i]), n_unmatched=unmatched,
+        step=float(step), window=window, window_rule=rule,
+        max_error=overall, max_error_time=None if best[0] is None else tf[best[0]],
+        max_error_component=best[1], component_errors=tuple(err.components), events=ev_cmp,
+        certified=bool(ref.certified), time_mismatch=mismatch, names=names,
+        n_beyond=len(tq) - sum(known), last_time=last, components=comps, windows=tuple(windows),
+        atol=None if tol is None else tol[0], rtol=0.0 if tol is None else tol[1],
+        violation=None if err.worst is None else err.worst[1], n_violations=err.violations,
+        solver_end=float(tq[-1]))
+
+
+def _solution(t: Any, X: Any, n: int, plant: tuple, label: str) -> tuple[list, list, tuple]:
+    """The solver's times (exact fractions, checked nondecreasing), its rows of states, and the
+    components they hold (all n states, or the plant's)."""
     ts = t.tolist() if hasattr(t, "tolist") else list(t)
     rows = _as_rows(X, (n, len(plant)), label)
     comps = tuple(range(n)) if not rows or len(rows[0]) == n else plant
@@ -354,26 +398,24 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
     if any(b < a for a, b in zip(tq, tq[1:])):
         i = next(i for i, (a, b) in enumerate(zip(tq, tq[1:])) if b < a)
         raise FormatError(f"{label}: times decrease at row {i + 1} ({float(tq[i])} then {float(tq[i + 1])})")
-    tol = _tolerances(atol, rtol)
-    with ctx.workprec(_PREC):
-        Xb = [[arb(to_fmpq(v, f"{label} X[{i}][{c}]")) for c, v in enumerate(r)] for i, r in enumerate(rows)]
-    tf = [float(v) for v in tq]
-    step = max((b - a for a, b in zip(tq, tq[1:])), default=Fraction(0))
-    if event_tol is None:
-        window, rule = 2 * float(step), "2 x the largest step"
-    else:
-        window, rule = float(to_fraction(event_tol, "event_tol")), "event_tol"
-        if window < 0:
-            raise FormatError(f"event_tol must be >= 0, got {event_tol}")
+    return tq, rows, comps
 
-    events = [_event_data(e, live) for e in ref.events]
-    signatures = [signature(ev, lcs, comps) for ev in events]
-    Xf = [_full_row([float(b.mid()) for b in r], comps, n) for r in Xb]
-    windows, switches = event_windows(events, signatures, ref.accumulations, tf, Xf, window,
-                                       max(window, SEARCH_STEPS * float(step)))
-    inside = in_windows(tf, windows)
-    # the reference is known on [0, last] only (t_end, or the end of a partial run): later times
-    # are left out and counted, but a float grid's rounding past a rational last time is forgiven
+
+def _event_window_width(event_tol: Any, step: Fraction) -> tuple[float, str]:
+    """The half-width of the window left out around each event, and the rule that gave it."""
+    if event_tol is None:
+        return 2 * float(step), "2 x the largest step"
+    window = float(to_fraction(event_tol, "event_tol"))
+    if window < 0:
+        raise FormatError(f"event_tol must be >= 0, got {event_tol}")
+    return window, "event_tol"
+
+
+def _known_times(ref: Any, live: bool, tq: list, step: Fraction) -> tuple[Any, list[bool]]:
+    """The reference's last time and, per solver time, whether the reference covers it.  The
+    reference is known on [0, last] only (t_end, or the end of a partial run): later times are
+    left out and counted, but a float grid's rounding past a rational last time is forgiven (such
+    a time in ``tq`` is moved to the last time, in place)."""
     last = ref.t_last.ball(30) if live else ref.final_time
     last_q = _rational_last(ref, live)
     with ctx.workprec(_PREC):
@@ -382,49 +424,40 @@ def compare(fixture: Any, t: Any, X: Any, *, event_tol: Any = None, label: str =
                 tq[i] = last_q
         known = [q <= last_q if last_q is not None else bool(arb(fmpq(q.numerator, q.denominator)) <= last)
                  for q in tq]
+    return last, known
 
-    todo = [i for i in range(len(tq)) if not inside[i] and known[i]]
-    refs, kind, mismatch, unmatched = _references(ref, live, [tq[i] for i in todo])
-    m = len(comps)
-    comp_err = [arb(0)] * m
-    best = (None, None, None, arb(0))  # (index, component, mid, ball)
-    worst, violations = None, 0
-    compared = 0
-    with ctx.workprec(_PREC):
-        for i, r in zip(todo, refs):
-            if r is None:
-                continue
-            compared += 1
-            bad = None
-            for c, comp in enumerate(comps):
-                e = abs(Xb[i][c] - r[comp])
-                comp_err[c] = comp_err[c].max(e)
-                mid = float(e.mid())
-                if best[2] is None or mid > best[2]:
-                    best = (i, comp, mid, e)
-                if tol is not None:
-                    limit = tol[0] + tol[1] * abs(float(r[comp].mid()))
-                    excess = float(e.upper()) - limit
-                    if excess > 0:
-                        bad = True
-                        if worst is None or excess > worst[0]:
-                            worst = (excess, Violation(tf[i], comp, names[comp] if comp < len(names) else f"x_{comp}",
-                                                       float(Xb[i][c].mid()), r[comp], mid, limit))
-            violations += bool(bad)
-        overall = arb(0)
-        for e in comp_err:
-            overall = overall.max(e)
-    ev_cmp = tuple(_compare_event(j, ev, sig, sw) for j, (ev, sig, sw) in enumerate(zip(events, signatures, switches)))
-    return ComparisonReport(
-        label=label, reference=kind, n_points=len(tq), n_compared=compared,
-        n_in_windows=sum(1 for i, w in enumerate(inside) if w and known[i]), n_unmatched=unmatched,
-        step=float(step), window=window, window_rule=rule,
-        max_error=overall, max_error_time=None if best[0] is None else tf[best[0]],
-        max_error_component=best[1], component_errors=tuple(comp_err), events=ev_cmp,
-        certified=bool(ref.certified), time_mismatch=mismatch, names=names,
-        n_beyond=len(tq) - sum(known), last_time=last, components=comps, windows=tuple(windows),
-        atol=None if tol is None else tol[0], rtol=0.0 if tol is None else tol[1],
-        violation=None if worst is None else worst[1], n_violations=violations, solver_end=float(tq[-1]))
+
+class _Errors:
+    """The solver's errors against the reference, gathered point by point: per component the
+    largest error ball, the largest error (its point, component, midpoint and ball), and with
+    tolerances the worst violation and the number of points that violate them."""
+
+    def __init__(self, m: int):
+        self.components = [arb(0)] * m
+        self.best: tuple = (None, None, None, arb(0))  # (index, component, mid, ball)
+        self.worst: tuple | None = None                # (excess, Violation)
+        self.violations = 0
+        self.compared = 0
+
+    def add(self, i: int, row: list, r: Any, comps: tuple, tol: tuple | None, time: float, names: tuple) -> None:
+        """The errors of the solver's row i (balls) against the reference state r at ``time``."""
+        self.compared += 1
+        bad = None
+        for c, comp in enumerate(comps):
+            e = abs(row[c] - r[comp])
+            self.components[c] = self.components[c].max(e)
+            mid = float(e.mid())
+            if self.best[2] is None or mid > self.best[2]:
+                self.best = (i, comp, mid, e)
+            if tol is not None:
+                limit = tol[0] + tol[1] * abs(float(r[comp].mid()))
+                excess = float(e.upper()) - limit
+                if excess > 0:
+                    bad = True
+                    if self.worst is None or excess > self.worst[0]:
+                        self.worst = (excess, Violation(time, comp, names[comp] if comp < len(names) else f"x_{comp}",
+                                                        float(row[c].mid()), r[comp], mid, limit))
+        self.violations += bool(bad)
 
 
 def _tolerances(atol: Any, rtol: Any) -> tuple[float, float] | None:
