@@ -171,3 +171,27 @@ def test_fixtures_carry_the_implied_impacts_and_compare_windows_them(tmp_path):
     t_k = float(tr.events[-1].time)
     inside = [w for w in report.windows if w[0] > t_k]  # windows of the implied impacts, merged near T*
     assert inside and inside[-1][1] >= float(acc.time)
+
+
+def test_plots_evaluate_u_y_w_inside_windows_from_balls():
+    """Inside an accumulation window a plot's u, y and w come from the sampled state balls and the
+    flight's mode (Trajectory.window_rows: the exact values cost a Calcium evaluation each); they
+    equal the exact traj.u, traj.y, traj.outputs at the same times - on Filippov's spiral (4.12),
+    whose cycles switch modes and carry nonzero u, and on a law-less window (a ball on a spring)."""
+    from lcs_exact.interfaces import AccumulationWindow
+    spiral = L.examples.filippov_spiral()
+    lcs = ball_on_spring(k=100, mass="1/1000", g="981/100", e="9/10", rest=0)
+    for tr in (L.simulate(spiral, spiral.embed([1, 2]), 2), L.simulate(lcs, lcs.embed(["1/100", 0]), F(1, 2))):
+        rec = next(r for r in tr.phases if isinstance(r.phase, AccumulationWindow))
+        a, b = float(rec.t0), float(tr.accumulations[0].time)
+        ts = [F(round((a + (b - a) * x) * 10 ** 12), 10 ** 12) for x in (0.013, 0.21, 0.5, 0.77, 0.9)]
+        kinds = {"u": tr.u, "y": tr.y}
+        if tr.output_names:
+            kinds["w"] = tr.outputs
+        for kind, exact in kinds.items():
+            fast = tr.window_rows(rec.phase, ts, kind)
+            want = [[float(c) for c in exact(t)] for t in ts]
+            assert fast is not None and len(fast) == len(ts)
+            assert all(abs(p - q) <= 1e-12 * max(1, abs(q)) for r, e in zip(fast, want) for p, q in zip(r, e)), kind
+        if tr.output_names:  # the spiral: its relays' multipliers are nonzero inside the window
+            assert any(abs(v) > 1e-3 for r in tr.window_rows(rec.phase, ts, "u") for v in r)

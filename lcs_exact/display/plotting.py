@@ -468,7 +468,7 @@ def _draw_linear_panels(cv: _Canvas, ph: PhaseInterval, tt: list, first, last, b
 def _draw_window(cv: _Canvas, ph: PhaseInterval, npts: int) -> None:
     """An accumulation window [t_k, T*): the scaled cycles of the proven law, each flight its own
     line (no segment across an event), until the flights are shorter than the plot resolves;
-    states, u, y and w are the exact values of the law (``traj.state``, ``traj.u``, ...)."""
+    states are certified balls (``traj.sample``), u, y and w the flight's mode applied to them."""
     fa, fb = float(ph.start), float(ph.end)
     width = fb - fa
     cuts = [fa]
@@ -487,8 +487,11 @@ def _draw_window(cv: _Canvas, ph: PhaseInterval, npts: int) -> None:
                 cv.line("x", pos, tt, [r[i] for r in rows])
         for p in _LINEAR:
             if p in cv.ax_of:
-                get = cv.traj.outputs if p == "w" else getattr(cv.traj, p)
-                vals = [[float(c) for c in get(t)] for t in ts]
+                fast = getattr(cv.traj, "window_rows", None)  # balls and the flight's mode, else exact values
+                vals = fast(ph.window, ts, p) if fast is not None else None
+                if vals is None:
+                    get = cv.traj.outputs if p == "w" else getattr(cv.traj, p)
+                    vals = [[float(c) for c in get(t)] for t in ts]
                 for pos, i in enumerate(cv.comps[p]):
                     cv.line(p, pos, tt, [v[i] for v in vals])
 
