@@ -301,27 +301,31 @@ class Trajectory:
         return self._phase_at(as_real(t, self.policy)).undetermined
 
     def window_rows(self, window: AccumulationWindow, ts: Sequence[Any], kind: str) -> list | None:
-        """u, y or the declared outputs w (``kind`` "u", "y", "w") at rational times inside an
-        accumulation window, as float rows for plots: u = F_I x from the sampled state balls and the
-        mode of the flight holding each time (the exact values cost a Calcium evaluation each: 11 of
-        the 13 s of a bouncing ball's plot).  None when a time's mode cannot be placed."""
+        """Float rows of u, y or w inside an accumulation window, for plots: u = F_I x from the
+        sampled state balls and the mode of the flight holding each time (exact values cost a
+        Calcium evaluation each); None when a time's mode cannot be placed.
+
+        Parameters
+        ----------
+        window : AccumulationWindow
+            The window (``traj.phases[i].phase``).
+        ts : sequence of rationals
+            Times inside its flights.
+        kind : {"u", "y", "w"}
+        """
         modes = [self._window_mode(window, float(t)) for t in ts]
         if not ts or any(m is None for m in modes):
             return None
         rows = []
         for mode, x in zip(modes, self.sample(ts, 10)):
-            F, lcs = full_feedback(mode), mode.lcs
-            M = F if kind == "u" else lcs.C + lcs.D * F if kind == "y" else None
-            if M is None:
-                out = derived_outputs(lcs)
-                M = out.Wx + out.Wu * F
-            xf = [float(v.mid()) for v in x]
+            F, lcs, xf = full_feedback(mode), mode.lcs, [float(v.mid()) for v in x]
+            out = derived_outputs(lcs) if kind == "w" else None
+            M = F if kind == "u" else lcs.C + lcs.D * F if kind == "y" else out.Wx + out.Wu * F
             rows.append([sum(float(M[i, j]) * xf[j] for j in range(len(xf))) for i in range(M.nrows())])
         return rows
 
     def _window_mode(self, window: AccumulationWindow, t: float):
-        """The mode of the flight holding t in a window (floats: t is a plot's sample, inside a
-        flight): a law-less window has one; a geometric law's maps t to its reference cycle."""
+        """The mode of the flight holding t (a plot's sample) in a window, or None."""
         law = getattr(window, "law", None)
         if law is None:
             return window.mode
