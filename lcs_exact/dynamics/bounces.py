@@ -6,11 +6,12 @@ the impacts still accumulate (Siconos' LinearOscillatorED: a mass on a spring wh
 below the floor), each flight about e times the previous, but no law holds exactly.  Such an
 accumulation is proven here by induction over a family of states, with certified balls only.
 
-* The cycle.  One contact b, the mode J = {} (every contact open) between impacts, Newton's law
-  with restitution 0 < e_b < 1 at each impact (x+ = R x-, R = I - (1 + e_b) r (C A)_b,
-  r = B_b / W_bb); the last events of the run repeat it.
+* The cycle.  One contact b, one mode J of resting contacts between impacts (J = {}: every contact
+  open), Newton's law with restitution 0 < e_b < 1 at each impact, pushing the resting contacts
+  too (x+ = R x-, R = I - (1 + e_b) r (C A)_b, r = B_C W_CC^-1 e_b, C = J + {b}, W_CC^-1 e_b > 0);
+  the last events of the run repeat it; A below is the flights' closed loop A_J.
 * The family.  After an impact the gap c x = 0 (c = C_b) and its speed c A x = sigma > 0.  With
-  the background V_bg = {c x = 0, c A x = 0} (basis V, coordinates w = L x), every such state is
+  the background V_bg = {c x = 0, c A x = 0} inside V_J (basis V, coordinates w = L x), every such state is
   x = V w + sigma r; R leaves V w alone (c A V = 0).
 * One cycle in blown-up time.  The flight from x lasts tau = sigma s*, s* the root of
   F(s) = g(sigma s) / (sigma^2 s) = sum_j c A^(j+1) r t^j / (j+1)! + s sum_j c A^(j+2) V w t^j / (j+2)!
@@ -112,43 +113,52 @@ class BounceCycle:
 
 
 def bounce_cycle(lcs, events: Sequence) -> BounceCycle | None:
-    """The cycle the last events repeat when they are Newton impacts of one contact between
-    flights in mode {} (each event: mode {} before and after, the chain ({b},), trigger y_b), with
-    0 < e_b < 1, D = 0 on row b and Theorem 6.3 holding; else None."""
+    """The cycle the last events repeat when they are Newton impacts of one contact b between
+    flights in one mode J of resting contacts (each event: J before and after, the chain
+    (J + {b},), trigger y_b; J = {} for a lone ball), with 0 < e_b < 1, D = 0 on those rows,
+    Theorem 6.3, and every resting contact pushed by the impact (W_CC^-1 e_b > 0, C = J + {b}:
+    the jump is then r = B_C W_CC^-1 e_b times -(1 + e_b) c A x for every state); else None."""
     rest = getattr(lcs, "restitution", None)
     if rest is None or len(events) < 3:
         return None
-    last = events[-1]
-    sig = event_signature(last)
+    sig = event_signature(events[-1])
     if any(event_signature(ev) != sig for ev in events[-3:]):
         return None
-    before, chain, after, triggers = sig
-    if before or after or len(chain) != 1 or len(chain[0]) != 1:
+    J, chain, after, triggers = sig
+    J = frozenset(J or ())
+    if after != J or len(chain) != 1 or len(chain[0] - J) != 1 or not J <= chain[0]:
         return None
-    b = next(iter(chain[0]))
-    if triggers != (f"y_{b}",) or not 0 < rest[b] < 1 or any(lcs.D[b, j] != 0 for j in range(lcs.k)):
+    b = next(iter(chain[0] - J))
+    closed = sorted(chain[0])
+    if triggers != (f"y_{b}",) or not 0 < rest[b] < 1 or any(lcs.D[i, j] != 0 for i in closed for j in range(lcs.k)):
         return None
     if not lcs.well_posedness():
         return None
-    n, A = lcs.n, lcs.A
+    n, mode = lcs.n, lcs.mode(J)
+    A = mode.closed_loop() if J else lcs.A
     c = _row(lcs.C, b)
-    W = (c * A * submatrix(lcs.B, None, [b]))[0, 0]
-    if W <= 0:
+    W = submatrix(lcs.C * lcs.A * lcs.B, closed, closed)
+    if W.det() == 0:
         return None
-    r = submatrix(lcs.B, None, [b]) / W
-    if (c * r)[0, 0] != 0:
+    z = W.inv() * fmpq_mat([[int(i == b)] for i in closed])
+    if any(z[i, 0] <= 0 for i in range(len(closed))):
         return None
-    G = vstack(c, c * A)
-    if rank(G) != 2:
+    r = submatrix(lcs.B, None, closed) * z  # c A r = 1, the resting contacts' speeds unmoved
+    G = vstack(c, c * A, *[_row(lcs.C, i) for i in J], *[_row(lcs.C * lcs.A, i) for i in J])
+    if (c * r)[0, 0] != 0 or rank(G) != G.nrows() or (G * r)[1, 0] != 1:
         return None
     V = kernel(G)
     basis = hstack(V, r, nrows=n)
-    if rank(basis) != n - 1:
+    if rank(basis) != V.ncols() + 1:
         return None
-    # w = L x on {c x = 0}: the coordinates of x in the basis [V, r] (exact left inverse)
+    # w = L x on {c x = 0} inside V_J: the coordinates of x in the basis [V, r] (exact left inverse)
     L = submatrix((basis.transpose() * basis).inv() * basis.transpose(), range(V.ncols()), None)
-    R = identity(n) - (1 + rest[b]) * r * (c * A)
-    others = tuple(_row(lcs.C, i) for i in range(lcs.k) if i != b)
+    R = identity(n) - (1 + rest[b]) * r * (c * lcs.A)
+    # monitored on the flights: the resting contacts' forces u_J = F_J x, the other gaps y_i
+    F, I = (mode.feedback(), list(mode.I)) if J else (None, [])
+    others = tuple(_row(F, k) for k in range(len(I))) + tuple(
+        _row(lcs.C, i) + submatrix(lcs.D, [i], I) * F if I else _row(lcs.C, i)
+        for i in range(lcs.k) if i != b and i not in J)
     nu, C = _growth(A)
     return BounceCycle(lcs, b, rest[b], A, c, r, V, L, R, others, nu, C, [identity(n)])
 
@@ -553,7 +563,8 @@ class BounceWindow(AccumulationWindow):
         value from the window's start); else :class:`BounceLimitState` (balls)."""
         cyc = self.proof.cycle
         lcs, n = cyc.lcs, cyc.lcs.n
-        rows, sources = [cyc.c, cyc.c * cyc.A], []
+        vanish = kernel(cyc.V.transpose()).transpose()  # x* = V w*: gaps and speeds of b and J are 0
+        rows, sources = [_row(vanish, i) for i in range(vanish.nrows())], []
         zero = self.zero_forms()
         for keep, z in ((hstack(lcs.A, lcs.B, nrows=n), self.origin), (hstack(cyc.A, cyc.r, nrows=n), self.z)):
             if z is None:
@@ -566,7 +577,7 @@ class BounceWindow(AccumulationWindow):
                     rows.append(_row(Q, i))
                     sources.append((len(rows) - 1, z))
         if len(rows) < n:
-            return BounceLimitState(self, vstack(cyc.c, cyc.c * cyc.A, zero, ncols=n))
+            return BounceLimitState(self, vstack(vanish, zero, ncols=n))
         Ginv = vstack(*rows).inv()
         parts = {}
         for i, z in sources:  # x* = G^-1 (0, 0, q z, ...): one projection per state it reads
@@ -578,7 +589,7 @@ class BounceWindow(AccumulationWindow):
             return RationalVector(sum((P * z.known_rational() for z, P in vecs), zeros(n, 1)))
         if len(vecs) == 1:
             return ProjectedVector(vecs[0][1], vecs[0][0])
-        return BounceLimitState(self, vstack(cyc.c, cyc.c * cyc.A, zero, ncols=n))
+        return BounceLimitState(self, vstack(vanish, zero, ncols=n))
 
     def zero_forms(self) -> fmpq_mat:
         """Forms that vanish on every state of the run (so in the window and at its limit): the
