@@ -188,14 +188,14 @@ dynamics.trajectory.Trajectory.outputs dynamics.trajectory.Trajectory.plot dynam
 dynamics.trajectory.Trajectory.state dynamics.trajectory.Trajectory.to_control dynamics.trajectory.Trajectory.to_csv
 dynamics.trajectory.Trajectory.to_fixture dynamics.trajectory.Trajectory.to_npz
 dynamics.trajectory.Trajectory.to_numpy dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
-dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y io.fixturereader.FixtureTrajectory
-modes.ldcp.impulse_forms modes.ldcp.ldcp modes.mode.Mode modes.selection.admissibility_conditions
-modes.selection.admissibility_forms modes.selection.initial_solution modes.selection.initial_solution_groups
-modes.selection.is_regular modes.selection.rcp modes.selection.rcp_data modes.selection.select_modes
-modes.selection.state_groups modes.selection.undetermined_inputs numbers.balls.Deadline numbers.balls.Deadline.check
-numbers.balls.Policy numbers.balls.Policy.check_deadline numbers.balls.Policy.unresolved
-numbers.balls.Policy.working_prec numbers.balls.accuracy_bits numbers.balls.ball_sign numbers.balls.digits_to_bits
-numbers.balls.dyadic numbers.balls.dyadic_lower numbers.balls.dyadic_upper numbers.balls.workprec numbers.calcium.Ca
+dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y modes.ldcp.impulse_forms modes.ldcp.ldcp
+modes.mode.Mode modes.selection.admissibility_conditions modes.selection.admissibility_forms
+modes.selection.initial_solution modes.selection.initial_solution_groups modes.selection.is_regular
+modes.selection.rcp modes.selection.rcp_data modes.selection.select_modes modes.selection.state_groups
+modes.selection.undetermined_inputs numbers.balls.Deadline numbers.balls.Deadline.check numbers.balls.Policy
+numbers.balls.Policy.check_deadline numbers.balls.Policy.unresolved numbers.balls.Policy.working_prec
+numbers.balls.accuracy_bits numbers.balls.ball_sign numbers.balls.digits_to_bits numbers.balls.dyadic
+numbers.balls.dyadic_lower numbers.balls.dyadic_upper numbers.balls.workprec numbers.calcium.Ca
 numbers.calcium.Ca.algebraic numbers.calcium.Ca.compact numbers.calcium.Ca.enclosure numbers.calcium.Ca.sign
 numbers.calcium.real_roots numbers.closedforms.candidates numbers.closedforms.prove_root
 numbers.closedforms.prove_root_is numbers.closedforms.prove_touch numbers.closedforms.prove_zero_at
@@ -232,7 +232,7 @@ system.modemap.ModeMap system.modemap.Region system.sources.AppendedStates syste
 system.sources.Source system.sources.Source.value system.sources.as_source system.sources.constant
 system.sources.cosine system.sources.exosystem system.sources.exponential system.sources.parse_source
 system.sources.polynomial system.sources.sine system.sources.source_block system.sources.state_signals
-system.statespace.signal_names system.statespace.time_response verify.compare.ComparisonReport verify.zoo.ZooCase
+system.statespace.signal_names system.statespace.time_response verify.zoo.ZooCase
 """.split())
 
 
