@@ -182,7 +182,6 @@ dynamics.accumulation.Accumulation dynamics.accumulation.Accumulation.event_time
 dynamics.accumulation.Accumulation.event_time_ball dynamics.fixnumbers.ball_number dynamics.fixnumbers.ball_text
 dynamics.fixnumbers.number_ball dynamics.fixnumbers.number_exact dynamics.fixnumbers.number_rational
 dynamics.fixnumbers.sample_grid dynamics.fixnumbers.short_text dynamics.fixnumbers.to_fraction
-dynamics.fixture.check_digest dynamics.fixture.validate_fixture dynamics.sweep.SweepResult
 dynamics.trajectory.Branches dynamics.trajectory.Event dynamics.trajectory.Trajectory
 dynamics.trajectory.Trajectory.outputs dynamics.trajectory.Trajectory.plot dynamics.trajectory.Trajectory.sample
 dynamics.trajectory.Trajectory.state dynamics.trajectory.Trajectory.to_control dynamics.trajectory.Trajectory.to_csv
@@ -228,11 +227,11 @@ numbers.vectors.ScaledVector.proven_zero numbers.vectors.algebraic_vector number
 numbers.vectors.as_state numbers.vectors.ca_matvec numbers.vectors.expm_action numbers.vectors.homogenized
 numbers.vectors.orbit_start system.impacts.newton_impact system.lcs.LCS.initial_solution system.lcs.LCS.is_regular
 system.lcs.LCS.ldcp system.lcs.LCS.rcp system.modelformat.model_data system.modelformat.write_model_file
-system.modemap.ModeMap system.modemap.Region system.sources.AppendedStates system.sources.Exosystem
-system.sources.Source system.sources.Source.value system.sources.as_source system.sources.constant
-system.sources.cosine system.sources.exosystem system.sources.exponential system.sources.parse_source
-system.sources.polynomial system.sources.sine system.sources.source_block system.sources.state_signals
-system.statespace.signal_names system.statespace.time_response verify.zoo.ZooCase
+system.sources.AppendedStates system.sources.Exosystem system.sources.Source system.sources.Source.value
+system.sources.as_source system.sources.constant system.sources.cosine system.sources.exosystem
+system.sources.exponential system.sources.parse_source system.sources.polynomial system.sources.sine
+system.sources.source_block system.sources.state_signals system.statespace.signal_names
+system.statespace.time_response verify.zoo.ZooCase
 """.split())
 
 
