@@ -184,21 +184,17 @@ dynamics.trajectory.Trajectory.outputs dynamics.trajectory.Trajectory.plot dynam
 dynamics.trajectory.Trajectory.state dynamics.trajectory.Trajectory.to_control dynamics.trajectory.Trajectory.to_csv
 dynamics.trajectory.Trajectory.to_fixture dynamics.trajectory.Trajectory.to_npz
 dynamics.trajectory.Trajectory.to_numpy dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
-dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y modes.ldcp.impulse_forms modes.ldcp.ldcp
-modes.mode.Mode modes.selection.admissibility_conditions modes.selection.admissibility_forms
-modes.selection.initial_solution modes.selection.initial_solution_groups modes.selection.is_regular
-modes.selection.rcp modes.selection.rcp_data modes.selection.select_modes modes.selection.state_groups
-modes.selection.undetermined_inputs numbers.calcium.Ca numbers.calcium.Ca.algebraic numbers.calcium.Ca.compact
-numbers.calcium.Ca.enclosure numbers.calcium.Ca.sign numbers.calcium.real_roots numbers.closedforms.candidates
-numbers.closedforms.prove_root numbers.closedforms.prove_root_is numbers.closedforms.prove_touch
-numbers.closedforms.prove_zero_at numbers.closedforms.symbolic_candidates numbers.expm.Spectrum
-numbers.expm.Spectrum.apply numbers.expm.Spectrum.ca_apply numbers.expm.Spectrum.eigenvalues
-numbers.expm.Spectrum.exact_at numbers.expm.Spectrum.factors numbers.expm.Spectrum.matrix numbers.expm.Spectrum.modal
-numbers.expm.spectrum_of numbers.forms.Closed numbers.forms.Closed.log numbers.forms.Closed.of_sympy
-numbers.forms.Closed.pi_over_sqrt numbers.forms.Closed.rational numbers.forms.sympy_proves_zero
-numbers.reals.AlgebraicReal numbers.reals.RationalReal numbers.reals.Real numbers.reals.Real.ball
-numbers.reals.Real.decimal numbers.reals.as_real numbers.taylormodels.Box numbers.taylormodels.Box.add
-numbers.taylormodels.Box.at numbers.taylormodels.Box.bounds numbers.taylormodels.Box.coef
+dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y numbers.calcium.Ca
+numbers.calcium.Ca.algebraic numbers.calcium.Ca.compact numbers.calcium.Ca.enclosure numbers.calcium.Ca.sign
+numbers.calcium.real_roots numbers.closedforms.candidates numbers.closedforms.prove_root
+numbers.closedforms.prove_root_is numbers.closedforms.prove_touch numbers.closedforms.prove_zero_at
+numbers.closedforms.symbolic_candidates numbers.expm.Spectrum numbers.expm.Spectrum.apply
+numbers.expm.Spectrum.ca_apply numbers.expm.Spectrum.eigenvalues numbers.expm.Spectrum.exact_at
+numbers.expm.Spectrum.factors numbers.expm.Spectrum.matrix numbers.expm.Spectrum.modal numbers.expm.spectrum_of
+numbers.forms.Closed numbers.forms.Closed.log numbers.forms.Closed.of_sympy numbers.forms.Closed.pi_over_sqrt
+numbers.forms.Closed.rational numbers.forms.sympy_proves_zero numbers.reals.AlgebraicReal numbers.reals.RationalReal
+numbers.reals.Real numbers.reals.Real.ball numbers.reals.Real.decimal numbers.reals.as_real numbers.taylormodels.Box
+numbers.taylormodels.Box.add numbers.taylormodels.Box.at numbers.taylormodels.Box.bounds numbers.taylormodels.Box.coef
 numbers.taylormodels.Box.combine numbers.taylormodels.Box.const numbers.taylormodels.Box.down
 numbers.taylormodels.Box.down_s numbers.taylormodels.Box.error numbers.taylormodels.Box.lead
 numbers.taylormodels.Box.lin numbers.taylormodels.Box.matvec numbers.taylormodels.Box.model
