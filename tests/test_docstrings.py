@@ -178,13 +178,11 @@ dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y num
 numbers.calcium.Ca.algebraic numbers.calcium.Ca.compact numbers.calcium.Ca.enclosure numbers.calcium.Ca.sign
 numbers.calcium.real_roots numbers.closedforms.candidates numbers.closedforms.prove_root
 numbers.closedforms.prove_root_is numbers.closedforms.prove_touch numbers.closedforms.prove_zero_at
-numbers.closedforms.symbolic_candidates numbers.expm.Spectrum numbers.expm.Spectrum.apply
-numbers.expm.Spectrum.ca_apply numbers.expm.Spectrum.eigenvalues numbers.expm.Spectrum.exact_at
-numbers.expm.Spectrum.factors numbers.expm.Spectrum.matrix numbers.expm.Spectrum.modal numbers.expm.spectrum_of
-numbers.forms.Closed numbers.forms.Closed.log numbers.forms.Closed.of_sympy numbers.forms.Closed.pi_over_sqrt
-numbers.forms.Closed.rational numbers.forms.sympy_proves_zero numbers.reals.AlgebraicReal numbers.reals.RationalReal
-numbers.reals.Real numbers.reals.Real.ball numbers.reals.Real.decimal numbers.reals.as_real numbers.taylormodels.Box
-numbers.taylormodels.Box.add numbers.taylormodels.Box.at numbers.taylormodels.Box.bounds numbers.taylormodels.Box.coef
+numbers.closedforms.symbolic_candidates numbers.forms.Closed numbers.forms.Closed.log numbers.forms.Closed.of_sympy
+numbers.forms.Closed.pi_over_sqrt numbers.forms.Closed.rational numbers.forms.sympy_proves_zero
+numbers.reals.AlgebraicReal numbers.reals.RationalReal numbers.reals.Real numbers.reals.Real.ball
+numbers.reals.Real.decimal numbers.reals.as_real numbers.taylormodels.Box numbers.taylormodels.Box.add
+numbers.taylormodels.Box.at numbers.taylormodels.Box.bounds numbers.taylormodels.Box.coef
 numbers.taylormodels.Box.combine numbers.taylormodels.Box.const numbers.taylormodels.Box.down
 numbers.taylormodels.Box.down_s numbers.taylormodels.Box.error numbers.taylormodels.Box.lead
 numbers.taylormodels.Box.lin numbers.taylormodels.Box.matvec numbers.taylormodels.Box.model
@@ -205,13 +203,11 @@ numbers.vectors.ProjectedVector numbers.vectors.ProjectedVector.closed_form numb
 numbers.vectors.RationalVector.closed_form numbers.vectors.ScaledVector numbers.vectors.ScaledVector.closed_form
 numbers.vectors.ScaledVector.proven_zero numbers.vectors.algebraic_vector numbers.vectors.as_exact_vector
 numbers.vectors.as_state numbers.vectors.ca_matvec numbers.vectors.expm_action numbers.vectors.homogenized
-numbers.vectors.orbit_start system.impacts.newton_impact system.lcs.LCS.initial_solution system.lcs.LCS.is_regular
-system.lcs.LCS.ldcp system.lcs.LCS.rcp system.modelformat.model_data system.modelformat.write_model_file
-system.sources.AppendedStates system.sources.Exosystem system.sources.Source system.sources.Source.value
-system.sources.as_source system.sources.constant system.sources.cosine system.sources.exosystem
-system.sources.exponential system.sources.parse_source system.sources.polynomial system.sources.sine
-system.sources.source_block system.sources.state_signals system.statespace.signal_names
-system.statespace.time_response verify.zoo.ZooCase
+numbers.vectors.orbit_start system.lcs.LCS.initial_solution system.lcs.LCS.is_regular system.lcs.LCS.ldcp
+system.lcs.LCS.rcp system.sources.AppendedStates system.sources.Exosystem system.sources.Source
+system.sources.Source.value system.sources.as_source system.sources.constant system.sources.cosine
+system.sources.exosystem system.sources.exponential system.sources.parse_source system.sources.polynomial
+system.sources.sine system.sources.source_block system.sources.state_signals verify.zoo.ZooCase
 """.split())
 
 
