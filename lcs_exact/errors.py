@@ -14,7 +14,15 @@ __all__ = [
 
 
 class LCSError(Exception):
-    """Root of every error raised by lcs_exact."""
+    """Root of every error raised by lcs_exact.
+
+    Parameters
+    ----------
+    message : str
+        What failed and why, naming the object.
+    trajectory : Trajectory or None
+        The run up to the error (partial), or None (the algebra layer).
+    """
 
     def __init__(self, message: str, *, trajectory=None):
         super().__init__(message)
@@ -37,7 +45,16 @@ class IllPosed(LCSError, ValueError):
     """The conditions of Theorem 6.3 / 6.9 fail where a computation requires them, or S(z) leaves
     a choice between initial solutions that changes the trajectory (non-uniqueness).  In the
     latter case ``alternatives`` lists (mode, initial solution) for each distinct initial
-    solution, and ``trajectory`` holds the run up to the choice."""
+    solution, and ``trajectory`` holds the run up to the choice.
+
+    Parameters
+    ----------
+    message : str
+    trajectory : Trajectory or None
+        The run up to the failure or the choice (partial).
+    alternatives : iterable of (frozenset, ExactVector)
+        (mode, initial solution) per distinct initial solution in S(z) (section 6).
+    """
 
     def __init__(self, message: str, *, trajectory=None, alternatives=()):
         super().__init__(message, trajectory=trajectory)
@@ -58,7 +75,20 @@ class ZenoDetected(LCSError):
     the last event computed with ``upper`` None (nothing bounds the accumulation time from above
     but t_end).  ``estimate`` is a float near the enclosure (rounded: not certified to lie in
     it), or an uncertified guess from the shrinking gaps when ``upper`` is None (for messages
-    only); with ``upper`` None the accumulation itself is suspected, not proven."""
+    only); with ``upper`` None the accumulation itself is suspected, not proven.
+
+    Parameters
+    ----------
+    message : str
+    trajectory : Trajectory or None
+        The run up to the accumulation (partial).
+    lower, upper : fmpq or None
+        The certified enclosure of the accumulation time (above).
+    estimate : float or None
+        Not certified (above).
+    time : Real or None
+        The accumulation time, exact, when a geometric law proves it.
+    """
 
     def __init__(self, message: str, *, trajectory=None, lower=None, upper=None, estimate=None, time=None):
         super().__init__(message, trajectory=trajectory)

@@ -151,6 +151,15 @@ def eliminate(rows: Sequence[tuple], d: int) -> list[tuple]:
     the largest lower bound of b_j is below its smallest upper bound when the eliminated rows
     hold, so the answer is exact.  Duplicate and trivial (0 >= 0) rows are dropped.
 
+    Parameters
+    ----------
+    rows : sequence of (g, h, label)
+        The inequalities (above).
+    d : int
+        The number of variables b eliminated.
+
+    Examples
+    --------
     >>> # b >= -x0, b <= x1 (i.e. x1 - b >= 0): feasible iff x0 + x1 >= 0
     >>> [(g, sorted(label)) for g, label in eliminate([([1, 0], [1], {"a"}), ([0, 1], [-1], {"b"})], 1)]
     [([1, 1], ['a', 'b'])]

@@ -45,6 +45,15 @@ class RationalFunction:
     rational numbers, ``+ - * /``, parentheses and integer powers (``^`` or ``**``), which is
     what the repr prints, so the repr pastes back.
 
+    Parameters
+    ----------
+    num : fmpq_poly, list, scalar or str
+        The numerator (coefficients lowest degree first), or the whole function as text.
+    den : fmpq_poly, list or scalar, optional
+        The denominator, nonzero (with text: omitted).
+
+    Examples
+    --------
     >>> s = RationalFunction.s()
     >>> f = 1 + s / (s**2 + 1)
     >>> f
@@ -167,6 +176,11 @@ class RationalFunction:
         """The first ``count`` Laurent coefficients at s = oo, starting at s^{-r}, r = relative degree.
 
         f(s) = sum_{i >= r} f_i s^{-i} (5.6); returns [f_r, f_{r+1}, ...].
+
+        Parameters
+        ----------
+        count : int
+            How many coefficients.
         """
         if self.is_zero():
             return [fmpq(0)] * count
@@ -326,6 +340,15 @@ def laurent_coefficients(num: Sequence[Any], den: Sequence[Any], count: int) -> 
     row vectors (``fmpq_mat``: the numerator of a linear form in x0); ``den`` are the rational
     coefficients of d, d_b != 0.  From N = f d, comparing the coefficients of s^{a-r}:
     f_{b-a+r} = (N_{a-r} - sum_{q<b} d_q f_{q-a+r}) / d_b.
+
+    Parameters
+    ----------
+    num : sequence of fmpq or fmpq_mat
+        N_0, ..., N_a (above).
+    den : sequence of fmpq
+        d_0, ..., d_b (above).
+    count : int
+        How many coefficients.
     """
     a, b = len(num) - 1, len(den) - 1
     db = den[b]
@@ -347,7 +370,13 @@ def laurent_coefficients(num: Sequence[Any], den: Sequence[Any], count: int) -> 
 
 
 class RationalMatrix:
-    """A dense matrix over Q(s) (G(s), R(s), G_II(s)^{-1}, ...), rows of RationalFunction."""
+    """A dense matrix over Q(s) (G(s), R(s), G_II(s)^{-1}, ...), rows of RationalFunction.
+
+    Parameters
+    ----------
+    rows : sequence of sequences
+        The entries: RationalFunction, polynomials, scalars or text (as RationalFunction reads them).
+    """
 
     __slots__ = ("rows",)
 
@@ -363,6 +392,13 @@ class RationalMatrix:
         return self.rows[i][j]
 
     def sub(self, rows: Sequence[int], cols: Sequence[int]) -> "RationalMatrix":
+        """The submatrix on ``rows`` x ``cols``.
+
+        Parameters
+        ----------
+        rows, cols : sequence of int
+            The rows and columns kept (0-based, in this order).
+        """
         return RationalMatrix([[self.rows[i][j] for j in cols] for i in rows])
 
     def __mul__(self, o: "RationalMatrix") -> "RationalMatrix":
@@ -419,7 +455,13 @@ class RationalMatrix:
         return self._eliminate(None)[0]
 
     def solve(self, rhs: "RationalMatrix") -> "RationalMatrix":
-        """X with self X = rhs over Q(s); raises ZeroDivisionError when self is singular."""
+        """X with self X = rhs over Q(s); raises ZeroDivisionError when self is singular.
+
+        Parameters
+        ----------
+        rhs : RationalMatrix
+            The right-hand side (as many rows as self).
+        """
         if self.shape[0] == 0:
             return RationalMatrix([])
         det, sol = self._eliminate(rhs)
@@ -432,6 +474,11 @@ class RationalMatrix:
 
         Returns (numerator coefficients N_0..N_a as 1 x m ``fmpq_mat``, common denominator d):
         row_i(s) . x = (sum_p (N_p . x) s^p) / d(s).
+
+        Parameters
+        ----------
+        i : int
+            The row (0-based).
         """
         row = self.rows[i]
         d = fmpq_poly([1])
@@ -447,7 +494,13 @@ class RationalMatrix:
         return coeffs, d
 
     def apply(self, x: fmpq_mat) -> list[RationalFunction]:
-        """self(s) x for a rational vector x: a list of rational functions."""
+        """self(s) x for a rational vector x: a list of rational functions.
+
+        Parameters
+        ----------
+        x : fmpq_mat
+            m x 1.
+        """
         n, m = self.shape
         return [sum((self.rows[i][j] * RationalFunction(x[j, 0]) for j in range(m)), RationalFunction(0))
                 for i in range(n)]
@@ -473,6 +526,17 @@ class RationalMatrix:
 def resolvent(A: fmpq_mat, left: fmpq_mat, right: fmpq_mat | None = None) -> RationalMatrix:
     """left (sI - A)^{-1} right over Q(s) (right = I when None): R(s), G(s) - D of (5.3).
 
+    Parameters
+    ----------
+    A : fmpq_mat
+        n x n.
+    left : fmpq_mat
+        r x n (C in G(s)).
+    right : fmpq_mat or None, optional
+        n x c (B in G(s)); None for the identity.
+
+    Examples
+    --------
     >>> resolvent(fmpq_mat([[0, 1], [-1, 0]]), fmpq_mat([[1, 0]]))
     RationalMatrix([['s/(s^2 + 1)', '1/(s^2 + 1)']])
     """

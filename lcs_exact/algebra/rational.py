@@ -80,6 +80,11 @@ _LOG2_10 = math.log2(10)
 def to_short(x: Any, width: int = 40) -> str:
     """repr of x cut to ``width`` characters (a hostile input must not flood a message).
 
+    Parameters
+    ----------
+    x : object
+    width : int, optional
+
     >>> to_short("1" * 100), to_short(2**1000)
     ("'1111111111111111111111111111111111...'", '<an integer of 1001 bits>')
     """
@@ -160,6 +165,13 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
     denominator would exceed :data:`MAX_RATIONAL_BITS` bits
     (:class:`~lcs_exact.errors.InvalidArgument`; checked before a decimal exponent is expanded).
 
+    Parameters
+    ----------
+    x : rational-like
+        The input (above).
+    what : str, optional
+        Its name in an error message.
+
     >>> to_fmpq("3/4"), to_fmpq(0.1), to_fmpq(2), to_fmpq("-1.25e-3")
     (3/4, 1/10, 2, -1/800)
     >>> to_fmpq("1e999999999", "t_end")
@@ -227,6 +239,10 @@ def as_list(data: Any) -> Any:
     whose repr is not the float32's (0.10000000149011612 for ``np.float32(0.1)``); kept, each
     entry is read by :func:`to_fmpq` as its own type's shortest decimal.
 
+    Parameters
+    ----------
+    data : array-like
+
     >>> import numpy as np
     >>> [to_fmpq(v) for v in as_list(np.array([0.1, -0.1], dtype=np.float32))]
     [1/10, -1/10]
@@ -248,6 +264,14 @@ def to_int(x: Any, what: str, lo: int | None = None, hi: int | None = None) -> i
     """An integer argument (a Python or numpy integer, not a bool), checked to lie in [lo, hi];
     :class:`~lcs_exact.errors.InvalidArgument` naming ``what`` otherwise.
 
+    Parameters
+    ----------
+    x : int
+    what : str
+        Its name in an error message.
+    lo, hi : int or None, optional
+        The bounds (None: unbounded).
+
     >>> to_int(3, "kappa", 0, 10)
     3
     >>> to_int(1.5, "kappa")
@@ -266,6 +290,14 @@ def to_int(x: Any, what: str, lo: int | None = None, hi: int | None = None) -> i
 
 def check_enumerable(k: int, what: str, limit: int = MAX_ENUMERATION_K) -> None:
     """Refuse (:class:`~lcs_exact.errors.Unsupported`) an enumeration of 2^k sets beyond ``limit``.
+
+    Parameters
+    ----------
+    k : int
+        2^k sets.
+    what : str
+        The enumeration, for the message.
+    limit : int, optional
 
     >>> check_enumerable(16, "RCP for every mode")
     >>> check_enumerable(17, "RCP for every mode")
@@ -322,6 +354,14 @@ def to_matrix(data: Any, name: str = "matrix", shape: tuple[int | None, int | No
     oversized (more than :data:`MAX_DIMENSION` along a side) input, or a mapping or set, and
     :class:`~lcs_exact.errors.NotRational` for an entry that is not an exact rational.
 
+    Parameters
+    ----------
+    data : matrix-like
+        Rows, a SymPy or NumPy matrix, or an ``fmpq_mat``.
+    name : str, optional
+        Its name in an error message.
+    shape : (int or None, int or None), optional
+
     >>> to_matrix([[1, "1/2"], [0, 0.25]])
     [1, 1/2]
     [0, 1/4]
@@ -348,6 +388,15 @@ def vector_entries(data: Any, n: int | None, name: str = "x0") -> list:
     """The entries of a vector given flat (``[a, b]``) or as a column (``[[a], [b]]``), not
     converted; :class:`~lcs_exact.errors.ShapeError` for a string, a mapping or set (no order),
     a scalar, deeper nesting or a wrong length.
+
+    Parameters
+    ----------
+    data : sequence
+        Flat or a column.
+    n : int or None
+        The length required (None: any).
+    name : str, optional
+        Its name in an error message.
 
     >>> vector_entries([[1], ["1/2"]], 2)
     [1, '1/2']
@@ -376,7 +425,16 @@ def vector_entries(data: Any, n: int | None, name: str = "x0") -> list:
 
 
 def to_vector(data: Any, n: int, name: str = "x0") -> fmpq_mat:
-    """Read a rational vector of length n into an n x 1 ``fmpq_mat`` (flat or column input)."""
+    """Read a rational vector of length n into an n x 1 ``fmpq_mat`` (flat or column input).
+
+    Parameters
+    ----------
+    data : vector-like
+        Flat or a column, or an ``fmpq_mat``.
+    n : int
+    name : str, optional
+        Its name in an error message.
+    """
     if isinstance(data, fmpq_mat):
         if data.ncols() == 1 and data.nrows() == n:
             return data
@@ -396,6 +454,12 @@ def eigenvalue_moduli(A: fmpq_mat, chi: fmpq_poly | None = None):
     """(smallest nonzero |lambda|, largest |lambda|) over the eigenvalues of A, as certified
     ``arb`` balls, or None when A is nilpotent (every eigenvalue 0).  The zero eigenvalues are
     split off exactly (the power of s dividing det(sI - A)), the others isolated by flint.
+
+    Parameters
+    ----------
+    A : fmpq_mat
+    chi : fmpq_poly, optional
+        det(sI - A), when known.
 
     >>> lo, hi = eigenvalue_moduli(fmpq_mat([[0, 1], [-4, 0]]))
     >>> lo.contains(2) and hi.contains(2)
@@ -434,7 +498,13 @@ def mat_rows(m: fmpq_mat) -> list[list[fmpq]]:
 
 
 def submatrix(m: fmpq_mat, rows: Sequence[int] | None = None, cols: Sequence[int] | None = None) -> fmpq_mat:
-    """m[rows, cols] (``None`` keeps all)."""
+    """m[rows, cols] (``None`` keeps all).
+
+    Parameters
+    ----------
+    m : fmpq_mat
+    rows, cols : sequence of int or None, optional
+    """
     r, c = m.nrows(), m.ncols()
     rows = range(r) if rows is None else list(rows)
     cols = range(c) if cols is None else list(cols)
@@ -449,7 +519,13 @@ def column(m: fmpq_mat, j: int) -> fmpq_mat:
 
 
 def hstack(*ms: fmpq_mat, nrows: int | None = None) -> fmpq_mat:
-    """[m1 m2 ...]; ``nrows`` is needed only when no block is given."""
+    """[m1 m2 ...]; ``nrows`` is needed only when no block is given.
+
+    Parameters
+    ----------
+    *ms : fmpq_mat
+    nrows : int, optional
+    """
     r = ms[0].nrows() if ms else (nrows or 0)
     if any(m.nrows() != r for m in ms):
         raise ShapeError("hstack: blocks have different numbers of rows")
@@ -459,7 +535,13 @@ def hstack(*ms: fmpq_mat, nrows: int | None = None) -> fmpq_mat:
 
 
 def vstack(*ms: fmpq_mat, ncols: int | None = None) -> fmpq_mat:
-    """[m1; m2; ...]; ``ncols`` is needed only when no block is given."""
+    """[m1; m2; ...]; ``ncols`` is needed only when no block is given.
+
+    Parameters
+    ----------
+    *ms : fmpq_mat
+    ncols : int, optional
+    """
     c = ms[0].ncols() if ms else (ncols or 0)
     if any(m.ncols() != c for m in ms):
         raise ShapeError("vstack: blocks have different numbers of columns")
@@ -479,7 +561,12 @@ def pivot_tableau(T: list, r: int, c: int) -> None:
 
 
 def is_zero(m: fmpq_mat) -> bool:
-    """All entries zero (fmpq_mat has no is_zero; a comparison in C, not a list of entries)."""
+    """All entries zero (fmpq_mat has no is_zero; a comparison in C, not a list of entries).
+
+    Parameters
+    ----------
+    m : fmpq_mat
+    """
     return m == fmpq_mat(m.nrows(), m.ncols())
 
 
@@ -509,6 +596,11 @@ def sign_of_form(form: Any, x: Any = None) -> int:
     exact zero by structure; a rational ``x`` (n x 1 ``fmpq_mat``) gives an exact sign; any other
     ``x`` must provide ``x.sign_of_form(form)``, which certifies the sign or raises
     :class:`~lcs_exact.errors.UnresolvedSign`.
+
+    Parameters
+    ----------
+    form : fmpq or fmpq_mat
+    x : fmpq_mat or ExactVector, optional
     """
     if x is None:
         v = form
@@ -523,7 +615,14 @@ def sign_of_form(form: Any, x: Any = None) -> int:
 
 
 def lex_sign(seq: Iterable[Any], x: Any = None) -> int:
-    """Lexicographic sign of a sequence of forms at x (5.7): sign of the first nonzero term."""
+    """Lexicographic sign of a sequence of forms at x (5.7): sign of the first nonzero term.
+
+    Parameters
+    ----------
+    seq : iterable of forms
+        As :func:`sign_of_form` takes them.
+    x : fmpq_mat or ExactVector, optional
+    """
     for term in seq:
         s = sign_of_form(term, x)
         if s:
@@ -544,6 +643,12 @@ def adjugate_coefficients(A: fmpq_mat, chi: fmpq_poly | None = None) -> list[fmp
 
     For any monic ``chi`` of degree d (not only the characteristic polynomial) the same recursion
     gives sum_j s^{d-1-j} B_j = (chi(s) I - chi(A)) (sI - A)^{-1}, a polynomial in s and A.
+
+    Parameters
+    ----------
+    A : fmpq_mat
+    chi : fmpq_poly, optional
+        Monic (above); default det(sI - A).
 
     >>> [b.entries() for b in adjugate_coefficients(fmpq_mat([[0, 1], [-1, 0]]))]
     [[1, 0, 0, 1], [0, 1, -1, 0]]
@@ -585,5 +690,11 @@ def poly_at_matrix(p: fmpq_poly, S: fmpq_mat) -> fmpq_mat:
 
 
 def format_form(form: fmpq_mat) -> str:
-    """A row as text: (1, 0, -1/2)."""
+    """A row as text: (1, 0, -1/2).
+
+    Parameters
+    ----------
+    form : fmpq_mat
+        A 1 x n row.
+    """
     return "(" + ", ".join(str(form[0, j]) for j in range(form.ncols())) + ")"

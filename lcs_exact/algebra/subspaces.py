@@ -31,12 +31,24 @@ def rref(m: fmpq_mat) -> tuple[fmpq_mat, list[int]]:
 
 
 def rank(m: fmpq_mat) -> int:
+    """The rank of m (0 for an empty matrix).
+
+    Parameters
+    ----------
+    m : fmpq_mat
+    """
     return 0 if m.nrows() == 0 or m.ncols() == 0 else m.rank()
 
 
 def kernel(m: fmpq_mat) -> fmpq_mat:
     """Basis (columns) of Ker m.
 
+    Parameters
+    ----------
+    m : fmpq_mat
+
+    Examples
+    --------
     >>> kernel(fmpq_mat([[1, 0, 0, 0], [0, 0, 1, 0]])).transpose()
     [0, 1, 0, 0]
     [0, 0, 0, 1]
@@ -55,7 +67,12 @@ def kernel(m: fmpq_mat) -> fmpq_mat:
 
 
 def image(m: fmpq_mat) -> fmpq_mat:
-    """Canonical basis (columns) of Im m: the nonzero rows of rref(m^T), transposed."""
+    """Canonical basis (columns) of Im m: the nonzero rows of rref(m^T), transposed.
+
+    Parameters
+    ----------
+    m : fmpq_mat
+    """
     n = m.nrows()
     if m.ncols() == 0:
         return zeros(n, 0)
@@ -64,7 +81,12 @@ def image(m: fmpq_mat) -> fmpq_mat:
 
 
 def left_kernel(m: fmpq_mat) -> fmpq_mat:
-    """Rows spanning {w : w m = 0} (returned as a d x nrows matrix)."""
+    """Rows spanning {w : w m = 0} (returned as a d x nrows matrix).
+
+    Parameters
+    ----------
+    m : fmpq_mat
+    """
     if m.ncols() == 0:
         return identity(m.nrows())
     return kernel(m.transpose()).transpose()
@@ -76,7 +98,13 @@ def subspace_sum(*spaces: fmpq_mat) -> fmpq_mat:
 
 
 def intersection(v: fmpq_mat, w: fmpq_mat) -> fmpq_mat:
-    """V ∩ W from bases: the kernel of [V, -W] mapped through V."""
+    """V ∩ W from bases: the kernel of [V, -W] mapped through V.
+
+    Parameters
+    ----------
+    v, w : fmpq_mat
+        Bases (columns) of V and W.
+    """
     n = v.nrows()
     if v.ncols() == 0 or w.ncols() == 0:
         return zeros(n, 0)
@@ -104,7 +132,14 @@ def same_subspace(v: fmpq_mat, w: fmpq_mat) -> bool:
 
 
 def solve_any(m: fmpq_mat, rhs: fmpq_mat) -> fmpq_mat | None:
-    """One solution X of m X = rhs (free variables set to 0), or None when inconsistent."""
+    """One solution X of m X = rhs (free variables set to 0), or None when inconsistent.
+
+    Parameters
+    ----------
+    m : fmpq_mat
+    rhs : fmpq_mat
+        As many rows as m.
+    """
     r, c = m.nrows(), m.ncols()
     if rhs.nrows() != r:
         raise ShapeError(f"solve_any: rhs has {rhs.nrows()} rows, matrix has {r}")
@@ -124,6 +159,13 @@ def solve_any(m: fmpq_mat, rhs: fmpq_mat) -> fmpq_mat | None:
 def projection(v: fmpq_mat, t: fmpq_mat) -> fmpq_mat:
     """The projection P onto V along T (requires V ⊕ T = Q^n): P = [V 0] [V T]^{-1}.
 
+    Parameters
+    ----------
+    v, t : fmpq_mat
+        Bases (columns) of V and T (V_I and T_I for P_I, section 4.2).
+
+    Examples
+    --------
     >>> v = fmpq_mat([[0, 0], [1, 0], [0, 0], [0, 1]]); t = fmpq_mat([[0, 1], [0, 0], [1, 0], [0, 0]])
     >>> projection(v, t) * fmpq_mat([[0], [-1], [-1], [0]])
     [ 0]
@@ -153,6 +195,13 @@ def projection(v: fmpq_mat, t: fmpq_mat) -> fmpq_mat:
 def row_basis(*ms: fmpq_mat) -> fmpq_mat:
     """A canonical basis (rows) of the span of the rows of all the matrices.
 
+    Parameters
+    ----------
+    *ms : fmpq_mat
+        Matrices with the same number of columns.
+
+    Examples
+    --------
     >>> row_basis(fmpq_mat([[1, 1], [2, 2]]), fmpq_mat([[0, 1]]))
     [1, 0]
     [0, 1]
@@ -168,6 +217,13 @@ class RowSpan:
     """The row span of R, built once (rref rows and pivots) for many membership tests: a phase
     or an exact vector tests many forms against the same known relations.
 
+    Parameters
+    ----------
+    R : fmpq_mat
+        The relations (rows).
+
+    Examples
+    --------
     >>> Z = RowSpan(fmpq_mat([[1, 1, 0], [0, 0, 1]]))
     >>> fmpq_mat([[2, 2, 0]]) in Z, fmpq_mat([[1, 0, 0]]) in Z, Z.dim
     (True, False, 2)
@@ -191,7 +247,13 @@ class RowSpan:
 
     def reduce(self, form: fmpq_mat) -> list:
         """The entries of form minus its part in the span along the pivots: a linear map whose
-        kernel is the span (two forms agree modulo the span iff their reductions are equal)."""
+        kernel is the span (two forms agree modulo the span iff their reductions are equal).
+
+        Parameters
+        ----------
+        form : fmpq_mat
+            A 1 x n row.
+        """
         f = form.entries()
         for row, p in zip(self.rows, self.pivots):
             c = f[p]
@@ -202,6 +264,13 @@ class RowSpan:
     def proportional(self, fa: fmpq_mat, fb: fmpq_mat) -> bool:
         """fa = c fb modulo the span for some c != 0, neither form in the span.
 
+        Parameters
+        ----------
+        fa, fb : fmpq_mat
+            1 x n rows.
+
+        Examples
+        --------
         >>> Z = RowSpan(fmpq_mat([[0, 0, 1]]))
         >>> Z.proportional(fmpq_mat([[2, 4, 7]]), fmpq_mat([[1, 2, 0]]))
         True
@@ -216,13 +285,27 @@ class RowSpan:
         return all(x == c * y for x, y in zip(a, b))
 
     def has_unit(self, i: int) -> bool:
-        """e_i in the span (coordinate i vanishes wherever the relations hold)."""
+        """e_i in the span (coordinate i vanishes wherever the relations hold).
+
+        Parameters
+        ----------
+        i : int
+            A coordinate (0-based).
+        """
         return fmpq_mat(1, self.n, [int(j == i) for j in range(self.n)]) in self
 
 
 def in_row_span(form: fmpq_mat, R: fmpq_mat) -> bool:
     """True when the row ``form`` lies in the row span of R (exact); see :class:`RowSpan` for
-    many tests against one R."""
+    many tests against one R.
+
+    Parameters
+    ----------
+    form : fmpq_mat
+        A 1 x n row.
+    R : fmpq_mat
+        Rows.
+    """
     return form in RowSpan(R)
 
 
@@ -230,6 +313,15 @@ def orbit_zero_forms(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
     """Every form g with g e^{Mt} q = 0 for all t: the left kernel of the Krylov matrix
     [q, Mq, ..., M^{n-1} q] (Cayley-Hamilton), exact.
 
+    Parameters
+    ----------
+    M : fmpq_mat
+        n x n.
+    q : fmpq_mat
+        n x 1.
+
+    Examples
+    --------
     >>> orbit_zero_forms(fmpq_mat([[0, 1, 0], [-1, 0, 0], [0, 0, 1]]), fmpq_mat([[1], [0], [0]]))
     [0, 0, 1]
     """
@@ -241,7 +333,15 @@ def orbit_zero_forms(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
 
 
 def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
-    """The largest subspace U of rowspan(R) with U M in U (rows): R x = 0 implies U e^{Mt} x = 0."""
+    """The largest subspace U of rowspan(R) with U M in U (rows): R x = 0 implies U e^{Mt} x = 0.
+
+    Parameters
+    ----------
+    R : fmpq_mat
+        Forms (rows) vanishing at x.
+    M : fmpq_mat
+        n x n.
+    """
     n = M.nrows()
     U = row_basis(R) if R.nrows() else zeros(0, n)
     while U.nrows():
@@ -256,7 +356,15 @@ def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
 
 
 def pulled_back_forms(P: fmpq_mat, Z: fmpq_mat) -> fmpq_mat:
-    """Rows r with r P in rowspan(Z): the forms that vanish on P v whenever Z v = 0."""
+    """Rows r with r P in rowspan(Z): the forms that vanish on P v whenever Z v = 0.
+
+    Parameters
+    ----------
+    P : fmpq_mat
+        m x n.
+    Z : fmpq_mat
+        Forms (rows) vanishing on v.
+    """
     m = P.nrows()
     if not Z.nrows():
         return left_kernel(P)

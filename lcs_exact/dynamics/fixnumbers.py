@@ -127,6 +127,13 @@ def ball_number(b: arb, digits: int) -> dict:
     bound on |value - true| that covers both the ball's radius and the rounding of the midpoint.
     An exact ball (radius 0) is an exact dyadic rational and says so in ``exact``.
 
+    Parameters
+    ----------
+    b : arb
+        Certified.
+    digits : int
+        Significant digits of the midpoint.
+
     >>> ball_number(arb(fmpq(3, 8)), 10)
     {'value': '0.375', 'error': '0', 'exact': '3/8'}
     >>> ball_number(arb(2).sqrt(), 5)["value"]
@@ -178,6 +185,15 @@ def number_ball(num: dict, prec: int | None = None, *, where: str = "number") ->
     flint's outward rounding of that rational to ``prec`` bits (default: enough for every digit
     of ``value`` and for a rounding far below ``error``; at least 128 bits).
 
+    Parameters
+    ----------
+    num : dict
+        A fixture number: ``value``, ``error`` and optionally ``exact``.
+    prec : int, optional
+        Bits of the ball (default above).
+    where : str, optional
+        Its name in an error message.
+
     >>> b = number_ball({"value": "0.333", "error": "0.001", "exact": "1/3"})
     >>> b.contains(fmpq(1, 3)), b.contains(fmpq(3331, 10000)), b.contains(fmpq(3341, 10000))
     (True, True, False)
@@ -201,6 +217,11 @@ def number_ball(num: dict, prec: int | None = None, *, where: str = "number") ->
 def number_exact(num: dict) -> str | None:
     """The closed form string of a fixture number, or None.
 
+    Parameters
+    ----------
+    num : dict
+        A fixture number: ``value``, ``error`` and optionally ``exact``.
+
     >>> number_exact({"value": "1.5707963", "error": "2.7e-8", "exact": "pi/2"})
     'pi/2'
     """
@@ -213,6 +234,11 @@ def number_rational(num: dict) -> Fraction | None:
 
     Rational when ``exact`` is an integer or ``p/q``, or when ``error`` is 0 (the decimal is then
     the exact value).
+
+    Parameters
+    ----------
+    num : dict
+        A fixture number: ``value``, ``error`` and optionally ``exact``.
 
     >>> number_rational({"value": "0.333", "error": "0.0004", "exact": "1/3"})
     Fraction(1, 3)
@@ -233,6 +259,12 @@ def to_fraction(v: Any, what: str) -> Fraction:
     """An exact rational (anything :func:`lcs_exact.rational.to_fmpq` accepts: a float by its
     shortest repr) as a ``Fraction``.
 
+    Parameters
+    ----------
+    v : rational-like
+    what : str
+        Its name in an error message.
+
     >>> to_fraction("3/4", "t"), to_fraction(0.1, "t")
     (Fraction(3, 4), Fraction(1, 10))
     """
@@ -248,6 +280,12 @@ def ball_text(b: arb, cap: int = 20) -> str:
     """A ball with the digits its radius supports (at most ``cap``), not flint's default 15: a
     30-digit fixture number should not print as [... +/- 1e-15].
 
+    Parameters
+    ----------
+    b : arb
+    cap : int, optional
+        The most digits.
+
     >>> with ctx.workprec(200):
     ...     b = arb(fmpq(1, 3), fmpq(1, 10**25))
     >>> ball_text(b), ball_text(arb(fmpq(3, 4)))
@@ -262,6 +300,10 @@ def ball_text(b: arb, cap: int = 20) -> str:
 
 def short_text(b: arb) -> str:
     """A ball in 15 digits without its radius (an integer as such): for tables and reprs.
+
+    Parameters
+    ----------
+    b : arb
 
     >>> short_text(arb(3)), short_text(arb(fmpq(1, 3)))
     ('3', '0.333333333333333')
@@ -286,6 +328,12 @@ def sample_grid(t_end: Any, h: Any) -> list[Fraction]:
 
     ``h`` accepts what :func:`lcs_exact.rational.to_fmpq` accepts (a float by its shortest
     repr: 0.1 is 1/10).  The count is decided exactly (certified balls when t_end is irrational).
+
+    Parameters
+    ----------
+    t_end : rational or Real
+    h : rational
+        The step, > 0.
 
     >>> [str(t) for t in sample_grid(1, "1/4")]
     ['0', '1/4', '1/2', '3/4', '1']

@@ -224,7 +224,15 @@ def content_digest(d: dict, samples: bool = False) -> str:
 def check_digest(d: dict, source: str = "fixture") -> None:
     """Raise :class:`~lcs_exact.errors.FixtureMismatch` when the fixture carries a digest that its
     content does not match, or samples without the digest written with them (fixtures written
-    before digests existed carry none and are read as they are)."""
+    before digests existed carry none and are read as they are).
+
+    Parameters
+    ----------
+    d : dict
+        The fixture.
+    source : str, optional
+        Its name in the message (a path).
+    """
     if "digest" not in d:
         return
     bad = None
@@ -288,6 +296,11 @@ def validate_fixture(d: Any) -> None:
     Checks the shipped JSON Schema (needs ``jsonschema``: ``pip install lcs_exact[fixtures]``)
     and what a schema cannot say: shapes agree with n and k, mode indices are below k, every
     value and error is a decimal that parses, sample times increase.
+
+    Parameters
+    ----------
+    d : dict
+        The fixture (the JSON document, parsed).
 
     >>> validate_fixture({"schema": "lcs-exact/trajectory/1"})
     Traceback (most recent call last):

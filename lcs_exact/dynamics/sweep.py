@@ -48,6 +48,17 @@ class SweepResult:
     error (None when the run reached t_end).
 
     ``param`` is the family parameter of :func:`param_sweep` (None for :func:`sweep`).
+
+    Attributes
+    ----------
+    x0 : vector
+        The run's initial state, as given.
+    trajectory : Trajectory or None
+        The run (partial if it stopped early).
+    error : BaseException or None
+        What stopped the run before t_end.
+    param : object
+        The family parameter (above).
     """
 
     x0: Any

@@ -106,6 +106,13 @@ class FixtureTrajectory:
     ``exact`` is the trajectory recomputed exactly (on first use, checked against the fixture's
     events and samples).  ``digested``: the fixture carries its content digest (checked on
     reading).
+
+    Parameters
+    ----------
+    data : dict
+        The fixture (schema ``lcs-exact/trajectory/1``), checked: schema, content and digest.
+    source : str, optional
+        Its name in error messages (a path).
     """
 
     def __init__(self, data: dict, source: str = "fixture"):

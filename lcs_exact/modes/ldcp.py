@@ -122,6 +122,15 @@ def ldcp(lcs: SystemLike, x0: Any, kappa: int) -> LDCPSolution:
     y^i = z^i + N v with z^i known.  With I (u lexicographically positive), J (y positive) and
     K (undecided) from the earlier stages, y_I = 0 and v_J = 0 leave an LCP on K with the Schur
     complement N_KK - N_KI N_II^{-1} N_IK, a P-matrix (the proof of Theorem 6.8).
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x0 : vector
+        The initial state, rational or exact.
+    kappa : int
+        The number of stages (LDCP_kappa, (5.10)-(5.12)).
     """
     kappa = to_int(kappa, "kappa", -lcs.n + 1, MAX_KAPPA)
     require_N_P(lcs)
@@ -167,7 +176,15 @@ def impulse_forms(lcs: SystemLike, x) -> list[fmpq_mat]:
     """[U_0, ..., U_{n-1}]: the impulse u^{-p} = U_p x0 of the unique initial solution at x
     (Theorem 6.9, N a P-matrix) as k x n forms, valid at x (the LCP stages fix their branches
     there).  u_l^j = 0 for j <= -eta_l, so the stages i <= max(eta) hold the whole impulse: no
-    rational-function data of any mode is built."""
+    rational-function data of any mode is built.
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x : ExactVector
+        The state at which the forms hold.
+    """
     require_N_P(lcs)
     n, k = lcs.n, lcs.k
     eta = lcs.leading_column_indices()

@@ -109,6 +109,15 @@ class DerivedData:
 class Mode:
     """Mode I of an LCS: V_I, T_I, P_I, F_I and autonomy, computed lazily and exactly.
 
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    I : iterable of int
+        The mode (0-based): y_I = 0, u_{I^c} = 0 in (4.2)-(4.3).
+
+    Examples
+    --------
     >>> from lcs_exact import LCS
     >>> carts = LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]], [[0], [0], [1], [0]],
     ...             [[1, 0, 0, 0]], [[0]])

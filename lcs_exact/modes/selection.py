@@ -83,7 +83,13 @@ class RCPData:
 
 
 def rcp_data(mode) -> RCPData:
-    """The :class:`RCPData` of mode I (cached on the mode)."""
+    """The :class:`RCPData` of mode I (cached on the mode).
+
+    Parameters
+    ----------
+    mode : Mode
+        A mode I of the LCS (``lcs.mode(I)``).
+    """
     if mode.derived.rcp is None:
         mode.derived.rcp = _build_rcp_data(mode)
     return mode.derived.rcp
@@ -144,6 +150,13 @@ def admissibility_forms(mode) -> tuple:
     entry is lexicographically nonnegative at x0 (the first nonzero f_j . x0 is positive, or
     all vanish).  Requires the mode to be autonomous (Assumption 4.1).
 
+    Parameters
+    ----------
+    mode : Mode
+        A mode I of the LCS (``lcs.mode(I)``). (autonomous).
+
+    Examples
+    --------
     >>> from lcs_exact import LCS
     >>> carts = LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]], [[0], [0], [1], [0]],
     ...             [[1, 0, 0, 0]], [[0]])
@@ -163,6 +176,13 @@ def admissibility_conditions(mode) -> tuple[tuple, tuple]:
     autonomous mode the rows of :func:`admissibility_forms`, otherwise the rows left by
     Fourier-Motzkin elimination of the free inputs (:mod:`lcs_exact.rcpfamily`).
 
+    Parameters
+    ----------
+    mode : Mode
+        A mode I of the LCS (``lcs.mode(I)``).
+
+    Examples
+    --------
     >>> from lcs_exact import LCS
     >>> lazy = LCS([[0]], [[1]], [[0]], [[0]])
     >>> admissibility_conditions(lazy.mode({0}))     # G_II = 0 and R_I = 0: always admissible
@@ -225,6 +245,15 @@ def rcp(lcs: SystemLike, x0: Any) -> list[RCPSolution]:
     admissible mode that is not autonomous one member of the family is shown, with
     ``unique=False``.
 
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x0 : vector
+        The initial state, rational.
+
+    Examples
+    --------
     >>> from lcs_exact import LCS
     >>> LCS([[0]], [[1]], [[1]], [[-1]]).rcp([1])     # x' = u, y = x - u
     [RCPSolution(mode=∅, u(s)=(0), y(s)=(1/s)), RCPSolution(mode={0}, u(s)=(1/(s - 1)), y(s)=(0))]
@@ -275,6 +304,19 @@ def select_modes(lcs: SystemLike, x0: Any, method: str = "auto", *, nonautonomou
     :class:`~lcs_exact.errors.NotAutonomous` naming the mode and x0; ``"include"`` returns
     S_RCP(x0) with such modes in it (the caller must not continue in them).
 
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x0 : vector
+        The initial state, rational or exact.
+    method : {"auto", "ldcp", "rcp"}, optional
+        How S(x0) is computed (above).
+    nonautonomous : {"raise", "include"}, optional
+        What an admissible mode that is not autonomous does (above).
+
+    Examples
+    --------
     >>> from lcs_exact import LCS
     >>> carts = LCS([[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]], [[0], [0], [1], [0]],
     ...             [[1, 0, 0, 0]], [[0]])
@@ -339,6 +381,15 @@ def initial_solution(lcs: SystemLike, x0: Any, mode: Any = None) -> InitialSolut
     The impulse is the polynomial part of u_I(s) = W_I(s) x0; x(0+) from (3.8) is checked to be
     P_I x0 as an identity of matrices (it holds for every x0), so the check is exact also for
     exact-real states.  Raises :class:`~lcs_exact.errors.Deadlock` if S(x0) is empty.
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x0 : vector
+        The initial state, rational or exact.
+    mode : iterable of int, optional
+        The mode I to continue in (a member of S(x0)); default the smallest.
     """
     x = as_state(lcs, x0)
     modes = select_modes(lcs, x)
@@ -365,6 +416,13 @@ def is_regular(lcs: SystemLike, x0: Any) -> bool:
     With M a P-matrix, Theorem 6.8: iff (C_i x0, C_i A x0, ..., C_i A^{rho_i - 1} x0) is
     lexicographically nonnegative for every i.  Otherwise: some admissible mode has a strictly
     proper u(s).
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x0 : vector
+        The initial state, rational or exact.
     """
     x = as_state(lcs, x0)
     wp = lcs.well_posedness()
@@ -430,7 +488,17 @@ def same_initial_solution(lcs: SystemLike, x0: Any, I, J) -> bool:
 def initial_solution_groups(lcs: SystemLike, x0: Any, modes) -> list[list[frozenset]]:
     """The modes of S(x0) grouped by initial solution (smallest modes first): one group means the
     continuation is unique whatever mode is chosen; several groups mean S(x0) leaves a choice that
-    changes the trajectory (outside Theorem 6.3)."""
+    changes the trajectory (outside Theorem 6.3).
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x0 : vector
+        The initial state, rational or exact.
+    modes : iterable of frozenset
+        Admissible modes, each a set of 0-based constraint indices. (S(x0), say)
+    """
     groups: list[list[frozenset]] = []
     for I in sorted(modes, key=mode_order):
         for g in groups:
@@ -498,7 +566,17 @@ def _equal_at(X: RationalMatrix, Y: RationalMatrix, x) -> bool:
 def state_groups(lcs: SystemLike, x0: Any, modes) -> list[list[frozenset]]:
     """The admissible modes grouped by the state of their initial solutions (equal B u(s) at x0,
     smallest modes first); one group means the state after x0 is unique whatever mode and free
-    inputs are chosen.  A mode whose free inputs move the state is a group of its own."""
+    inputs are chosen.  A mode whose free inputs move the state is a group of its own.
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x0 : vector
+        The initial state, rational or exact.
+    modes : iterable of frozenset
+        Admissible modes, each a set of 0-based constraint indices.
+    """
     x = as_state(lcs, x0)
     groups: list[list[frozenset]] = []
     for I in sorted(modes, key=mode_order):
@@ -543,7 +621,17 @@ def _build_input_rows(mode) -> tuple[RationalMatrix, frozenset]:
 
 def undetermined_inputs(lcs: SystemLike, x0: Any, modes) -> frozenset:
     """The inputs u_j not determined by the state among the admissible ``modes`` of one state
-    group: free in a mode that is not autonomous, or different between two of the modes."""
+    group: free in a mode that is not autonomous, or different between two of the modes.
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system (A, B, C, D) of (2.1).
+    x0 : vector
+        The initial state, rational or exact.
+    modes : iterable of frozenset
+        Admissible modes, each a set of 0-based constraint indices. (one state group)
+    """
     x = as_state(lcs, x0)
     out: set = set()
     data = [_input_rows(lcs.mode(I)) for I in modes]

@@ -45,7 +45,12 @@ GUARD_BITS = 16
 
 
 def digits_to_bits(digits: int) -> int:
-    """Bits needed for ``digits`` decimal digits (ceil(digits log2 10))."""
+    """Bits needed for ``digits`` decimal digits (ceil(digits log2 10)).
+
+    Parameters
+    ----------
+    digits : int
+    """
     return int(math.ceil(digits * 3.3219280948873626)) + 1
 
 
@@ -77,6 +82,13 @@ class workprec:
     exception.  A plain class, not a generator context manager: the evaluation loops enter it
     hundreds of thousands of times in a long run.
 
+    Parameters
+    ----------
+    prec : int
+        Bits.
+
+    Examples
+    --------
     >>> from flint import arb, ctx, fmpq
     >>> with workprec(200):
     ...     third = arb(1) / 3
@@ -98,7 +110,12 @@ class workprec:
 
 
 def accuracy_bits(b: arb) -> int:
-    """Relative accuracy of a ball in bits (large for exact balls; 0 for balls containing 0)."""
+    """Relative accuracy of a ball in bits (large for exact balls; 0 for balls containing 0).
+
+    Parameters
+    ----------
+    b : arb
+    """
     if b.is_exact():
         return 1 << 30
     return max(0, b.rel_accuracy_bits())
@@ -112,7 +129,13 @@ class Deadline:
 
     ``safety_cuts`` lists the SymPy steps of the run (and of its queries) stopped by their
     wall-clock safety net (:data:`~lcs_exact.forms.SYMPY_SAFETY_NET`): the only outcomes a clock
-    decided (a closed form not searched to the end of its work budget), named, never silent."""
+    decided (a closed form not searched to the end of its work budget), named, never silent.
+
+    Parameters
+    ----------
+    limit : float or None, optional
+        Seconds; None for no limit.
+    """
 
     __slots__ = ("limit", "_end", "safety_cuts")
 
@@ -127,7 +150,13 @@ class Deadline:
 
     def check(self, where: str | Callable[[], str] = "") -> None:
         """Raise :class:`TimeLimitExceeded` when the limit has passed (``where``: text, or a callable
-        making it - built only when the limit is reached)."""
+        making it - built only when the limit is reached).
+
+        Parameters
+        ----------
+        where : str or callable, optional
+            Appended to the message.
+        """
         if self._end is not None and time.monotonic() > self._end:
             if callable(where):
                 end, self._end = self._end, None  # the message itself may evaluate numbers
@@ -209,6 +238,23 @@ ACCURACY_HEADROOM = 64
 class Policy:
     """The precision policy of a run (see the module docstring).
 
+    Attributes
+    ----------
+    digits : int
+        Correct significant digits promised for every reported number.
+    max_prec : int
+        The refinement ceiling in bits; 0 for max(4096, 8 bits(digits)).
+    allow_unresolved : bool
+        Decide an unresolved zero as zero and record it (True), or raise UnresolvedSign.
+    closed_forms : {"lazy", "eager", "off"}
+        Closed forms proven on first access, at every event, or never.
+    deadline : Deadline
+        The run's wall-clock limit.
+    assumptions : list of str
+        The zeros assumed so far (appended to: a run's ``assumptions``).
+
+    Examples
+    --------
     >>> p = Policy(digits=30)
     >>> p.target_bits, p.max_prec
     (117, 4096)
@@ -232,15 +278,34 @@ class Policy:
 
     def working_prec(self, lost_bits: int = 0) -> int:
         """Working precision of anchors: the target, 32 bits of headroom, and the accuracy the run
-        has measured as lost so far (``lost_bits``)."""
+        has measured as lost so far (``lost_bits``).
+
+        Parameters
+        ----------
+        lost_bits : int, optional
+            The accuracy lost so far, measured.
+        """
         return min(self.target_bits + 32 + max(0, lost_bits), 16 * max(self.max_prec, self.target_bits + 64))
 
     def check_deadline(self, where: str | Callable[[], str] = "") -> None:
+        """Raise TimeLimitExceeded when the deadline has passed (:meth:`Deadline.check`).
+
+        Parameters
+        ----------
+        where : str or callable
+            As :meth:`Deadline.check`.
+        """
         self.deadline.check(where)
 
     def unresolved(self, what: str | Callable[[], str]) -> int:
         """An unresolved zero: raise :class:`UnresolvedSign`, or record it as an assumption and
-        decide it as zero (``allow_unresolved``)."""
+        decide it as zero (``allow_unresolved``).
+
+        Parameters
+        ----------
+        what : str or callable
+            The quantity, for the message (a callable: built only when needed).
+        """
         text = what() if callable(what) else what
         if self.deadline.safety_cuts:  # a proof of zero may have been cut short by a clock: say so
             text += (f" (not searched to the end: {len(self.deadline.safety_cuts)} SymPy step(s) of this run "
@@ -257,7 +322,12 @@ DEFAULT_POLICY = Policy()
 
 
 def ball_sign(b: arb) -> int:
-    """Sign of a ball when certain: +1, -1; 0 when the ball contains 0 (undecided, not zero)."""
+    """Sign of a ball when certain: +1, -1; 0 when the ball contains 0 (undecided, not zero).
+
+    Parameters
+    ----------
+    b : arb
+    """
     if b > 0:
         return 1
     if b < 0:
@@ -271,7 +341,12 @@ MAX_DYADIC_EXPONENT = 1 << 24
 
 
 def dyadic(x: arb) -> fmpq:
-    """The exact midpoint of a ball as fmpq (:class:`Unsupported` beyond 2^(+-2^24))."""
+    """The exact midpoint of a ball as fmpq (:class:`Unsupported` beyond 2^(+-2^24)).
+
+    Parameters
+    ----------
+    x : arb
+    """
     m, e = x.mid().man_exp()
     m, e = int(m), int(e)
     if abs(e) > MAX_DYADIC_EXPONENT:
@@ -281,12 +356,22 @@ def dyadic(x: arb) -> fmpq:
 
 
 def dyadic_lower(x: arb) -> fmpq:
-    """A dyadic rational <= every point of the ball."""
+    """A dyadic rational <= every point of the ball.
+
+    Parameters
+    ----------
+    x : arb
+    """
     return dyadic(x.lower())
 
 
 def dyadic_upper(x: arb) -> fmpq:
-    """A dyadic rational >= every point of the ball."""
+    """A dyadic rational >= every point of the ball.
+
+    Parameters
+    ----------
+    x : arb
+    """
     return dyadic(x.upper())
 
 

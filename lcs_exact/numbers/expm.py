@@ -85,6 +85,10 @@ class Spectrum:
     sees only the exact integer vectors C, never a state: a state's ball is carried through the
     factors, whose size is that of the projector itself.
 
+    Parameters
+    ----------
+    M : fmpq_mat
+
     >>> sp = Spectrum(fmpq_mat([[0, 1], [-1, 0]]))       # rotation: e^{Mt} = [[cos, sin], [-sin, cos]]
     >>> x = sp.apply(arb.pi() / 2, arb_mat([[1], [0]]), 64)
     >>> abs(x[0, 0]) < 1e-15, abs(x[1, 0] + 1) < 1e-15
@@ -147,7 +151,12 @@ class Spectrum:
 
     def eigenvalues(self, prec: int) -> list[tuple[acb, int]]:
         """[(lambda, weight)] at ``prec`` bits: the roots of r, one of each conjugate pair
-        (weight 2)."""
+        (weight 2).
+
+        Parameters
+        ----------
+        prec : int
+        """
         return [(lam, w) for lam, w, _ in self._eigen(prec)]
 
     def _eigen(self, prec: int) -> list[tuple[acb, int, int]]:
@@ -212,7 +221,14 @@ class Spectrum:
         """[(lambda, weight, R_lambda, H_lambda)] with K_lambda = R_lambda H_lambda (n x m and
         m x n balls, H = G^{-1} L; see the class docstring), at least ``prec`` bits accurate;
         cached at the highest precision asked, with headroom.  ``check`` (a run's deadline check)
-        is called between the steps of a long computation."""
+        is called between the steps of a long computation.
+
+        Parameters
+        ----------
+        prec : int
+        check : callable, optional
+            Called between long steps (a deadline check).
+        """
         if self._factors[0] >= prec:
             return self._factors[1]
         # the cost is mostly fixed, not per bit, and the precision asked of a phase grows by
@@ -297,7 +313,14 @@ class Spectrum:
         sum_j t^j w_j).  O(n^2) per call once the factors are known.  The list of an eigenvalue
         of multiplicity m stops at w_{m-1}: N = M - lambda on its generalized eigenspace, so
         K_lambda N^j = 0 exactly for j >= m (a simple eigenvalue has no polynomial part, and no
-        tiny balls standing for its zeros)."""
+        tiny balls standing for its zeros).
+
+        Parameters
+        ----------
+        z : arb_mat or callable
+        prec : int
+        check : callable, optional
+        """
         if self.n == 0:
             return []
         fac = self.factors(prec, check)
@@ -311,7 +334,13 @@ class Spectrum:
         sum_lambda w Re(e^{lambda t} R_lambda H_lambda) times sum_j t^j N^j / j!, one product
         [R_lambda ...] diag(w e^{lambda t}) [H_lambda; ...]: O(n^3).  Only the real part is
         wanted, so the complex product is taken as real ones: Re(R X) = Re R Re X - Im R Im X
-        with X = D H (a 64 x 64 complex product costs six times two real ones)."""
+        with X = D H (a 64 x 64 complex product costs six times two real ones).
+
+        Parameters
+        ----------
+        t : arb
+        prec : int
+        """
         n = self.n
         if n == 0:
             return arb_mat(0, 0)
@@ -352,7 +381,16 @@ class Spectrum:
         return low[prec]
 
     def apply(self, t: arb, z: arb_mat, prec: int, modal: list | None = None) -> arb_mat:
-        """A ball of e^{Mt} z (t a ball, possibly wide: then an enclosure over an interval)."""
+        """A ball of e^{Mt} z (t a ball, possibly wide: then an enclosure over an interval).
+
+        Parameters
+        ----------
+        t : arb
+        z : arb_mat
+        prec : int
+        modal : list, optional
+            :meth:`modal` of z, when computed.
+        """
         if self.n == 0:
             return z
         with workprec(prec):
@@ -374,7 +412,14 @@ class Spectrum:
         time t*, ``v_ca`` the components of v, ``calcium`` the :mod:`lcs_exact.calcium` module):
         sum over all eigenvalues lambda (algebraic numbers) of e^{lambda t*} K_lambda sum_j
         t*^j N^j v / j!, with K_lambda = q_lambda(S) / r'(lambda).  None when Calcium is
-        unavailable.  e^{A pi} for the eigenvalues +-i, +-2i comes out rational."""
+        unavailable.  e^{A pi} for the eigenvalues +-i, +-2i comes out rational.
+
+        Parameters
+        ----------
+        t_ca : Ca
+        v_ca : list of Ca
+        calcium : module
+        """
         if not calcium.available():
             return None
         n = self.n
@@ -409,7 +454,13 @@ class Spectrum:
         return acc
 
     def exact_at(self, t_ca: Any, calcium: Any) -> fmpq_mat | None:
-        """e^{M t*} as a rational matrix when it is one (proven with Calcium), else None."""
+        """e^{M t*} as a rational matrix when it is one (proven with Calcium), else None.
+
+        Parameters
+        ----------
+        t_ca : Ca
+        calcium : module
+        """
         cols = []
         for j in range(self.n):
             e = [calcium.Ca(int(i == j)) for i in range(self.n)]
@@ -491,7 +542,12 @@ _CACHE: dict = {}
 
 def spectrum_of(M: fmpq_mat) -> Spectrum:
     """The :class:`Spectrum` of M, shared between callers with equal matrices (a bounded cache:
-    modes hold their own; this serves user calls such as ``expm_action``)."""
+    modes hold their own; this serves user calls such as ``expm_action``).
+
+    Parameters
+    ----------
+    M : fmpq_mat
+    """
     key = (M.nrows(), tuple(M.entries()))
     sp = _CACHE.get(key)
     if sp is None:

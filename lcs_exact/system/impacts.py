@@ -70,6 +70,13 @@ def newton_impact(lcs: SystemLike, z: Any) -> Impact | None:
 
     ``z`` is a rational column (``fmpq_mat``) or an exact vector (signs certified).
 
+    Parameters
+    ----------
+    lcs : LCS
+        With ``restitution`` set (Newton's law).
+    z : fmpq_mat or ExactVector
+        The state at the impact (above).
+
     >>> from lcs_exact import LCS
     >>> ball = LCS([[0, 1], [0, 0]], [[0], [1]], [[1, 0]], [[0]], restitution="1/2")   # q'' = u
     >>> imp = newton_impact(ball, fmpq_mat([[0], [-4]]))     # at the floor, falling at 4

@@ -92,6 +92,14 @@ def model_data(lcs: Any, x0: Any = None, t_end: Any = None) -> dict:
     LCS has sources), ``t_end`` a final time; both optional.  Names, roles and restitution are
     written when the LCS has them (names only when they are not the defaults).
 
+    Parameters
+    ----------
+    lcs : LCS
+    x0 : vector, optional
+        The modelled system's state (above).
+    t_end : rational, optional
+        A final time.
+
     >>> from lcs_exact import examples
     >>> d = model_data(examples.bouncing_ball(), x0=[1, 0], t_end=1)
     >>> d["A"], d["E"], d["w"], d["restitution"], d["states"]
@@ -218,7 +226,15 @@ def json_text(data: dict) -> str:
 
 def write_model_file(data: dict, path: Any) -> Path:
     """Write model data to ``path``: TOML when the name ends in ``.toml`` (any case), JSON
-    otherwise (as :mod:`lcs_exact.modelfile` reads them).  Returns the path."""
+    otherwise (as :mod:`lcs_exact.modelfile` reads them).  Returns the path.
+
+    Parameters
+    ----------
+    data : dict
+        What :func:`model_data` returns.
+    path : str or Path
+        The file (``.toml``: TOML, else JSON).
+    """
     p = Path(path)
     text = toml_text(data) if p.suffix.lower() == ".toml" else json_text(data)
     p.write_text(text, encoding="utf-8")

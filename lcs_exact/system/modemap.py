@@ -107,6 +107,20 @@ class Region:
     that make it up; ``dimension``: the largest face dimension.  ``unique_jump``: every mode
     of S(x0) gives the same x(0+) on the region (Theorem 6.10 makes it so when N is a P-matrix;
     otherwise the choice of mode matters and simulate reports IllPosed).
+
+    Attributes
+    ----------
+    modes : frozenset of frozenset
+        S(x0) on the region (section 4).
+    mode : frozenset or None
+        The selected mode (above).
+    jump : fmpq_mat or None
+        P_I (above).
+    inequalities : tuple of tuple of Inequality
+        A union of conjunctions (above).
+    faces : tuple of Face
+    dimension : int
+    unique_jump : bool
     """
 
     modes: frozenset
@@ -171,6 +185,22 @@ class ModeMap:
     for the whole space); ``variables`` (names of the d coordinates); ``hyperplanes`` (the
     distinct affine forms (a, b), a . s + b, that decide S); ``faces``; ``regions`` (sorted
     by decreasing dimension, then by mode).
+
+    Parameters
+    ----------
+    lcs : LCS
+    base : fmpq_mat
+        n x 1, the slice's origin.
+    directions : fmpq_mat
+        n x d, the slice's directions.
+    variables : tuple of str
+        The names of the d coordinates.
+    hyperplanes : tuple of (tuple, fmpq)
+        The affine forms (a, b) that decide S.
+    faces : tuple of Face
+    regions : tuple of Region
+    face_region : dict
+        Maps a face's sign vector to its region.
     """
 
     def __init__(self, lcs: SystemLike, base: fmpq_mat, directions: fmpq_mat, variables: tuple,

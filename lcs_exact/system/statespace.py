@@ -38,6 +38,10 @@ def signal_names(lcs: Any) -> tuple[tuple, tuple, tuple]:
     when the pairs have their default names, ``u (name)`` / ``y (name)`` otherwise (the plots'
     labels, as plain text).
 
+    Parameters
+    ----------
+    lcs : LCS
+
     >>> from lcs_exact import LCS
     >>> signal_names(LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]]))
     (('x_0', 'x_1'), ('u_0',), ('y_0',))
@@ -132,6 +136,12 @@ def time_response(traj: Any, t: Any):
     or floats read as their shortest decimals; times outside the computed trajectory raise
     InvalidArgument.  ``success`` is False and ``message`` the stop reason for a partial run.
     A system with k = 1 is SISO (``outputs`` of shape (len(t),), python-control's convention).
+
+    Parameters
+    ----------
+    traj : Trajectory
+    t : sequence of rationals
+        The times (above).
 
     >>> from lcs_exact import LCS, simulate
     >>> tr = simulate(LCS([[0, -1], [0, 0]], [[1], [0]], [[1, 0]], [[0]]), [1, 1], 3)

@@ -19,7 +19,29 @@ __all__ = ["WellPosedness"]
 
 @dataclass(frozen=True)
 class WellPosedness:
-    """Report of Theorem 6.3 (with Lemma 6.6).  ``bool(report)`` is ``report.well_posed``."""
+    """Report of Theorem 6.3 (with Lemma 6.6).  ``bool(report)`` is ``report.well_posed``.
+
+    Attributes
+    ----------
+    rho : tuple
+        The leading row indices rho_1, ..., rho_k of G(s) (Definition 6.2; ``math.inf`` for a zero row).
+    eta : tuple
+        The leading column indices eta_1, ..., eta_k (Definition 6.2).
+    M : fmpq_mat or None
+        The leading row coefficient matrix (6.1); None when some rho_j is infinite.
+    N : fmpq_mat or None
+        The leading column coefficient matrix (6.1); None when some eta_j is infinite.
+    M_is_P : bool
+        M is defined and a P-matrix.
+    N_is_P : bool
+        N is defined and a P-matrix.
+    M_violation : tuple or None
+        Indices of a principal minor of M that is <= 0, or None.
+    N_violation : tuple or None
+        Indices of a principal minor of N that is <= 0, or None.
+    reasons : tuple of str
+        Why the report is not well-posed (empty when it is).
+    """
 
     rho: tuple
     eta: tuple
@@ -40,6 +62,13 @@ class WellPosedness:
 
     @classmethod
     def of(cls, lcs: Any) -> "WellPosedness":
+        """The report of an LCS (what ``LCS.well_posedness()`` returns).
+
+        Parameters
+        ----------
+        lcs : LCS
+            Read through its leading indices and matrices (duck-typed).
+        """
         rho, eta = lcs.leading_row_indices(), lcs.leading_column_indices()
         reasons = []
         M = N = None

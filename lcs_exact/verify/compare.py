@@ -145,6 +145,61 @@ class ComparisonReport:
     ``events`` compares each event time with the solver's switch.  With tolerances (``atol``,
     ``rtol``) ``violation`` is the worst point outside them (None when every point is inside) and
     ``n_violations`` their number.
+
+    Attributes
+    ----------
+    label : str
+        The solution's name (``compare``'s ``label``).
+    reference : str
+        ``"samples"`` (the fixture's samples) or ``"exact"`` (an exact recomputation, or a Trajectory).
+    n_points : int
+        The solution's times.
+    n_compared : int
+        The points compared (outside the event windows, with a reference).
+    n_in_windows : int
+        The points left out inside event windows.
+    n_unmatched : int
+        The points left out without a reference (off the sample grid, x0 not rational).
+    step : float
+        The solution's largest step.
+    window : float
+        The half-width of the window left out around each event.
+    window_rule : str
+        Where ``window`` comes from (``event_tol``, or ``"2 x the largest step"``).
+    max_error : arb
+        Certified ball of ``max |x_i(t) - X_i|`` over the compared points and components.
+    max_error_time : float or None
+        Where the largest error is (None when nothing was compared).
+    max_error_component : int or None
+        Its component.
+    component_errors : tuple of arb
+        The largest error of each of ``components``.
+    events : tuple of EventComparison
+        Each event time against the solver's switch.
+    certified : bool
+        The reference is certified (no assumed sign).
+    time_mismatch : float
+        The largest distance of a solution time from the sample grid time it was matched to.
+    names : tuple of str
+        The names of all n states.
+    n_beyond : int
+        The points after ``last_time``, left out.
+    last_time : arb or None
+        The last time the reference covers (t_end, or where a partial run stopped).
+    components : tuple of int
+        The compared components' indices (the plant's states when X omits the sources).
+    windows : tuple of (float, float)
+        The merged intervals left out.
+    atol : float or None
+        The absolute tolerance (None: no tolerance given).
+    rtol : float
+        The relative tolerance.
+    violation : Violation or None
+        The worst point outside ``|X - x| <= atol + rtol |x|``.
+    n_violations : int
+        The points outside it.
+    solver_end : float or None
+        The solution's last time (against ``last_time``: coverage).
     """
 
     label: str
