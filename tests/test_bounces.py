@@ -165,6 +165,16 @@ def test_a_ball_on_a_spring_bouncing_on_a_resting_ball():
         assert abs(mid(acc.event_time(0), 30) - times[len(tr.events)]) < mp.mpf(10) ** -28
     assert acc.state.known_rational() == fmpq_mat([[0], [0], [0], [0], [1]])
     assert tr.u(3).known_rational() == fmpq_mat([[20], [10]]) and tr.phases[-1].mode == frozenset({0, 1})
+    # inside the window, between implied impacts 2 and 3: ball 2 flies (q2 = -10 (1 - cos s) +
+    # v sin s, launched at v = e^(k+1) v1), ball 1 rests: the floor carries its weight 10, u_1 = 0
+    with mp.workdps(50):
+        k = len(tr.events) + 2
+        t = F(str(mp.nstr((times[k] + times[k + 1]) / 2, 30)))
+        s_ = mp.mpf(t.numerator) / t.denominator - times[k]
+        v = mp.mpf(1) / 2 ** (k + 1) * mp.sqrt(21)
+        u, y = tr.u(t), tr.y(t)
+        assert abs(mid(u[0], 25) - 10) < mp.mpf(10) ** -25 and abs(mid(u[1], 25)) < mp.mpf(10) ** -25
+        assert abs(mid(y[1], 25) - (-10 * (1 - mp.cos(s_)) + v * mp.sin(s_))) < mp.mpf(10) ** -25
 
 
 def test_fixtures_carry_the_implied_impacts_and_compare_windows_them(tmp_path):

@@ -550,11 +550,15 @@ class BounceWindow(AccumulationWindow):
         return BounceState(self, dt)
 
     def output(self, dt: Any, kind: str) -> ExactVector:
-        """u = 0 on the flights (mode {}), y = C x."""
+        """u on the flights (the resting contacts' forces u_J = F_J x, 0 elsewhere), y = C x + D u."""
         lcs = self.proof.cycle.lcs
-        if kind == "u":
-            return RationalVector(zeros(lcs.k, 1))
-        return ProjectedVector(lcs.C, self.state(dt))
+        Fk = zeros(lcs.k, lcs.n)
+        if self.mode is not None and self.mode.I:
+            F = self.mode.feedback()
+            for r, i in enumerate(self.mode.I):
+                for j in range(lcs.n):
+                    Fk[i, j] = F[r, j]
+        return ProjectedVector(Fk if kind == "u" else lcs.C + lcs.D * Fk, self.state(dt))
 
     def limit(self) -> ExactVector:
         """x(T*-): exact where the forms that vanish in the limit (c x = 0, c A x = 0) and the forms
