@@ -45,7 +45,7 @@ from ..modes import (format_mode, impulse_forms, initial_solution, initial_solut
 from ..interfaces import AccumulationWindow
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
 from .options import run_options
-from .zeno import check_accumulation
+from .zeno import check_accumulation, shrinking_cycles
 
 __all__ = ["simulate"]
 def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
@@ -542,8 +542,8 @@ class _Run:
         """A decision that fails inside an impact cascade: stop with :class:`ZenoDetected` and a
         certified enclosure of the accumulation time when the cascade is proven
         (:meth:`stop_at_cascade`); otherwise, when the decision fails right after events closer
-        and closer together (each gap less than half the previous over the last three, or the
-        last cycle of events each less than half as long as the one before), stop with
+        and closer together (each gap less than half the previous over the last three, or cycles
+        of events shrinking: :func:`~lcs_exact.dynamics.zeno.shrinking_cycles`), stop with
         ZenoDetected whose ``lower`` is the last event time (certified) and ``upper`` None
         (nothing proven bounds it but t_end); any other failure is raised as it is."""
         if isinstance(err, (ZenoDetected, LimitExceeded, Deadlock)) or len(self.durations) < 3:
@@ -551,13 +551,10 @@ class _Run:
         self.stop_at_cascade(err)
         with workprec(64):
             d = [x.arb(64) for x in self.durations]
-            shrinking = all(b < a / 2 for a, b in zip(d[-3:], d[-2:])) and d[-1] >= 0
-            if not shrinking:
-                shrinking = any(len(d) >= 2 * p and all(d[-j] * 2 < d[-j - p] for j in range(1, p + 1))
-                                for p in range(2, 9))
-            if not shrinking:
+            if not ((all(b < a / 2 for a, b in zip(d[-3:], d[-2:])) and d[-1] >= 0) or shrinking_cycles(self.durations)):
                 raise err
-            lower = dyadic_lower(t.arb(64))
+            with workprec(128):  # the last event time to 25 digits (an anchor may be far coarser)
+                lower = dyadic_lower(t.ball(25))
             estimate = float(t.arb(64).mid()) + float((d[-1] * d[-1] / (d[-2] - d[-1])).mid()) \
                 if (d[-2] - d[-1]) > 0 else float(t.arb(64).mid())
         raise ZenoDetected(f"events closer and closer after t = {_num(lower, 17, down=True)} (gaps "

@@ -12,7 +12,7 @@ from flint import arb
 from ..numbers import dyadic_lower
 from ..errors import ZenoDetected
 
-__all__ = ["ZENO_WINDOW", "check_accumulation"]
+__all__ = ["ZENO_WINDOW", "check_accumulation", "shrinking_cycles"]
 
 #: phases in the window of a suspected accumulation (:func:`check_accumulation`)
 ZENO_WINDOW = 24
@@ -43,6 +43,19 @@ def check_accumulation(durations: list, t_now, t_end) -> None:
                            f"{float(rho.mid()):.3g}); accumulation point near t = {_estimate(float(limit.mid()), spread)} "
                            "< t_end (Remark 4.11; an estimate, not a bound)", lower=dyadic_lower(t_now.arb(64)),
                            upper=None, estimate=float(limit.mid()))
+
+
+def shrinking_cycles(durations: list) -> bool:
+    """The last phases shrink cycle by cycle (a suspected accumulation, for a decision that failed
+    right after them): for some period p <= 8, the last p phases are each less than half the one p
+    before, or the last ZENO_WINDOW phases are each less than 0.95 times the one p before (two
+    contacts taking turns shrink by pairs, not phase by phase)."""
+    d = [x.arb(64) for x in durations[-(ZENO_WINDOW + 8):]]
+    if any(not x > 0 for x in d):
+        return False
+    half = any(len(d) >= 2 * p and all(d[-j] * 2 < d[-j - p] for j in range(1, p + 1)) for p in range(2, 9))
+    return half or any(len(d) >= ZENO_WINDOW + p and all(d[-j] < arb("0.95") * d[-j - p] for j in range(1, ZENO_WINDOW + 1))
+                       for p in range(1, 9))
 
 
 def _estimate(x: float, spread: float) -> str:
