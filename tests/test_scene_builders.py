@@ -70,17 +70,29 @@ def test_a_long_column_run_leaves_the_growing_field_for_certified_numerics():
     """Siconos' column (g = 9.81, e = 9/10, r = 1/10), bead 0 on the floor, beads 1 and 2 falling
     from 1/2 and 1: bead 1 lands on bead 0 at t1 = sqrt(2 (1/5) / g) = sqrt(40/981).  Every exact
     event adjoins a square root to the field of the times; past polyroots.MAX_EXACT_SIZE the
-    phases are searched numerically (certified) instead of costing seconds per sign test, so
-    the run reaches the beads' settling (an accumulation, reported) well inside the limit."""
+    phases are searched numerically (certified) instead of costing seconds per sign test.  Bead 1
+    then bounces to rest on bead 0 while bead 2 flies: each flight 2v/g, v' = e v, so from the last
+    listed impact (time t_k, bead 1 leaving at v_k) T* = t_k + 2 v_k / (g (1 - e)); the accumulation
+    is proven (lcs_exact.dynamics.bounces: it used to stop the run), crossed, and beads 0 and 1 rest
+    (q = 1/10, 3/10; the floor carries 2 m g, the beads' contact m g) while bead 2 bounces on them."""
     col = ball_column(3, g="981/100", e="9/10", radius="1/10")
-    with pytest.raises(ZenoDetected) as info:
-        simulate(col, col.embed(["1/10", "1/2", 1, 0, 0, 0]), 3, max_events=300, time_limit=60)
-    tr = info.value.trajectory
+    tr = simulate(col, col.embed(["1/10", "1/2", 1, 0, 0, 0]), 3, max_events=300, time_limit=60)
+    assert tr.certified and not tr.partial and len(tr.accumulations) == 1
     assert sympy.simplify(tr.events[0].time.closed_form - sympy.sqrt(sympy.Rational(40, 981))) == 0
     assert tr.events[0].modes == (frozenset({0, 1}),)
-    assert len(tr.events) > 90 and tr.certified
+    assert len(tr.events) > 90
     times = [e.time.ball(20) for e in tr.events]
     assert all(a < b for a, b in zip(times, times[1:]))  # certified, strictly increasing
+    acc = tr.accumulations[0]
+    last = tr.events[acc.first_event]  # the last impact listed before the window (bead 2 lands after T*)
+    with mpmath.workdps(50):
+        num = lambda r: mpmath.mpf(r.ball(35).mid().str(40, radius=False))  # noqa: E731
+        t_star = num(last.time) + 2 * num(last.state_after[4]) / (mpmath.mpf("9.81") * (1 - mpmath.mpf("0.9")))
+        assert abs(num(acc.time) - t_star) < mpmath.mpf(10) ** -30
+        end, u = tr.state(3), tr.u(3)
+        assert abs(num(end[0]) - mpmath.mpf("0.1")) < 1e-30 and abs(num(end[1]) - mpmath.mpf("0.3")) < 1e-30
+        assert abs(num(u[0]) - mpmath.mpf("19.62")) < 1e-28 and abs(num(u[1]) - mpmath.mpf("9.81")) < 1e-28
+    assert tr.phases[-1].mode == frozenset({0, 1}) and float(end[2]) > 0.5  # bead 2 still in flight
 
 
 def test_newtons_cradle_touching_and_spaced():
