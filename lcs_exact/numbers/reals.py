@@ -441,6 +441,12 @@ class SumReal(_Linear):
         a, b = self.a.arb(prec), self.b.arb(prec)
         return a + b if self.s == 1 else a - b
 
+    def _closed(self):
+        a, b = self.a, self.b
+        if a._cf_done and b._cf_done:  # derived in dependency order: the parts', not a walk of the sum
+            return None if a._cf is None or b._cf is None else a._cf + b._cf * self.s
+        return super()._closed()
+
 
 class ScaledReal(_Linear):
     """q * a for a rational q."""
@@ -458,6 +464,11 @@ class ScaledReal(_Linear):
 
     def _compute(self, prec):
         return self.a.arb(prec) * arb(self.q)
+
+    def _closed(self):
+        if self.a._cf_done:  # derived in dependency order (see SumReal._closed)
+            return None if self.a._cf is None else self.a._cf * self.q
+        return super()._closed()
 
     def sign(self):
         if self.q == 0:
