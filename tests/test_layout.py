@@ -35,13 +35,13 @@ SUBPACKAGES = ["algebra", "numbers", "modes", "display", "system", "dynamics", "
 #: each subpackage's modules, bottom up: each imports only modules before it (and lower doors)
 LAYERS = {
     "algebra": ["rational", "ratfunc", "subspaces", "lcp", "polyhedra"],
-    "numbers": ["balls", "flintlib", "calcium", "forms", "expm", "nodes", "reals", "vectors", "closedforms",
+    "numbers": ["balls", "duals", "flintlib", "calcium", "forms", "expm", "nodes", "reals", "vectors", "closedforms",
                 "taylormodels"],
     "modes": ["mode", "ldcp", "rcpfamily", "selection"],
     "display": ["convergence", "mapplot", "figlabels", "plotting"],
     "system": ["modemap", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
     "dynamics": ["guesses", "roots", "polyroots", "phase", "clock", "flow", "fixnumbers", "fixture", "trajectory",
-                 "accumulation", "cascade", "zeno", "bounces", "schedule", "options", "simulate", "sweep"],
+                 "accumulation", "cascade", "zeno", "bounces", "collapses", "schedule", "options", "simulate", "sweep"],
     "builders": ["exosystems", "mechanics", "circuits", "relays", "examples"],
     "io": ["fixturereader", "modelfile"],
     "verify": ["solverevents", "compare", "testing", "zoo"],

@@ -31,6 +31,7 @@ from ..errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSE
                      UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ReferenceStates, ScaledCycle, geometric_law, symmetry_exponents
 from .bounces import BOUNCE_PATIENCE, BounceWindow, bounce_cycle, bounce_window
+from .collapses import CollapseWindow, collapse_cycle, prove_collapse
 from .cascade import cascade_bound
 from .clock import SourceClock
 from .flow import next_event
@@ -213,6 +214,7 @@ class _Run:
         self.undetermined: frozenset = frozenset()  # inputs the state leaves free on the next phase
         self.bar = None  # a progress bar (simulate(..., progress=True))
         self.cascade_tried: set = set()  # starts of cascade proofs tried (cascade.cascade_bound)
+        self.collapse_next = 0  # the event count before which no collapse proof is tried again
         self.clock = None  # the sources' clock (absolute time of a driven LCS), set by execute
         self.system = lcs  # the system asked for (a ScheduledLCS: self.lcs is the phase in force)
         self.schedule = getattr(lcs, "schedule", None)
@@ -340,13 +342,18 @@ class _Run:
         return law
 
     def bounce_law(self, t, mode):
-        """The window of a proven accumulation of Newton impacts that no symmetry explains
-        (:mod:`lcs_exact.dynamics.bounces`) when it ends before t_end, else None; tried every third event of
-        a run whose phases shrink (a proof costs milliseconds, a failed one less)."""
+        """The window of a proven accumulation of Newton impacts that no symmetry explains - one
+        contact bouncing (:mod:`lcs_exact.dynamics.bounces`) or several taking turns
+        (:mod:`lcs_exact.dynamics.collapses`) - when it ends before t_end, else None; tried every
+        third event (a proof costs milliseconds, a failed one less)."""
         d = self.durations
-        if len(d) < 6 or len(d) % 3 or not all(b.arb(64) < a.arb(64) for a, b in zip(d[-4:], d[-3:])):
+        if len(d) < 6 or len(d) % 3:
             return None
-        window = bounce_window(self.lcs, self.events, t, mode, self.event_prec(), self.origin)
+        window = None
+        if all(b.arb(64) < a.arb(64) for a, b in zip(d[-4:], d[-3:])):
+            window = bounce_window(self.lcs, self.events, t, mode, self.event_prec(), self.origin)
+        if window is None:
+            window = self.collapse(t, mode)
         if window is None or (self.T - window.time).sign() < 0:
             return None
         if self.zeno == "stop":
@@ -358,6 +365,18 @@ class _Run:
                                f"accumulate: {window.proof!r}; Remark 4.11); zeno='stop'", lower=lo, upper=hi,
                                time=window.time)
         return window
+
+    def collapse(self, t, mode):
+        """The window of a proven collapse of contacts taking turns, or None; after a failed proof
+        the next waits for 1/16 more events (a proof iterates up to thousands of periods)."""
+        cyc = collapse_cycle(self.lcs, self.events) if len(self.events) >= self.collapse_next else None
+        if cyc is None:
+            return None
+        proof = prove_collapse(cyc, self.events, max(128, self.event_prec()))
+        if proof is None:
+            self.collapse_next = len(self.events) + max(6, len(self.events) // 16)
+            return None
+        return CollapseWindow(proof, t, mode, self.events[-1].state_after, self.origin)
 
     def enclose(self, form, t0, t1):
         """An arb enclosure of form . x(t) over [t0, t1] (exact reals inside the computed run),
@@ -499,7 +518,8 @@ class _Run:
         try:
             check_accumulation(self.durations, t_now, self.T)
         except ZenoDetected:
-            if len(self.durations) >= BOUNCE_PATIENCE or bounce_cycle(self.lcs, self.events) is None:
+            if len(self.durations) >= BOUNCE_PATIENCE or (bounce_cycle(self.lcs, self.events) is None
+                                                          and collapse_cycle(self.lcs, self.events) is None):
                 raise
 
     def cascade_suspected(self) -> bool:

@@ -1,5 +1,5 @@
 """Exact and certified numbers: the precision policy and balls (``balls``), FLINT's Calcium
-through ctypes (``flintlib``, ``calcium``), light closed forms (``forms``), e^{At} (``expm``),
+through ctypes (``flintlib``, ``calcium``), balls with derivatives (``duals``), light closed forms (``forms``), e^{At} (``expm``),
 exact reals and vectors (``nodes``, ``reals``, ``vectors``), closed-form candidates and their
 proofs (``closedforms``) and Taylor models (``taylormodels``).  Imports ``algebra``.
 
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from .balls import (ACCURACY_HEADROOM, DEFAULT_POLICY, MAX_DIGITS, accuracy_bits, ball_sign, Deadline,
                     digits_to_bits, dyadic, dyadic_lower, dyadic_upper, Policy, workprec)
+from .duals import Dual, norm2_bound, vector_norm2_bound
 from . import calcium
 from .forms import Closed, sympy_proves_zero
 from .expm import Spectrum, spectrum_of
@@ -23,7 +24,8 @@ from .taylormodels import (Box, interval, ipow, Model, NoProof, positive_on, ser
                            truncate, WorkBudget)
 
 __all__ = ["ACCURACY_HEADROOM", "DEFAULT_POLICY", "MAX_DIGITS", "accuracy_bits", "ball_sign", "Deadline",
-           "digits_to_bits", "dyadic", "dyadic_lower", "dyadic_upper", "Policy", "workprec", "calcium",
+           "digits_to_bits", "dyadic", "dyadic_lower", "dyadic_upper", "Policy", "workprec", "Dual", "norm2_bound",
+           "vector_norm2_bound", "calcium",
            "Closed", "sympy_proves_zero", "Spectrum", "spectrum_of", "AlgebraicReal", "as_real",
            "RationalReal", "Real", "algebraic_vector", "as_exact_vector", "as_state", "ca_matvec",
            "ComponentsVector", "ExactVector", "expm_action", "ExpVector", "homogenized", "orbit_start",
