@@ -177,20 +177,7 @@ numbers.closedforms.prove_root_is numbers.closedforms.prove_touch numbers.closed
 numbers.closedforms.symbolic_candidates numbers.forms.Closed numbers.forms.Closed.log numbers.forms.Closed.of_sympy
 numbers.forms.Closed.pi_over_sqrt numbers.forms.Closed.rational numbers.forms.sympy_proves_zero
 numbers.reals.AlgebraicReal numbers.reals.RationalReal numbers.reals.Real numbers.reals.Real.ball
-numbers.reals.Real.decimal numbers.reals.as_real numbers.taylormodels.Box numbers.taylormodels.Box.add
-numbers.taylormodels.Box.at numbers.taylormodels.Box.bounds numbers.taylormodels.Box.coef
-numbers.taylormodels.Box.combine numbers.taylormodels.Box.const numbers.taylormodels.Box.down
-numbers.taylormodels.Box.down_s numbers.taylormodels.Box.error numbers.taylormodels.Box.lead
-numbers.taylormodels.Box.lin numbers.taylormodels.Box.matvec numbers.taylormodels.Box.model
-numbers.taylormodels.Box.mul numbers.taylormodels.Box.mulp numbers.taylormodels.Box.param_range
-numbers.taylormodels.Box.ps numbers.taylormodels.Box.pw numbers.taylormodels.Box.range numbers.taylormodels.Box.rest
-numbers.taylormodels.Box.scale numbers.taylormodels.Box.sign numbers.taylormodels.Box.tail
-numbers.taylormodels.Box.trunc numbers.taylormodels.Box.up numbers.taylormodels.Box.up_s numbers.taylormodels.Box.val
-numbers.taylormodels.Box.vs numbers.taylormodels.Model numbers.taylormodels.NoProof numbers.taylormodels.Space
-numbers.taylormodels.Space.const numbers.taylormodels.Space.mono numbers.taylormodels.WorkBudget
-numbers.taylormodels.WorkBudget.charge numbers.taylormodels.interval numbers.taylormodels.ipow
-numbers.taylormodels.positive_on numbers.taylormodels.series_root numbers.taylormodels.shift
-numbers.taylormodels.terms numbers.taylormodels.truncate numbers.vectors.ComponentsVector
+numbers.reals.Real.decimal numbers.reals.as_real numbers.vectors.ComponentsVector
 numbers.vectors.ComponentsVector.closed_form numbers.vectors.ExactVector numbers.vectors.ExactVector.ball
 numbers.vectors.ExactVector.closed_form numbers.vectors.ExactVector.exact_rational
 numbers.vectors.ExactVector.prove_zero numbers.vectors.ExactVector.proven_zero
