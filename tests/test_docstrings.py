@@ -172,12 +172,8 @@ dynamics.trajectory.Trajectory.to_csv dynamics.trajectory.Trajectory.to_fixture 
 dynamics.trajectory.Trajectory.to_numpy dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
 dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y numbers.calcium.Ca
 numbers.calcium.Ca.algebraic numbers.calcium.Ca.compact numbers.calcium.Ca.enclosure numbers.calcium.Ca.sign
-numbers.calcium.real_roots numbers.closedforms.candidates numbers.closedforms.prove_root
-numbers.closedforms.prove_root_is numbers.closedforms.prove_touch numbers.closedforms.prove_zero_at
-numbers.closedforms.symbolic_candidates numbers.forms.Closed numbers.forms.Closed.log numbers.forms.Closed.of_sympy
-numbers.forms.Closed.pi_over_sqrt numbers.forms.Closed.rational numbers.forms.sympy_proves_zero
-numbers.reals.AlgebraicReal numbers.reals.RationalReal numbers.reals.Real numbers.reals.Real.ball
-numbers.reals.Real.decimal numbers.reals.as_real numbers.vectors.ComponentsVector
+numbers.calcium.real_roots numbers.reals.AlgebraicReal numbers.reals.RationalReal numbers.reals.Real
+numbers.reals.Real.ball numbers.reals.Real.decimal numbers.reals.as_real numbers.vectors.ComponentsVector
 numbers.vectors.ComponentsVector.closed_form numbers.vectors.ExactVector numbers.vectors.ExactVector.ball
 numbers.vectors.ExactVector.closed_form numbers.vectors.ExactVector.exact_rational
 numbers.vectors.ExactVector.prove_zero numbers.vectors.ExactVector.proven_zero
