@@ -172,19 +172,15 @@ dynamics.trajectory.Trajectory.to_csv dynamics.trajectory.Trajectory.to_fixture 
 dynamics.trajectory.Trajectory.to_numpy dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
 dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y numbers.reals.AlgebraicReal
 numbers.reals.RationalReal numbers.reals.Real numbers.reals.Real.ball numbers.reals.Real.decimal
-numbers.reals.as_real numbers.vectors.ComponentsVector numbers.vectors.ComponentsVector.closed_form
-numbers.vectors.ExactVector numbers.vectors.ExactVector.ball numbers.vectors.ExactVector.closed_form
-numbers.vectors.ExactVector.exact_rational numbers.vectors.ExactVector.prove_zero
-numbers.vectors.ExactVector.proven_zero numbers.vectors.ExactVector.sign_of_form numbers.vectors.ExpVector
-numbers.vectors.ExpVector.closed_form numbers.vectors.ProjectedVector numbers.vectors.ProjectedVector.closed_form
-numbers.vectors.RationalVector numbers.vectors.RationalVector.closed_form numbers.vectors.ScaledVector
-numbers.vectors.ScaledVector.closed_form numbers.vectors.ScaledVector.proven_zero numbers.vectors.algebraic_vector
-numbers.vectors.as_exact_vector numbers.vectors.as_state numbers.vectors.ca_matvec numbers.vectors.expm_action
-numbers.vectors.homogenized numbers.vectors.orbit_start system.lcs.LCS.initial_solution system.lcs.LCS.is_regular
-system.lcs.LCS.ldcp system.lcs.LCS.rcp system.sources.AppendedStates system.sources.Exosystem system.sources.Source
-system.sources.Source.value system.sources.as_source system.sources.constant system.sources.cosine
-system.sources.exosystem system.sources.exponential system.sources.parse_source system.sources.polynomial
-system.sources.sine system.sources.source_block system.sources.state_signals
+numbers.reals.as_real numbers.vectors.ComponentsVector numbers.vectors.ExactVector numbers.vectors.ExpVector
+numbers.vectors.ProjectedVector numbers.vectors.RationalVector numbers.vectors.ScaledVector
+numbers.vectors.algebraic_vector numbers.vectors.as_exact_vector numbers.vectors.as_state numbers.vectors.ca_matvec
+numbers.vectors.expm_action numbers.vectors.homogenized numbers.vectors.orbit_start system.lcs.LCS.initial_solution
+system.lcs.LCS.is_regular system.lcs.LCS.ldcp system.lcs.LCS.rcp system.sources.AppendedStates
+system.sources.Exosystem system.sources.Source system.sources.Source.value system.sources.as_source
+system.sources.constant system.sources.cosine system.sources.exosystem system.sources.exponential
+system.sources.parse_source system.sources.polynomial system.sources.sine system.sources.source_block
+system.sources.state_signals
 """.split())
 
 
