@@ -175,8 +175,7 @@ numbers.reals.RationalReal numbers.reals.Real numbers.reals.Real.ball numbers.re
 numbers.reals.as_real numbers.vectors.ComponentsVector numbers.vectors.ExactVector numbers.vectors.ExpVector
 numbers.vectors.ProjectedVector numbers.vectors.RationalVector numbers.vectors.ScaledVector
 numbers.vectors.algebraic_vector numbers.vectors.as_exact_vector numbers.vectors.as_state numbers.vectors.ca_matvec
-numbers.vectors.expm_action numbers.vectors.homogenized numbers.vectors.orbit_start system.lcs.LCS.initial_solution
-system.lcs.LCS.is_regular system.lcs.LCS.ldcp system.lcs.LCS.rcp system.sources.AppendedStates
+numbers.vectors.expm_action numbers.vectors.homogenized numbers.vectors.orbit_start system.sources.AppendedStates
 system.sources.Exosystem system.sources.Source system.sources.Source.value system.sources.as_source
 system.sources.constant system.sources.cosine system.sources.exosystem system.sources.exponential
 system.sources.parse_source system.sources.polynomial system.sources.sine system.sources.source_block
