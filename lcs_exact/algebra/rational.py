@@ -1,22 +1,15 @@
 """Exact rationals and rational matrices: user input converted once, limits, small helpers,
 the one place where signs of linear forms are decided.
 
-Representation
---------------
-* Scalars are ``flint.fmpq``; matrices are ``flint.fmpq_mat``; vectors are n x 1 ``fmpq_mat``.
-  User input is converted once, here (:func:`to_fmpq`, :func:`to_matrix`, :func:`to_vector`).
-* Rational functions in Q(s) and matrices of them (G(s), R(s), 5.3) are in
-  :mod:`lcs_exact.ratfunc`.
-
-Signs at s = oo
----------------
-Section 5: a rational function is nonnegative for all large real s iff its sequence of Laurent
-coefficients at s = oo (5.6) is lexicographically nonnegative (5.7, Lemma 5.1).  In mode
-selection those coefficients are *linear forms* in the state x0 (row vectors ell with value
-ell . x0).  :func:`sign_of_form` is the one place where such a sign is decided: an identically
-zero form is an exact zero; a rational point gives an exact sign; any other point (an exact real
-vector) must decide the sign itself through its ``sign_of_form`` method, which certifies it or
-raises :class:`~lcs_exact.errors.UnresolvedSign`.
+* Representation: scalars are ``flint.fmpq``, matrices ``flint.fmpq_mat``, vectors n x 1 ``fmpq_mat``;
+  user input is converted once, here (:func:`to_fmpq`, :func:`to_matrix`, :func:`to_vector`).  Rational
+  functions in Q(s) and matrices of them (G(s), R(s), 5.3) are in :mod:`lcs_exact.ratfunc`.
+* Signs at s = oo (section 5): a rational function is nonnegative for all large real s iff its sequence of
+  Laurent coefficients at s = oo (5.6) is lexicographically nonnegative (5.7, Lemma 5.1).  In mode selection
+  those coefficients are *linear forms* in the state x0 (rows ell with value ell . x0).  :func:`sign_of_form`
+  is the one place where such a sign is decided: an identically zero form is an exact zero; a rational point
+  gives an exact sign; any other point (an exact real vector) must decide the sign itself through its
+  ``sign_of_form`` method, which certifies it or raises :class:`~lcs_exact.errors.UnresolvedSign`.
 """
 from __future__ import annotations
 
@@ -46,22 +39,17 @@ __all__ = [
 
 RationalLike = Union[int, str, Fraction, fmpq, fmpz, Rational, float]
 
-# ---------------------------------------------------------------------------------------------
-# limits on user input (one place; docs/limits.md lists them with their reasons)
-# ---------------------------------------------------------------------------------------------
-
-#: bits of the numerator and of the denominator of one rational read from user input (about
-#: 19,700 decimal digits; ``"1e999999999"`` is refused at once instead of being expanded).
-#: ``fmpq``/``fmpz`` values are taken as they are: they are already exact (and the engine's own).
+# ---- limits on user input (one place; docs/limits.md lists them with their reasons) ----------
+#: bits of the numerator and of the denominator of one rational read from user input (about 19,700 decimal
+#: digits; ``"1e999999999"`` is refused at once instead of being expanded).  ``fmpq``/``fmpz`` values are
+#: taken as they are: they are already exact (and the engine's own).
 MAX_RATIONAL_BITS = 65_536
-#: rows and columns of one matrix, length of one vector (so n, k <= 1024); the exact engine is
-#: practical to n ~ 64 (a 16-cart chain, n = 32, runs in seconds).
+#: rows and columns of one matrix, length of one vector (n, k <= 1024); practical to n ~ 64 (16 carts, n = 32: seconds)
 MAX_DIMENSION = 1024
-#: largest k for computations that enumerate the 2^k modes or index sets (RCP for every mode,
-#: mode maps, all solutions of an LCP): 2^16 = 65,536 sets.
+#: largest k for enumerations of the 2^k modes or index sets (RCP for every mode, mode maps, all LCP solutions)
 MAX_ENUMERATION_K = 16
-#: largest k for the P-matrix test of a nonsymmetric matrix (Tsatsomeros-Li: 2^k Schur steps,
-#: ~3 s at k = 20); a symmetric matrix is tested by its leading minors at any size.
+#: largest k for the P-matrix test of a nonsymmetric matrix (Tsatsomeros-Li: 2^k Schur steps, ~3 s at k = 20);
+#: a symmetric matrix is tested by its leading minors at any size.
 MAX_P_TEST_K = 20
 #: largest Markov parameter index i of ``lcs.markov(i)`` (the theory needs i <= n + 1)
 MAX_MARKOV_INDEX = 4096
@@ -157,13 +145,13 @@ def _parse_number(text: str, what: str) -> fmpq:
 def to_fmpq(x: Any, what: str = "entry") -> fmpq:
     """Read one exact rational from user input.
 
-    Accepts int, ``"p/q"`` or decimal strings (``"-1.25e-3"``), Fraction, Decimal, sympy
-    Rational, fmpq, fmpz, numpy integers, and floats (read as their shortest decimal repr:
-    ``0.1 -> 1/10``; a NumPy float of any type, a scalar or a 0-d array, by the shortest repr of
-    its own type: ``np.float32(-0.1)`` and ``np.float16(-0.1)`` are -1/10 too).  Refuses bools, NaN and infinities, complex numbers, SymPy non-rationals
-    (:class:`~lcs_exact.errors.NotRational`, naming ``what``) and numbers whose numerator or
-    denominator would exceed :data:`MAX_RATIONAL_BITS` bits
-    (:class:`~lcs_exact.errors.InvalidArgument`; checked before a decimal exponent is expanded).
+    Accepts int, ``"p/q"`` or decimal strings (``"-1.25e-3"``), Fraction, Decimal, sympy Rational, fmpq,
+    fmpz, numpy integers, and floats (read as their shortest decimal repr: ``0.1 -> 1/10``; a NumPy float
+    of any type, a scalar or a 0-d array, by the shortest repr of its own type: ``np.float32(-0.1)`` and
+    ``np.float16(-0.1)`` are -1/10 too).  Refuses bools, NaN and infinities, complex numbers, SymPy
+    non-rationals (:class:`~lcs_exact.errors.NotRational`, naming ``what``) and numbers whose numerator
+    or denominator would exceed :data:`MAX_RATIONAL_BITS` bits (:class:`~lcs_exact.errors.InvalidArgument`;
+    checked before a decimal exponent is expanded).
 
     Parameters
     ----------
@@ -222,11 +210,10 @@ def to_fmpq(x: Any, what: str = "entry") -> fmpq:
 
 
 def _numpy_float(x: Any, what: str) -> fmpq:
-    """A NumPy float (float16, float32, float64, longdouble) read as the shortest decimal that
-    its own type rounds back to it: ``np.float32(-0.1)`` is -1/10, as typed, not the float64 repr
-    of its binary value (-0.10000000149011612).  ``format_float_scientific(unique=True)`` is that
-    decimal whatever the print options (``str`` is not: under ``legacy='1.13'`` a float32 1/3
-    prints as 0.333333, which is not even the same float32)."""
+    """A NumPy float (float16, float32, float64, longdouble) read as the shortest decimal that its own
+    type rounds back to it: ``np.float32(-0.1)`` is -1/10, as typed, not the float64 repr of its binary
+    value (-0.10000000149011612).  ``format_float_scientific(unique=True)`` is that decimal whatever the
+    print options (``str`` is not: under ``legacy='1.13'`` a float32 1/3 prints as 0.333333)."""
     import numpy as np
     if not np.isfinite(x):
         raise NotRational(f"{what} is {x!r}, not a finite number")
@@ -234,10 +221,10 @@ def _numpy_float(x: Any, what: str) -> fmpq:
 
 
 def as_list(data: Any) -> Any:
-    """``data.tolist()``, except that a NumPy float array keeps its entries as NumPy scalars
-    (nested lists of them): ``tolist`` turns a float32 into the Python float of its binary value,
-    whose repr is not the float32's (0.10000000149011612 for ``np.float32(0.1)``); kept, each
-    entry is read by :func:`to_fmpq` as its own type's shortest decimal.
+    """``data.tolist()``, except that a NumPy float array keeps its entries as NumPy scalars (nested lists
+    of them): ``tolist`` turns a float32 into the Python float of its binary value, whose repr is not the
+    float32's (0.10000000149011612 for ``np.float32(0.1)``); kept, each entry is read by :func:`to_fmpq`
+    as its own type's shortest decimal.
 
     Parameters
     ----------
@@ -261,8 +248,8 @@ def as_list(data: Any) -> Any:
 
 
 def to_int(x: Any, what: str, lo: int | None = None, hi: int | None = None) -> int:
-    """An integer argument (a Python or numpy integer, not a bool), checked to lie in [lo, hi];
-    :class:`~lcs_exact.errors.InvalidArgument` naming ``what`` otherwise.
+    """An integer argument (a Python or numpy integer, not a bool), checked to lie in [lo, hi]
+    (:class:`~lcs_exact.errors.InvalidArgument` naming ``what`` otherwise).
 
     Parameters
     ----------
@@ -349,10 +336,10 @@ def to_matrix(data: Any, name: str = "matrix", shape: tuple[int | None, int | No
               ) -> fmpq_mat:
     """Read a matrix (list of rows, sympy/numpy matrix, fmpq_mat) into an ``fmpq_mat``.
 
-    ``shape`` may fix either dimension (``None`` leaves it free).  Raises
-    :class:`~lcs_exact.errors.ShapeError` for ragged, wrong-sized, too deeply nested or
-    oversized (more than :data:`MAX_DIMENSION` along a side) input, or a mapping or set, and
-    :class:`~lcs_exact.errors.NotRational` for an entry that is not an exact rational.
+    ``shape`` may fix either dimension (``None`` leaves it free).  Raises :class:`~lcs_exact.errors.ShapeError`
+    for ragged, wrong-sized, too deeply nested or oversized (more than :data:`MAX_DIMENSION` along a side)
+    input, or a mapping or set, and :class:`~lcs_exact.errors.NotRational` for an entry that is not an
+    exact rational.
 
     Parameters
     ----------
@@ -385,9 +372,9 @@ def to_matrix(data: Any, name: str = "matrix", shape: tuple[int | None, int | No
 
 
 def vector_entries(data: Any, n: int | None, name: str = "x0") -> list:
-    """The entries of a vector given flat (``[a, b]``) or as a column (``[[a], [b]]``), not
-    converted; :class:`~lcs_exact.errors.ShapeError` for a string, a mapping or set (no order),
-    a scalar, deeper nesting or a wrong length.
+    """The entries of a vector given flat (``[a, b]``) or as a column (``[[a], [b]]``), not converted;
+    :class:`~lcs_exact.errors.ShapeError` for a string, a mapping or set (no order), a scalar, deeper
+    nesting or a wrong length.
 
     Parameters
     ----------
@@ -451,9 +438,9 @@ def is_rational_vector(x: Any) -> bool:
 
 
 def eigenvalue_moduli(A: fmpq_mat, chi: fmpq_poly | None = None):
-    """(smallest nonzero |lambda|, largest |lambda|) over the eigenvalues of A, as certified
-    ``arb`` balls, or None when A is nilpotent (every eigenvalue 0).  The zero eigenvalues are
-    split off exactly (the power of s dividing det(sI - A)), the others isolated by flint.
+    """(smallest nonzero |lambda|, largest |lambda|) over the eigenvalues of A, as certified ``arb`` balls,
+    or None when A is nilpotent (every eigenvalue 0).  The zero eigenvalues are split off exactly (the
+    power of s dividing det(sI - A)), the others isolated by flint.
 
     Parameters
     ----------
@@ -477,16 +464,22 @@ def eigenvalue_moduli(A: fmpq_mat, chi: fmpq_poly | None = None):
     return min(lows).union(min(ups)), max(lows).union(max(ups))
 
 
-# ---------------------------------------------------------------------------------------------
-# small fmpq_mat helpers (flint has no slicing or stacking)
-# ---------------------------------------------------------------------------------------------
-
-
+# ---- small fmpq_mat helpers (flint has no slicing or stacking) -------------------------------
 def zeros(r: int, c: int) -> fmpq_mat:
+    """The r x c zero matrix.
+
+    Parameters
+    ----------
+    r, c : int"""
     return fmpq_mat(r, c)
 
 
 def identity(n: int) -> fmpq_mat:
+    """The n x n identity matrix.
+
+    Parameters
+    ----------
+    n : int"""
     m = fmpq_mat(n, n)
     for i in range(n):
         m[i, i] = 1
@@ -494,6 +487,11 @@ def identity(n: int) -> fmpq_mat:
 
 
 def mat_rows(m: fmpq_mat) -> list[list[fmpq]]:
+    """The entries of m as a list of rows.
+
+    Parameters
+    ----------
+    m : fmpq_mat"""
     return [[m[i, j] for j in range(m.ncols())] for i in range(m.nrows())]
 
 
@@ -549,9 +547,8 @@ def vstack(*ms: fmpq_mat, ncols: int | None = None) -> fmpq_mat:
 
 
 def pivot_tableau(T: list, r: int, c: int) -> None:
-    """Gauss-Jordan pivot of a tableau of exact rationals (a list of rows), in place: row r is
-    divided by T[r][c] and column c is eliminated from every other row (Lemke's method, the
-    simplex of :mod:`lcs_exact.polyhedra`)."""
+    """Gauss-Jordan pivot of a tableau of exact rationals (a list of rows), in place: row r is divided by
+    T[r][c] and column c is eliminated from every other row (Lemke's method, :mod:`lcs_exact.polyhedra`)."""
     p = T[r][c]
     T[r] = [e / p for e in T[r]]
     for i in range(len(T)):
@@ -571,6 +568,11 @@ def is_zero(m: fmpq_mat) -> bool:
 
 
 def mat_equal(a: fmpq_mat, b: fmpq_mat) -> bool:
+    """a == b, shapes included (False for matrices of different shapes).
+
+    Parameters
+    ----------
+    a, b : fmpq_mat"""
     return a.nrows() == b.nrows() and a.ncols() == b.ncols() and a == b
 
 
@@ -580,22 +582,22 @@ def fmpq_to_sympy(q: fmpq):
 
 
 def matrix_to_sympy(m: fmpq_mat):
+    """m as a ``sympy.Matrix`` of ``sympy.Rational`` entries (imports SymPy).
+
+    Parameters
+    ----------
+    m : fmpq_mat"""
     import sympy
     return sympy.Matrix(m.nrows(), m.ncols(), lambda i, j: fmpq_to_sympy(m[i, j]))
 
 
-# ---------------------------------------------------------------------------------------------
-# sign decisions (the single place)
-# ---------------------------------------------------------------------------------------------
-
-
+# ---- sign decisions (the single place) -------------------------------------------------------
 def sign_of_form(form: Any, x: Any = None) -> int:
     """Exact sign of the linear form ``form`` at the point ``x``: -1, 0 or +1.
 
-    ``form`` is an ``fmpq`` (then ``x`` is None) or a 1 x n ``fmpq_mat`` row.  A zero form is an
-    exact zero by structure; a rational ``x`` (n x 1 ``fmpq_mat``) gives an exact sign; any other
-    ``x`` must provide ``x.sign_of_form(form)``, which certifies the sign or raises
-    :class:`~lcs_exact.errors.UnresolvedSign`.
+    ``form`` is an ``fmpq`` (then ``x`` is None) or a 1 x n ``fmpq_mat`` row.  A zero form is an exact
+    zero by structure; a rational ``x`` (n x 1 ``fmpq_mat``) gives an exact sign; any other ``x`` must
+    provide ``x.sign_of_form(form)``, which certifies the sign or raises :class:`~lcs_exact.errors.UnresolvedSign`.
 
     Parameters
     ----------
@@ -630,16 +632,10 @@ def lex_sign(seq: Iterable[Any], x: Any = None) -> int:
     return 0
 
 
-
-
-# ---------------------------------------------------------------------------------------------
-# polynomials of a matrix (the resolvent's coefficients, spectral data)
-# ---------------------------------------------------------------------------------------------
-
-
+# ---- polynomials of a matrix (the resolvent's coefficients, spectral data) -------------------
 def adjugate_coefficients(A: fmpq_mat, chi: fmpq_poly | None = None) -> list[fmpq_mat]:
-    """adj(sI - A) = sum_j s^{n-1-j} B_j (Faddeev-LeVerrier: B_0 = I, B_j = A B_{j-1} + c_j I,
-    with det(sI - A) = s^n + c_1 s^{n-1} + ... + c_n).
+    """adj(sI - A) = sum_j s^{n-1-j} B_j (Faddeev-LeVerrier: B_0 = I, B_j = A B_{j-1} + c_j I, with
+    det(sI - A) = s^n + c_1 s^{n-1} + ... + c_n).
 
     For any monic ``chi`` of degree d (not only the characteristic polynomial) the same recursion
     gives sum_j s^{d-1-j} B_j = (chi(s) I - chi(A)) (sI - A)^{-1}, a polynomial in s and A.
@@ -662,10 +658,14 @@ def adjugate_coefficients(A: fmpq_mat, chi: fmpq_poly | None = None) -> list[fmp
 
 
 def poly_at_matrix(p: fmpq_poly, S: fmpq_mat) -> fmpq_mat:
-    """p(S) for p in Q[s], exactly, by Paterson-Stockmeyer: with the powers S^0..S^b
-    (b ~ sqrt(deg p)), p(S) = sum_i p_i(S) (S^b)^i is Horner's rule in S^b on blocks of b
-    coefficients, about 2 sqrt(deg p) matrix products instead of deg p (the spectral data of a
-    64 x 64 mode: 16 products, not 64).
+    """p(S) for p in Q[s], exactly, by Paterson-Stockmeyer: with the powers S^0..S^b (b ~ sqrt(deg p)),
+    p(S) = sum_i p_i(S) (S^b)^i is Horner's rule in S^b on blocks of b coefficients, about 2 sqrt(deg p)
+    matrix products instead of deg p (the spectral data of a 64 x 64 mode: 16 products, not 64).
+
+    Parameters
+    ----------
+    p : fmpq_poly
+    S : fmpq_mat, square
 
     >>> poly_at_matrix(fmpq_poly([1, 0, 1]), fmpq_mat([[0, 1], [-1, 0]])).entries()  # I + S^2 = 0
     [0, 0, 0, 0]

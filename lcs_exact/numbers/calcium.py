@@ -1,58 +1,52 @@
 """Exact real and complex numbers with a safe zero test: a small ctypes binding to FLINT's Calcium.
 
-Calcium (``ca_*``, ``qqbar_*``, part of FLINT 3) represents a number exactly, as an element of
-a field Q(a_1, ..., a_n) whose generators are algebraic numbers or closed forms (pi, exp, log,
-...).  Its predicates never answer wrongly: they answer true, false or *unknown*.  python-flint
-has no Python binding for Calcium, but the FLINT library it ships (``python_flint.libs/``)
-exports it, so this module loads that very library with :mod:`ctypes`.
+Calcium (``ca_*``, ``qqbar_*``, part of FLINT 3) represents a number exactly, as an element of a field
+Q(a_1, ..., a_n) whose generators are algebraic numbers or closed forms (pi, exp, log, ...).  Its predicates
+never answer wrongly: they answer true, false or *unknown*.  python-flint has no Python binding for Calcium,
+but the FLINT library it ships (``python_flint.libs/``) exports it: this module loads it with :mod:`ctypes`.
 
 Representation
 --------------
-* :class:`Ca` wraps one ``ca_t``: a private ctypes buffer (twice ``sizeof(ca_struct)``),
-  initialized with ``ca_init`` and freed with ``ca_clear`` when the wrapper is collected.
-  The buffer never leaves the wrapper, so no two wrappers share a ``ca_t``.
-* All numbers live in one module-level ``ca_ctx_t``, created on first use and cleared at
-  interpreter exit (``atexit``); after that no ``ca_clear`` is called any more.
-* Every call into FLINT holds one module-level re-entrant lock: the context is mutated even
-  by queries (caches), so the lock makes the module safe to use from several threads (they
-  are serialized).  A running Calcium call cannot be interrupted (Ctrl-C waits for it).
+* :class:`Ca` wraps one ``ca_t``: a private ctypes buffer (twice ``sizeof(ca_struct)``), initialized with
+  ``ca_init`` and freed with ``ca_clear`` when the wrapper is collected.  The buffer never leaves the wrapper, so
+  no two wrappers share a ``ca_t``.
+* All numbers live in one module-level ``ca_ctx_t``, created on first use and cleared at interpreter exit
+  (``atexit``); after that no ``ca_clear`` is called any more.
+* Every call into FLINT holds one module-level re-entrant lock: the context is mutated even by queries (caches),
+  so the lock makes the module safe to use from several threads (they are serialized).  A running Calcium call
+  cannot be interrupted (Ctrl-C waits for it).
 
 Invariants
 ----------
-* A :class:`Ca` is immutable and always holds a *number*: never one of Calcium's special
-  values (Unknown, Undefined, infinities).  An operation whose result would be special raises
-  instead: ``ZeroDivisionError`` (divisor proven zero), ``ValueError`` (undefined or infinite,
-  e.g. ``log(0)``), :class:`~lcs_exact.errors.UnresolvedSign` (Calcium could not decide,
-  e.g. whether a divisor is zero).
-* A FLINT abort would kill the process, so no call gets an input Calcium documents as
-  invalid: divisions go through ``ca_inv`` (which answers Unknown or infinity for a zero
-  divisor, never aborts) and are checked before the product is formed; negative powers go
-  through that inverse; every result is checked for special values before it is used.  (The
-  aborts left in Calcium's sources are internal-consistency checks.)
-* Enclosures are rigorous: the true value lies in the returned ``flint.acb``
-  (see :meth:`Ca.enclosure`).
+* A :class:`Ca` is immutable and always holds a *number*: never one of Calcium's special values (Unknown,
+  Undefined, infinities).  An operation whose result would be special raises instead: ``ZeroDivisionError``
+  (divisor proven zero), ``ValueError`` (undefined or infinite, e.g. ``log(0)``),
+  :class:`~lcs_exact.errors.UnresolvedSign` (Calcium could not decide, e.g. whether a divisor is zero).
+* A FLINT abort would kill the process, so no call gets an input Calcium documents as invalid: divisions go
+  through ``ca_inv`` (which answers Unknown or infinity for a zero divisor, never aborts) and are checked before
+  the product is formed; negative powers go through that inverse; every result is checked for special values
+  before it is used.  (The aborts left in Calcium's sources are internal-consistency checks.)
+* Enclosures are rigorous: the true value lies in the returned ``flint.acb`` (see :meth:`Ca.enclosure`).
 * ``str(x)`` is Calcium's ``ca_get_str``: a 6-digit value, then the exact form in braces
   (``1.41421 {a where a = 1.41421 [a^2-2=0]}``); an integer prints alone (``3``).
 
 What ``None`` means
 -------------------
-:meth:`Ca.is_zero`, :meth:`Ca.is_rational`, :meth:`Ca.is_real` and :meth:`Ca.sign` return
-``None`` when Calcium could not decide.  ``None`` is never a guess and never means
-"probably": callers must treat it as "undecided" (for a sign, fall back to a ball, or raise
-:class:`~lcs_exact.errors.UnresolvedSign`).  :meth:`Ca.to_fmpq` returns ``None`` whenever the
-value is not *proven* rational (undecided, or proven irrational).
+:meth:`Ca.is_zero`, :meth:`Ca.is_rational`, :meth:`Ca.is_real` and :meth:`Ca.sign` return ``None`` when Calcium
+could not decide.  ``None`` is never a guess and never means "probably": callers must treat it as "undecided"
+(for a sign, fall back to a ball, or raise :class:`~lcs_exact.errors.UnresolvedSign`).  :meth:`Ca.to_fmpq`
+returns ``None`` whenever the value is not *proven* rational (undecided, or proven irrational).
 
 Pitfalls
 --------
-* Calcium caches every generator (``exp(1)``, ``log(2)``, fields built from them) in the
-  context for the life of the process: memory per *number* is returned on collection, but
-  memory per distinct *generator* is not (measured: 20,000 distinct ``log(k)`` keep 9 MB).
-* A zero test can be slow (it may compute to 4096 bits, factor, or run Groebner bases) and
-  cannot be interrupted; the examples in ``tests/test_calcium.py`` take milliseconds.
+* Calcium caches every generator (``exp(1)``, ``log(2)``, fields built from them) in the context for the life of
+  the process: memory per *number* is returned on collection, but memory per distinct *generator* is not
+  (measured: 20,000 distinct ``log(k)`` keep 9 MB).
+* A zero test can be slow (it may compute to 4096 bits, factor, or run Groebner bases) and cannot be interrupted;
+  the examples in ``tests/test_calcium.py`` take milliseconds.
 * ``Ca`` objects cannot be pickled; ``copy.copy`` returns the same (immutable) object.
 
-The ctypes layer (struct layouts checked against the library, signatures, the context and
-the lock) is :mod:`lcs_exact.flintlib`.
+The ctypes layer (struct layouts checked against the library, signatures, context, lock): :mod:`lcs_exact.flintlib`.
 
 >>> from lcs_exact import calcium
 >>> calcium.available()
@@ -84,27 +78,27 @@ __all__ = ["available", "Ca", "real_roots", "COMPACT_DEGREE_LIMIT"]
 #: final one (a degree-8 event time of five elastic beads needs 360 from four generators)
 COMPACT_DEGREE_LIMIT = 480
 
-# ---------------------------------------------------------------------------------------------
-# the number
-# ---------------------------------------------------------------------------------------------
+# ---- the number ------------------------------------------------------------------------------
 
 def _coerce(x: Any) -> "Ca":
     return x if isinstance(x, Ca) else Ca(x)
 
 
 class Ca:
-    """An exact complex number of Calcium (immutable).
+    """An exact complex number of Calcium (immutable).  Arithmetic (``+ - * /``, ``**`` with an int
+    exponent) mixes with the rationals ``value`` may be.  ``==``, ``<``, ``bool()`` and ``hash()`` are
+    refused (TypeError): decide with :meth:`is_zero` / :meth:`sign`, which may answer None (undecided).
 
-    ``Ca(x)`` reads an exact rational: int, ``fmpz``, ``fmpq``, ``Fraction``, a ``"p/q"`` or
-    decimal string (anything :func:`lcs_exact.rational.to_fmpq` accepts), or another ``Ca``.
-    Arithmetic (``+ - * /``, ``**`` with an int exponent) mixes with those rationals.
-    ``==``, ``<``, ``bool()`` and ``hash()`` are refused (TypeError): decide with
-    :meth:`is_zero` / :meth:`sign`, which may answer None (undecided).
+    Parameters
+    ----------
+    value : rational-like or Ca, optional
+        An exact rational (default 0): int, ``fmpz``, ``fmpq``, ``Fraction``, a ``"p/q"`` or decimal
+        string (anything :func:`lcs_exact.rational.to_fmpq` accepts), or another ``Ca``.
 
     Raises
     ------
     NotRational
-        ``x`` is not an exact rational (e.g. an ``arb``, ``"pi"``).
+        ``value`` is not an exact rational (e.g. an ``arb``, ``"pi"``).
     RuntimeError
         Calcium is not available (see :func:`available`).
 
@@ -118,8 +112,6 @@ class Ca:
     """
 
     __slots__ = ("_buf", "_ptr", "_b")
-
-    # ---- construction -------------------------------------------------------------------
 
     def __init__(self, value: Any = 0):
         b = backend()
@@ -208,14 +200,17 @@ class Ca:
 
     @classmethod
     def algebraic(cls, coeffs: Sequence[Any], approx: Any) -> "Ca":
-        """The root of ``sum(coeffs[j] * s**j)`` (low degree first) singled out by ``approx``.
+        """The root of ``sum(coeffs[j] * s**j)`` singled out by ``approx``.  The roots' enclosures
+        (``qqbar_get_acb``) are refined up to 8192 bits until the choice is proven.  Repeated roots count once.
 
-        ``coeffs`` are exact rationals (not all zero beyond degree 0).  ``approx`` is a
-        ``flint.acb`` / ``flint.arb`` / complex / float / rational.  An ``acb`` / ``arb`` of
-        nonzero radius selects the unique root inside it (rigorous: exactly one distinct root
-        meets the ball); anything else is a point (a ball's midpoint) and selects the root
-        certified strictly nearest to it.  The roots' enclosures (``qqbar_get_acb``) are refined
-        up to 8192 bits until the choice is proven.  Repeated roots count once.
+        Parameters
+        ----------
+        coeffs : sequence of rationals
+            Exact, low degree first, not all zero beyond degree 0.
+        approx : acb, arb, complex, float or rational
+            An ``acb`` / ``arb`` of nonzero radius selects the unique root inside it (rigorous: exactly
+            one distinct root meets the ball); anything else is a point (a ball's midpoint) and selects
+            the root certified strictly nearest to it.
 
         Raises
         ------
@@ -252,8 +247,6 @@ class Ca:
             r = cls._new()
             b.lib.ca_set_qqbar(r._ptr, chosen, b.ctx)
         return r
-
-    # ---- arithmetic -----------------------------------------------------------------------
 
     def _binary(self, other: Any, fname: str, swap: bool = False) -> "Ca":
         try:
@@ -351,8 +344,6 @@ class Ca:
             raise ValueError(f"{what}: the result is undefined")
         raise ValueError(f"{what}: the result is infinite")
 
-    # ---- functions ------------------------------------------------------------------------
-
     def exp(self) -> "Ca":
         """e**self.
 
@@ -441,8 +432,6 @@ class Ca:
         """
         return self._unary("ca_conj")
 
-    # ---- decisions ------------------------------------------------------------------------
-
     def _predicate(self, fname: str) -> bool | None:
         b = self._b
         check_in_force(" in an exact zero test (Calcium)")  # each test bounded, but not interruptible
@@ -474,14 +463,16 @@ class Ca:
         return self._predicate("ca_check_is_real")
 
     def sign(self, real: bool = False) -> int | None:
-        """-1, 0 or 1 for a number proven real; None when Calcium cannot decide.
+        """-1, 0 or 1 for a number proven real; None when Calcium cannot decide; ``ValueError`` for a
+        number proven non-real.
 
-        Raises ``ValueError`` for a number proven non-real.
-
-        ``real=True``: the caller knows the number is real (built from reals by field operations
-        and square roots of positive numbers, as event times and states are); its sign is read
-        off an enclosure (128, 512, 2048 bits) whose real part excludes 0 before Calcium proves it
-        real and nonzero (ms in a field of many generators, as a column of five beads, vs µs).
+        Parameters
+        ----------
+        real : bool, optional
+            True: the caller knows the number is real (built from reals by field operations and square
+            roots of positive numbers, as event times and states are); its sign is read off an enclosure
+            (128, 512, 2048 bits) whose real part excludes 0 before Calcium proves it real and nonzero
+            (ms in a field of many generators, as a column of five beads, vs µs).
 
         >>> (Ca.pi() - Fraction(22, 7)).sign(), Ca(0).sign(), (Ca(2).sqrt() - 2).sign()
         (-1, 0, -1)
@@ -529,12 +520,16 @@ class Ca:
     def enclosure(self, prec: int = 53) -> acb:
         """A rigorous ball: the exact value lies in the returned ``flint.acb``.
 
-        ``ca_get_acb`` evaluates with adaptive working precision aiming at ``prec`` accurate
-        bits (it stops at Calcium's precision limit, 4096 bits by default, e.g. for an
-        unsimplified exact zero).  The ball is then transferred exactly: each midpoint as
-        ``man * 2^exp`` (``arf_get_fmpz_2exp``, integers through ``fmpz_get_str``), each radius
-        likewise after the exact ``arf_set_mag``; python-flint keeps the midpoint exactly and
-        rounds the radius up (both checked).  No decimal string is involved.
+        ``ca_get_acb`` evaluates with adaptive working precision aiming at ``prec`` accurate bits (it
+        stops at Calcium's precision limit, 4096 bits by default, e.g. for an unsimplified exact zero).
+        The ball is then transferred exactly: each midpoint as ``man * 2^exp`` (``arf_get_fmpz_2exp``,
+        integers through ``fmpz_get_str``), each radius likewise after the exact ``arf_set_mag``;
+        python-flint keeps the midpoint exactly and rounds the radius up (both checked), no decimal string.
+
+        Parameters
+        ----------
+        prec : int, optional
+            Accurate bits aimed at (default 53; ``ValueError`` below 2).
 
         >>> e = Ca.pi().enclosure(64)
         >>> e.imag == 0 and e.real.rad() < 2.0 ** -60 and e.real.overlaps(flint.arb.pi())
@@ -582,15 +577,20 @@ class Ca:
                 lib.qqbar_clear(at)
 
     def compact(self, size: int = 200) -> "Ca":
-        """An equal number in its smallest exact form when its printed form is longer than
-        ``size`` characters: an algebraic number re-expressed by its minimal polynomial and an
-        isolating enclosure (``ca_get_qqbar``, ``ca_set_qqbar``), else ``self``.
+        """An equal number in its smallest exact form when its printed form is longer than ``size``
+        characters: an algebraic number re-expressed by its minimal polynomial and an isolating
+        enclosure (``ca_get_qqbar``, ``ca_set_qqbar``), else ``self``; the shorter form is returned.
 
         Arithmetic in Calcium keeps a number as an expression in the generators of a field, and the expression
         grows with every operation even where the number does not: the event times of a column of elastic
         beads stay of degree <= 4 over Q, yet after 13 events their expressions hold 75-digit coefficients
         that cancel to 80 digits, and a few events later a zero test fails at Calcium's precision limit.
-        Re-expressed, the same times print in a few dozen characters.  The shorter form is returned.
+        Re-expressed, the same times print in a few dozen characters.
+
+        Parameters
+        ----------
+        size : int, optional
+            The printed length (``str``) above which a shorter form is sought (default 200).
 
         >>> x = (Ca(2).sqrt() * 10**40 + 1) / (Ca(2).sqrt() * 10**40 - 1)
         >>> y = x.compact(size=50)
@@ -617,8 +617,6 @@ class Ca:
                 lib.qqbar_clear(at)
         return r if len(str(r)) < len(text) else self
 
-    # ---- refused operations and printing ----------------------------------------------------
-
     def __bool__(self) -> bool:
         raise TypeError("the truth value of a Ca is not decided by bool(): use is_zero() (True/False/None)")
 
@@ -639,14 +637,16 @@ class Ca:
         return f"Ca({self})"
 
 
-# ---------------------------------------------------------------------------------------------
-# real roots of integer polynomials
-# ---------------------------------------------------------------------------------------------
+# ---- real roots of integer polynomials -------------------------------------------------------
 
 def real_roots(coeffs: Sequence[Any]) -> list[Ca]:
-    """The distinct real roots of ``sum(coeffs[j] * s**j)`` (rational coefficients, low degree
-    first), each as an exact :class:`Ca` (FLINT's ``qqbar_roots_fmpz_poly``; realness decided
-    exactly by ``qqbar_sgn_im``).  In no particular order.
+    """The distinct real roots of ``sum(coeffs[j] * s**j)``, each as an exact :class:`Ca` (FLINT's
+    ``qqbar_roots_fmpz_poly``; realness decided exactly by ``qqbar_sgn_im``), in no particular order.
+
+    Parameters
+    ----------
+    coeffs : sequence of rationals
+        Exact, low degree first.
 
     >>> sorted(float(r.enclosure(30).real.mid()) for r in real_roots([-2, 0, 1]))
     [-1.4142135623730951, 1.4142135623730951]

@@ -59,7 +59,16 @@ def _frequencies(M: fmpq_mat) -> tuple[list[fmpq], list[fmpq]]:
 
 def candidates(theta: arb, M: fmpq_mat) -> list[Closed]:
     """Small-height candidates near the ball ``theta``: rationals, (p/q) pi/omega, log(p/q)/lambda
-    (light :class:`~lcs_exact.forms.Closed` forms, nonnegative, without repetition)."""
+    (light :class:`~lcs_exact.forms.Closed` forms, nonnegative, without repetition).
+
+    Parameters
+    ----------
+    theta : arb
+        The ball of the root.
+    M : fmpq_mat
+        The phase's matrix: its frequencies omega (complex pairs of quadratic factors of det(sI - M),
+        and omega = 1) and rational eigenvalues lambda give the pi/omega and log/lambda candidates.
+    """
     from mpmath import mp, mpf
     out = []
     with mp.workdps(40):
@@ -120,7 +129,23 @@ def _inside(cand, lo: fmpq, hi: fmpq) -> bool:
 def prove_zero_at(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, *, derivative: int = 0,
                   deadline=None) -> bool | None:
     """g M^d e^{M t*} v == 0 at the closed form t* (``derivative`` d): True (proven), False
-    (proven nonzero), None (unknown).  Calcium first; SymPy simplification as a last resort."""
+    (proven nonzero), None (unknown).  Calcium first; SymPy simplification as a last resort.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        The spectral data of the phase's matrix M (A_I of its mode).
+    g : fmpq_mat
+        1 x n row: f(t) = g e^{Mt} v.
+    v : ExactVector
+        The phase's start state.
+    cand : Closed
+        The closed form t*.
+    derivative : int, optional
+        d >= 0 (default 0): the d-th derivative of f at t*.
+    deadline : Deadline, optional
+        The run's ``time_limit`` (:class:`~lcs_exact.balls.Deadline`), looked at during the SymPy steps.
+    """
     gd = g
     for _ in range(derivative):
         gd = gd * spectrum.M
@@ -261,7 +286,24 @@ _SYMBOLIC: dict = {}
 def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None):
     """(expr, Calcium number or None) for the root's proven closed form, or None.
 
-    ``root`` is a :class:`~lcs_exact.roots.RootReal` of f = g e^{Mt} v."""
+    Candidates near the root (:func:`candidates`, also shifted along the orbit of the start, then
+    :func:`symbolic_candidates`) are tried in turn; the first that lies in the root's bracket with
+    f proven zero there (:func:`prove_zero_at`) is the answer.  A bracket that may hold several
+    roots (``root.simple`` false) gives None.
+
+    Parameters
+    ----------
+    root : RootReal
+        A root of f = g e^{Mt} v (:class:`~lcs_exact.roots.RootReal`).
+    spectrum : Spectrum
+        The spectral data of the phase's matrix M (A_I of its mode).
+    g : fmpq_mat
+        1 x n row: f(t) = g e^{Mt} v.
+    v : ExactVector
+        The phase's start state.
+    deadline : Deadline, optional
+        The run's ``time_limit`` (:class:`~lcs_exact.balls.Deadline`), looked at during the SymPy steps.
+    """
     b = root.arb(200)
     if not root.simple:
         # a bracket that may hold several roots (a multiple root, a cluster): a zero of f inside
@@ -283,7 +325,24 @@ def symbolic_candidates(spectrum: Spectrum, g: fmpq_mat, v: Any, b: arb, deadlin
     ``generators`` (default: exp_candidates, solve_candidates, harmonic_candidates, cheap ones
     first).  Each SymPy step runs under :func:`~lcs_exact.forms.sympy_budget` (its work counted:
     a simplification of a harmonic sum once took 25 s past a run's ``time_limit``); a step out of
-    work gives none."""
+    work gives none.  A generator (candidates are yielded as found).
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        The spectral data of the phase's matrix M (A_I of its mode).
+    g : fmpq_mat
+        1 x n row: f(t) = g e^{Mt} v.
+    v : ExactVector
+        The phase's start state.
+    b : arb
+        The ball of the root sought.
+    deadline : Deadline, optional
+        The run's ``time_limit`` (:class:`~lcs_exact.balls.Deadline`), looked at during the SymPy steps.
+    generators : tuple of callables, optional
+        Each called as ``gen(sym, b)`` on the SymPy form ``sym`` of f, returning SymPy expressions;
+        those not representable as :class:`Closed` are skipped.  Empty (default): the three above.
+    """
     try:
         with sympy_budget(deadline, "the symbolic inversion of a phase function"):
             sym = function_closed_form(spectrum, g, v)
@@ -303,7 +362,21 @@ def symbolic_candidates(spectrum: Spectrum, g: fmpq_mat, v: Any, b: arb, deadlin
 def prove_root_is(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, cand: Closed, deadline=None) -> bool:
     """True when the root (a :class:`~lcs_exact.roots.RootReal` of f = g e^{Mt} v) is proven to
     be the closed form ``cand``, a candidate the caller knows of (the horizon of the run): its
-    bracket holds one root, ``cand`` lies in it and f(cand) = 0."""
+    bracket holds one root, ``cand`` lies in it and f(cand) = 0.
+
+    Parameters
+    ----------
+    root : RootReal
+    spectrum : Spectrum
+        The spectral data of the phase's matrix M (A_I of its mode).
+    g : fmpq_mat
+        1 x n row: f(t) = g e^{Mt} v.
+    v : ExactVector
+        The phase's start state.
+    cand : Closed
+    deadline : Deadline, optional
+        The run's ``time_limit`` (:class:`~lcs_exact.balls.Deadline`), looked at during the SymPy steps.
+    """
     if not root.simple:
         return False
     lo, hi = root.interval()
@@ -323,7 +396,21 @@ def _representable(exprs):
 
 def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, deadline=None) -> bool | None:
     """A tangential touch at the critical point t* in [lo, hi] (f' = 0 there, f'' > 0 on it):
-    True when a closed form t* is proven with f'(t*) = f(t*) = 0; None otherwise."""
+    True when a closed form t* is proven with f'(t*) = f(t*) = 0; None otherwise.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        The spectral data of the phase's matrix M (A_I of its mode).
+    g : fmpq_mat
+        1 x n row: f(t) = g e^{Mt} v.
+    v : ExactVector
+        The phase's start state.
+    lo, hi : fmpq
+        The bracket of t*.
+    deadline : Deadline, optional
+        The run's ``time_limit`` (:class:`~lcs_exact.balls.Deadline`), looked at during the SymPy steps.
+    """
     with workprec(128):
         mid = arb(lo).union(arb(hi))
 

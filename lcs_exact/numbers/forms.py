@@ -67,6 +67,14 @@ def _squarefree(m: int) -> tuple[int, int]:
 class Closed:
     """c_0 + sum c_j a_j (see the module docstring).
 
+    Parameters
+    ----------
+    const : int, fmpz or fmpq, optional
+        c_0 (default 0).
+    terms : tuple of (atom, fmpq), optional
+        The pairs (a_j, c_j), atoms ``("pi", r)``, ``("log", r)`` or ``("sym", expr)``: equal atoms
+        are merged, zero coefficients dropped, pi atoms normalized (r a squarefree integer, unless huge).
+
     >>> half_pi = Closed.pi_over_sqrt(1) * fmpq(1, 2)
     >>> str(Closed.rational(1) + half_pi), str(Closed.pi_over_sqrt(2)), str(-half_pi * 3)
     ('1 + pi/2', 'sqrt(2)*pi/2', '-3*pi/2')
@@ -89,11 +97,23 @@ class Closed:
     # --- construction -------------------------------------------------------------------------
     @classmethod
     def rational(cls, q: Any) -> "Closed":
+        """The rational q as a form.
+
+        Parameters
+        ----------
+        q : int, fmpz or fmpq
+        """
         return cls(fmpq(q))
 
     @classmethod
     def pi_over_sqrt(cls, r: Any) -> "Closed":
-        """pi / sqrt(r), r a positive rational."""
+        """pi / sqrt(r).
+
+        Parameters
+        ----------
+        r : int, fmpz or fmpq
+            Positive (:class:`~lcs_exact.errors.InvalidArgument` otherwise).
+        """
         r = fmpq(r)
         if not r > 0:
             raise InvalidArgument(f"pi / sqrt(r) needs r > 0, got {r}")
@@ -101,7 +121,13 @@ class Closed:
 
     @classmethod
     def log(cls, r: Any) -> "Closed":
-        """log r, r a positive rational (log 1 = 0)."""
+        """log r (log 1 = 0, the form 0).
+
+        Parameters
+        ----------
+        r : int, fmpz or fmpq
+            Positive (:class:`~lcs_exact.errors.InvalidArgument` otherwise).
+        """
         r = fmpq(r)
         if not r > 0:
             raise InvalidArgument(f"log r needs r > 0, got {r}")
@@ -109,7 +135,12 @@ class Closed:
 
     @classmethod
     def of_sympy(cls, expr: Any) -> "Closed":
-        """A SymPy expression as a form (a rational stays a rational)."""
+        """A SymPy expression as a form (a rational stays a rational; anything else is one ``sym`` atom).
+
+        Parameters
+        ----------
+        expr : sympy.Expr
+        """
         if getattr(expr, "is_Rational", False):
             return cls(fmpq(int(expr.p), int(expr.q)))
         out = cls(0, ((("sym", expr), fmpq(1)),))
@@ -432,6 +463,13 @@ def sympy_proves_zero(expr: Any, deadline=None) -> bool | None:
     ball excludes 0, None when neither is shown within the work of :func:`sympy_budget`
     (``deadline``: the run's :class:`~lcs_exact.balls.Deadline`; past it,
     :class:`~lcs_exact.errors.TimeLimitExceeded`).
+
+    Parameters
+    ----------
+    expr : sympy.Expr
+        A real closed form.
+    deadline : Deadline, optional
+        The run's ``time_limit``; None (default): the work bound alone.
 
     >>> import sympy
     >>> sympy_proves_zero(sympy.sin(sympy.pi / 7)**2 + sympy.cos(sympy.pi / 7)**2 - 1)

@@ -52,7 +52,6 @@ class ExactVector(Node):
         self._ca = None
         self._ca_done = False
 
-    # --- structure ----------------------------------------------------------------------------
     @property
     def zero_span(self) -> RowSpan:
         """The span of ``zero_forms``, for membership tests (built once; a cache)."""
@@ -75,8 +74,13 @@ class ExactVector(Node):
 
     def exact_rational(self, depth: int = 40) -> fmpq_mat | None:
         """The vector as a rational vector when closed forms prove it (may derive the closed forms
-        of the times in its definition, e.g. e^{A(theta - 1)} q with theta = 1 proven is q);
-        None when not proven.  ``depth`` bounds how far back the definition is followed."""
+        of the times in its definition, e.g. e^{A(theta - 1)} q with theta = 1 proven is q); None when
+        not proven.
+
+        Parameters
+        ----------
+        depth : int, optional
+            How far back the definition is followed (default 40)."""
         q = self.known_rational()
         if q is not None or depth <= 0:
             return q
@@ -89,7 +93,11 @@ class ExactVector(Node):
         return None
 
     def proven_zero(self, i: int) -> bool:
-        """Component i is 0 by a proven relation (or by an exact twin found by a proof)."""
+        """Component i is 0 by a proven relation (or by an exact twin found by a proof).
+
+        Parameters
+        ----------
+        i : int"""
         if self._twin is not None:
             return self._twin.q[i, 0] == 0
         if not self.zero_forms.nrows():
@@ -99,8 +107,11 @@ class ExactVector(Node):
     def closed_form(self, derive: bool = True):
         """A SymPy column vector when every component has a proven closed form, else None.
 
-        ``derive=False`` returns only what is cheaply known; True may derive it with SymPy (the
-        symbolic e^{Mt}: up to a second for a new matrix)."""
+        Parameters
+        ----------
+        derive : bool, optional
+            False: only what is cheaply known; True (default) may derive it with SymPy (the symbolic
+            e^{Mt}: up to a second for a new matrix)."""
         if self._twin is not None:
             return self._twin.closed_form(derive)
         return None
@@ -126,9 +137,12 @@ class ExactVector(Node):
     def _to_ca(self):
         return None
 
-    # --- signs --------------------------------------------------------------------------------
     def sign_of_form(self, form: fmpq_mat) -> int:
-        """Certified sign of form . x (see the module docstring for the order of the tests)."""
+        """Certified sign of form . x (see the module docstring for the order of the tests).
+
+        Parameters
+        ----------
+        form : fmpq_mat, 1 x n"""
         q = self.known_rational()
         if q is not None:
             v = (form * q)[0, 0]
@@ -152,7 +166,11 @@ class ExactVector(Node):
 
         Tries the Calcium closed form of the vector; when every component is rational there,
         the vector gets an exact twin (a rational vector) used from then on.  Never with
-        ``closed_forms=False``."""
+        ``closed_forms=False``.
+
+        Parameters
+        ----------
+        form : fmpq_mat, 1 x n"""
         if self.policy.closed_forms == "off":
             return None
         xs = self.to_ca()
@@ -169,7 +187,6 @@ class ExactVector(Node):
                 acc = acc + c * calcium.Ca(form[0, j])
         return acc.is_zero()
 
-    # --- access -------------------------------------------------------------------------------
     def __len__(self):
         return self.n
 
@@ -187,8 +204,12 @@ class ExactVector(Node):
         return list(self)
 
     def ball(self, digits: int = 30) -> list[arb]:
-        """Certified balls of the components, each to ``digits`` digits (one query: bounded by
-        the run's ``time_limit`` as a whole)."""
+        """Certified balls of the components, each to ``digits`` digits (one query: bounded by the run's
+        ``time_limit`` as a whole).
+
+        Parameters
+        ----------
+        digits : int, optional"""
         with self.policy.deadline.query():
             return [c.ball(digits) for c in self]
 

@@ -242,7 +242,6 @@ class LCS:
                                       f"{self.constraint_names[i]!r} is {W[i, i]}")
         return es
 
-    # --- Markov parameters and transfer matrices --------------------------------------------
     def markov(self, i: int) -> fmpq_mat:
         """H_i (5.8): H_0 = D, H_i = C A^{i-1} B (exact, k x k); 0 <= i <= MAX_MARKOV_INDEX (4096).
 
@@ -324,7 +323,6 @@ class LCS:
                                                for i in range(self.k)])
         return self._cache["G"]
 
-    # --- leading indices (Def. 6.2, (6.1)) --------------------------------------------------
     def _leading(self, rows: bool) -> tuple:
         out = []
         for j in range(self.k):
@@ -380,13 +378,12 @@ class LCS:
 
     @classmethod
     def from_statespace(cls, sys: Any, **options: Any) -> "LCS":
-        """The LCS of a python-control ``StateSpace`` (or anything with ``A``, ``B``, ``C``, ``D``
-        arrays): x' = A x + B u, y = C x + D u with 0 <= y ⊥ u >= 0 (inputs and outputs paired, so
-        the system must be square).  Floats are read as their shortest decimals (0.1 is 1/10);
-        ``options`` go to :class:`LCS` (names, restitution, ...).  State and pair names come from
-        the system's labels when it has them (:func:`~lcs_exact.statespace.read_statespace`):
-        ``LCS.from_statespace(lcs.to_statespace())`` gives back the names and, for decimal data
-        of up to 15 significant digits, the exact matrices.
+        """The LCS of a python-control ``StateSpace`` (or anything with ``A``, ``B``, ``C``, ``D`` arrays):
+        x' = A x + B u, y = C x + D u with 0 <= y ⊥ u >= 0 (inputs and outputs paired, so the system must be
+        square).  Floats are read as their shortest decimals (0.1 is 1/10); ``options`` go to :class:`LCS`
+        (names, restitution, ...).  State and pair names come from the system's labels when it has them
+        (:func:`~lcs_exact.statespace.read_statespace`): ``LCS.from_statespace(lcs.to_statespace())`` gives
+        back the names and, for decimal data of up to 15 significant digits, the exact matrices.
 
         Parameters
         ----------
@@ -443,9 +440,8 @@ class LCS:
     def embed(self, x: Any) -> fmpq_mat:
         """The full initial state (n x 1) for a state x of the modelled system.
 
-        Builders that append states set the embedding: for a relay LCS (x, c) with the constant
-        relay level c, ``embed(x)`` is (x, 1).  Without one, x itself (read as a rational vector
-        of length n).
+        Builders that append states set the embedding: for a relay LCS (x, c) with the constant relay level
+        c, ``embed(x)`` is (x, 1).  Without one, x itself (read as a rational vector of length n).
 
         Parameters
         ----------
@@ -551,7 +547,6 @@ class LCS:
         S = fmpq_mat([[self.A[i, j] for j in J] for i in J])
         return source_block(J, S, tail, [self.state_names[i] for i in J])
 
-    # --- modes and selection (delegated) -----------------------------------------------------
     def _index_set(self, I: Iterable[int]) -> frozenset:
         if isinstance(I, (str, bytes, Mapping)) or not isinstance(I, Iterable):
             raise ShapeError(f"a mode is a set of constraint indices (0-based ints), got {to_short(I)}")
@@ -591,35 +586,45 @@ class LCS:
         return frozenset(self._modes)
 
     def select_modes(self, x0: Any, method: str = "auto", *, nonautonomous: str = "raise") -> set:
-        """S(x0) as a set of frozensets (Theorem 5.2: S = S_RCP = S_LDCP^oo).
-
-        ``method``: ``"rcp"`` solves RCP(x0) exactly for every mode (a mode that is not
-        autonomous is decided exactly too); ``"ldcp"`` solves LDCP_n by the LCP sequence of
-        Theorems 6.9-6.10 (needs N to be a P-matrix); ``"auto"`` uses LDCP_n when N is a P-matrix
-        and RCP otherwise.  ``nonautonomous``: ``"raise"`` (NotAutonomous when a mode that is not
-        autonomous is admissible at x0) or ``"include"``.  See
+        """S(x0) as a set of frozensets (Theorem 5.2: S = S_RCP = S_LDCP^oo); see
         :func:`lcs_exact.selection.select_modes`.
 
         Parameters
         ----------
         x0 : vector of rationals or exact vector
         method : {"auto", "rcp", "ldcp"}, optional
-            How S(x0) is found (above).
+            ``"rcp"`` solves RCP(x0) exactly for every mode (a mode that is not autonomous is decided
+            exactly too); ``"ldcp"`` solves LDCP_n by the LCP sequence of Theorems 6.9-6.10 (needs N to be a
+            P-matrix); ``"auto"`` uses LDCP_n when N is a P-matrix and RCP otherwise.
         nonautonomous : {"raise", "include"}, optional
-            What to do with an admissible mode that is not autonomous (above).
+            ``"raise"`` (NotAutonomous) or ``"include"`` a mode admissible at x0 that is not autonomous.
         """
         return select_modes(self, x0, method=method, nonautonomous=nonautonomous)
 
     def rcp(self, x0: Any):
-        """All solutions of RCP(x0) (5.3)-(5.4), one per admissible mode; see selection.rcp."""
+        """All solutions of RCP(x0) (5.3)-(5.4), one per admissible mode; see selection.rcp.
+
+        Parameters
+        ----------
+        x0 : vector of rationals"""
         return rcp(self, x0)
 
     def ldcp(self, x0: Any, kappa: int | None = None):
-        """LDCP_kappa(x0) (5.10)-(5.12); kappa defaults to n.  See selection.ldcp."""
+        """LDCP_kappa(x0) (5.10)-(5.12), N a P-matrix (Theorems 6.9, 6.10).  See selection.ldcp.
+
+        Parameters
+        ----------
+        x0 : vector of rationals or exact vector
+        kappa : int, optional
+            The number of stages (default n: Theorem 6.10)."""
         return ldcp(self, x0, self.n if kappa is None else kappa)
 
     def initial_solution(self, x0: Any):
-        """The initial solution from x0 (unique when N is a P-matrix): mode, impulse, x(0+)."""
+        """The initial solution from x0 (unique when N is a P-matrix): mode, impulse, x(0+).
+
+        Parameters
+        ----------
+        x0 : vector of rationals or exact vector"""
         return initial_solution(self, x0)
 
     def mode_map(self, slice: Any = None):
@@ -635,10 +640,13 @@ class LCS:
         return mode_map(self, slice)
 
     def is_regular(self, x0: Any) -> bool:
-        """Theorem 6.8: x0 admits a smooth initial solution."""
+        """Theorem 6.8: x0 admits a smooth initial solution.
+
+        Parameters
+        ----------
+        x0 : vector of rationals or exact vector"""
         return is_regular(self, x0)
 
-    # --- display ------------------------------------------------------------------------------
     def __repr__(self):
         # non-integers are quoted: "1/3" pastes back exactly (an unquoted 1/3 would be a float)
         q = lambda e: str(e) if e.q == 1 else f"'{e}'"  # noqa: E731

@@ -430,7 +430,14 @@ def _floats(m: Any):
 
 
 class ZooCase:
-    """One problem of the shipped zoo, as a numerical solver's test sees it.
+    """One problem of the shipped zoo, as a numerical solver's test sees it (made by :func:`cases`).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem (its name and title).
+    path : path-like
+        Its certified fixture file (read on first use of :attr:`fixture`).
 
     Attributes
     ----------
