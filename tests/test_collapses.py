@@ -152,7 +152,7 @@ def test_siconos_two_bouncing_balls_run_to_the_horizon():
     tr = L.simulate(lcs, x0, 3, closed_forms=False)
     assert tr.certified and not tr.partial and len(tr.accumulations) == 1
     acc = tr.accumulations[0]
-    with mp.workdps(80):
+    with mp.workdps(200):  # the early impacts amplify rounding: at 80 digits event 686 is off by 7e-29
         events, t_star = reference(**spec)
         assert len(events) > len(tr.events) > 300
         for ev, (t, c, _) in zip(tr.events, events):
