@@ -10,7 +10,7 @@ public interface only (``lcs``, ``x0``, ``t_end``, ``events``, ``partial``, ``st
 ``state_before``, ``state_after``, ``impulse``).  :func:`plot_trajectory` draws in steps named
 after what they draw (each phase with its states panel and linear panels, accumulation windows,
 events with the jumps and impulses at them, jumps of u, y, w, legends, the title, then the texts
-placed where there is room), sharing one ``_Canvas``.
+placed where there is room), sharing one ``Canvas``.
 
 What a reader needs to see, and how it is drawn:
 
@@ -42,14 +42,14 @@ Numbers are evaluated exactly (certified balls) and only then rounded to floats 
 """
 from __future__ import annotations
 
-import math
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, Sequence
 
 from flint import arb, ctx, fmpq_mat
 
+from .canvas import Canvas
 from .convergence import plot_convergence
 from ..errors import InvalidArgument, LCSError
 from ..interfaces import AccumulationWindow
@@ -189,7 +189,7 @@ def _component(v, i: int) -> tuple[float, bool]:
     return float(c), not c.ball(20).contains(0)
 
 
-def _linear_maps(cv: "_Canvas", mode, lcs) -> dict | None:
+def _linear_maps(cv: "Canvas", mode, lcs) -> dict | None:
     """{panel: M} with panel(t) = M x(t) on a phase of ``mode`` of ``lcs`` (the system in force:
     a schedule's phase): u_I = F_I x, zero off I (section 4.1), y = C x + D u, w = W_x x + W_u u.
     None for an unknown mode (a deadlock at the start)."""
@@ -213,7 +213,7 @@ def _system_in_force(lcs, ph: PhaseInterval):
     return lcs if schedule is None else schedule.system_at((float(ph.start) + float(ph.end)) / 2)
 
 
-def _free_rows(cv: "_Canvas", free: frozenset) -> dict:
+def _free_rows(cv: "Canvas", free: frozenset) -> dict:
     """{panel: components that depend on the undetermined inputs ``free``}."""
     lcs = cv.lcs
     out = {"u": set(free), "y": {i for i in range(lcs.k) if any(lcs.D[i, j] != 0 for j in free)}}
@@ -317,7 +317,7 @@ def plot_trajectory(traj, *, states: Sequence[Any] | None = None, constraints: S
     axes = list(axes[:, 0])
     palette = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     m = len(outputs.names) if outputs is not None else 0
-    cv = _Canvas(traj, lcs, fig, axes, dict(zip(panels, axes)),
+    cv = Canvas(traj, lcs, fig, axes, dict(zip(panels, axes)),
                  {"x": sidx, "u": cidx, "y": cidx, "w": list(range(m))},
                  pens=[(palette[i % len(palette)], _STYLES[(i // len(palette)) % len(_STYLES)])
                        for i in range(max(lcs.n, lcs.k, m))],
@@ -368,91 +368,7 @@ def _drawn_panels(panels, outputs) -> list[str]:
     return panels
 
 
-@dataclass
-class _Canvas:
-    """What the parts of a trajectory figure share: the trajectory, the panels (``ax_of``: "x",
-    "w", "u", "y" to their axes), the components drawn in each (``comps``) and their pens (colour,
-    line style of the pos-th line), the colour of each mode, the declared outputs, the names of
-    the states left out (sources), and what was drawn (for the legends and the texts placed last)."""
-
-    traj: Any
-    lcs: Any
-    fig: Any
-    axes: list
-    ax_of: dict
-    comps: dict
-    pens: list
-    colors: dict
-    outputs: Any = None
-    hidden: list = field(default_factory=list)
-    t_hi: float = 1.0
-    any_jump: bool = False
-    any_free: bool = False
-    free_of: dict = field(default_factory=dict)  # mode -> inputs undetermined on its phases
-    equal: dict = field(default_factory=dict)  # (panel, pos, pos') -> modes where the two lines are equal
-    impulses: list = field(default_factory=list)  # (t drawn, text) of each impulse arrow
-    stopped: float | None = None  # where a partial run stopped (its mark takes room above the axes)
-    # a dense figure (hundreds of phases) batches its artists: one line per component, one set of
-    # markers per kind, one collection of shadings per mode (an artist each took 20 s for 700 events)
-    batch: bool = False
-    pending: dict = field(default_factory=dict)  # (call, key) -> [xs, ys] or the spans, for flush()
-
-    def line(self, which: str, pos: int, tt, vals) -> None:
-        """The pos-th line of a panel (a state, an output, or a pair's u or y) over the times tt."""
-        if self.batch:  # one Line2D, the phases apart by NaN (no segment joins them)
-            xs, ys = self.pending.setdefault(("line", (which, pos)), ([], []))
-            xs.extend([math.nan, *tt] if xs else tt)
-            ys.extend([math.nan, *vals] if ys else vals)
-            return
-        color, ls = self.pens[pos]
-        self.ax_of[which].plot(tt, vals, color=color, ls=ls, lw=self.width(which, pos))
-
-    def span(self, a: float, b: float, mode) -> None:
-        """A phase [a, b] shaded with its mode's colour in every panel."""
-        if self.batch:
-            self.pending.setdefault(("span", mode), []).append((a, b - a))
-            return
-        for ax in self.axes:
-            ax.axvspan(a, b, color=self.colors[mode], alpha=0.10, lw=0)
-
-    def flush(self) -> None:
-        """Draw what a dense figure batched."""
-        for (call, key), data in self.pending.items():
-            if call == "line":
-                color, ls = self.pens[key[1]]
-                self.ax_of[key[0]].plot(*data, color=color, ls=ls, lw=self.width(*key))
-            elif call == "span":
-                for ax in self.axes:
-                    ax.broken_barh(data, (0, 1), transform=ax.get_xaxis_transform(), color=self.colors[key],
-                                   alpha=0.10, lw=0)
-            else:
-                which, pos, sizes = key[1:]
-                color, style = self.pens[pos][0], dict(mfc="white", mec=self.pens[pos][0], ms=sizes[0], zorder=5) \
-                    if key[0] == "left" else dict(color=self.pens[pos][0], ms=sizes[1], zorder=6)
-                self.ax_of[which].plot(*data, "o", ls="none", **style)
-        self.pending.clear()
-
-    def width(self, which: str, pos: int) -> float:
-        """The width of the pos-th line of a panel: the outputs' (relays, often equal: both at +1
-        or 0) decrease with pos, so that a line drawn over an equal one leaves it visible."""
-        m = len(self.comps[which])
-        return 1.6 + (1.6 * (m - 1 - pos) / (m - 1) if which == "w" and 1 < m <= 8 else 0.0)
-
-    def jump(self, which: str, pos: int, t: float, left, right, sizes: tuple) -> None:
-        """A jump of the pos-th line of a panel at t: an open circle at the left limit, a filled
-        one at the right limit (the trajectory is right-continuous)."""
-        if self.batch:
-            for side, v in (("left", left), ("right", right)):
-                xs, ys = self.pending.setdefault(("mark", (side, which, pos, sizes)), ([], []))
-                xs.append(t)
-                ys.append(float(v))
-            return
-        color = self.pens[pos][0]
-        self.ax_of[which].plot([t], [float(left)], "o", mfc="white", mec=color, ms=sizes[0], zorder=5)
-        self.ax_of[which].plot([t], [float(right)], "o", color=color, ms=sizes[1], zorder=6)
-
-
-def _draw_phase(cv: _Canvas, ph: PhaseInterval, npts: int) -> dict | None:
+def _draw_phase(cv: Canvas, ph: PhaseInterval, npts: int) -> dict | None:
     """A continuous phase: shaded with its mode's colour in every panel, its ``npts`` certified
     samples drawn in the states panel and the linear panels (an accumulation window: its
     flights).  Returns {panel: (value at its start, value at its end, undetermined components)},
@@ -476,7 +392,7 @@ def _draw_phase(cv: _Canvas, ph: PhaseInterval, npts: int) -> dict | None:
     return _draw_linear_panels(cv, ph, tt, first, last, balls)
 
 
-def _draw_linear_panels(cv: _Canvas, ph: PhaseInterval, tt: list, first, last, balls: list) -> dict | None:
+def _draw_linear_panels(cv: Canvas, ph: PhaseInterval, tt: list, first, last, balls: list) -> dict | None:
     """w, u and y on one phase: linear in x there (:func:`_linear_maps`), from the same balls and
     exactly at the two ends (the values after the event that starts it and before the one that
     ends it: the values the jump markers compare); components that depend on inputs the state
@@ -507,7 +423,7 @@ def _draw_linear_panels(cv: _Canvas, ph: PhaseInterval, tt: list, first, last, b
     return ends
 
 
-def _draw_window(cv: _Canvas, ph: PhaseInterval, npts: int) -> None:
+def _draw_window(cv: Canvas, ph: PhaseInterval, npts: int) -> None:
     """An accumulation window [t_k, T*): the scaled cycles of the proven law, each flight its own
     line (no segment across an event), until the flights are shorter than the plot resolves;
     states are certified balls (``traj.sample``), u, y and w the flight's mode applied to them."""
@@ -558,7 +474,7 @@ def _flight_times(window, count: int):
         start, scale = start + T * scale, scale * rho
 
 
-def _draw_events(cv: _Canvas, evs: list) -> None:
+def _draw_events(cv: Canvas, evs: list) -> None:
     """Every event: its dashed line, the jumps of the states and the impulses (their texts and
     the events' labels are placed last, when the axes have their size)."""
     many = len(evs) > 48  # a dense run: thin light event lines, not a hatching
@@ -580,7 +496,7 @@ def _draw_events(cv: _Canvas, evs: list) -> None:
         _draw_impulses(cv, e, te)
 
 
-def _draw_impulses(cv: _Canvas, e, te: float) -> None:
+def _draw_impulses(cv: Canvas, e, te: float) -> None:
     """The impulses u^0 δ at an event (3.6): dashed dark arrows through the whole u panel (a Dirac
     has no value on the scale of u, and the arrows are not lines of u), their texts
     ``impulse (stop) = 1.5`` placed last."""
@@ -601,7 +517,7 @@ def _draw_impulses(cv: _Canvas, e, te: float) -> None:
         shown += 1
 
 
-def _draw_linear_jumps(cv: _Canvas, phases: list, ends: list) -> None:
+def _draw_linear_jumps(cv: Canvas, phases: list, ends: list) -> None:
     """u, y and w jump wherever the mode changes: open/closed markers as for the state, for the
     components determined on both sides."""
     for prev, cur, ph in zip(ends, ends[1:], phases[1:]):
@@ -619,7 +535,7 @@ def _draw_linear_jumps(cv: _Canvas, phases: list, ends: list) -> None:
                     cv.jump(p, pos, te, left, right, (5, 4))
 
 
-def _draw_legends(cv: _Canvas) -> None:
+def _draw_legends(cv: Canvas) -> None:
     """Each panel's label and legend outside the data: its lines (names), the impulses and the
     gaps where they occur, the states not drawn; in the first panel the jump markers and the
     modes' shades, one entry per mode."""
@@ -663,7 +579,7 @@ def _draw_legends(cv: _Canvas) -> None:
                   ncol=1 + (lines - 1) // 14)
 
 
-def _draw_title(cv: _Canvas, phases: list, title: str | None) -> None:
+def _draw_title(cv: Canvas, phases: list, title: str | None) -> None:
     """The title (the system's name); a partial run says so and is marked where it stopped."""
     traj = cv.traj
     name = title if title is not None else (getattr(cv.lcs, "name", None) or "LCS trajectory")
@@ -677,7 +593,7 @@ def _draw_title(cv: _Canvas, phases: list, title: str | None) -> None:
     cv.fig.suptitle(name, fontsize=11)
 
 
-def _place_texts(cv: _Canvas, evs: list, label_events: int) -> None:
+def _place_texts(cv: Canvas, evs: list, label_events: int) -> None:
     """The texts placed last, measured against the axes' final width: the events' labels above
     the first panel (four rows), the impulses' texts beside their arrows (three rows from the
     arrows' tips down); a text with no room is left out (its event or arrow stays drawn), and the

@@ -8,7 +8,6 @@ and says why in ``stop_reason``.  Indices are 0-based.
 """
 from __future__ import annotations
 
-import bisect
 
 import enum
 from dataclasses import dataclass, field
@@ -20,6 +19,7 @@ from ..numbers import DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, digits_
 from ..errors import InvalidArgument, LCSError, Undetermined
 from ..interfaces import AccumulationWindow
 from .fixture import fixture_dict
+from .timeline import Timeline
 from ..modes import format_mode, latex_mode
 from ..display import derived_outputs
 from ..display import plot_trajectory
@@ -112,7 +112,7 @@ class Trajectory:
     """
 
     __slots__ = ("lcs", "x0", "t_end", "digits", "events", "phases", "status", "stop_reason", "choices",
-                 "assumptions", "accumulations", "elapsed", "policy", "_ends", "_frozen")
+                 "assumptions", "accumulations", "elapsed", "policy", "_ends", "_frozen")  # _ends: a Timeline
 
     def __init__(self, lcs, x0: ExactVector, t_end: Real, digits: int, *, events: Sequence = (),
                  phases: Sequence = (), status: Status = Status.COMPLETE, stop_reason: str | None = None,
@@ -180,37 +180,18 @@ class Trajectory:
 
     # --- evaluation ---------------------------------------------------------------------------
     def _locate(self, t: Real, start: int = 0) -> tuple[int, bool]:
-        """(index of the phase holding t, True when t is exactly that phase's end), decided by
-        certified signs (an event time equal to t is proven through closed forms); the search
-        starts at phase ``start`` (t is known to be at or after its start)."""
+        """(index of the phase holding t, True at its end exactly): :meth:`Timeline.locate`."""
         if not self.phases:
             raise LCSError("the trajectory has no continuous phase")
         if start == 0 and (t - self.phases[0].t0).sign() < 0:
             raise InvalidArgument(f"t = {t.label()} is before the start of the trajectory")
-        i = self._guess(t, start)  # a float bisection, then certified signs walk to the phase
-        while i > start and self._cmp_end(t, i - 1) <= 0:
-            i -= 1
-        while i < len(self.phases):
-            s = self._cmp_end(t, i)
-            if s <= 0:
-                return i, s == 0
-            i += 1
-        raise InvalidArgument(f"t = {t.label()} is after the last computed time {self.phases[-1].t1.label()}"
-                         + (" (the trajectory is partial)" if self.partial else ""))
-
-    def _cmp_end(self, t: Real, i: int) -> int:
-        """The certified sign of t - (end of phase i)."""
-        end = self.phases[i].t1
-        return 0 if t is end else (t - end).sign()
-
-    def _guess(self, t: Real, start: int) -> int:
-        """The phase holding t by bisection on the phases' ends as floats (a guess only: a plot asks
-        thousands of times, and a linear walk of certified signs over 700 phases took seconds)."""
-        ends = getattr(self, "_ends", None)
-        if ends is None:  # a cache of immutable data (hence object.__setattr__ past the freeze)
-            ends = [float(rec.t1.arb(64).mid()) for rec in self.phases]
-            object.__setattr__(self, "_ends", ends)
-        return min(max(bisect.bisect_left(ends, float(t.arb(64).mid()), lo=start), start), len(ends) - 1)
+        if getattr(self, "_ends", None) is None:  # a cache of immutable data: set past the freeze
+            object.__setattr__(self, "_ends", Timeline(self.phases))
+        found = self._ends.locate(t, start)
+        if found is None:
+            raise InvalidArgument(f"t = {t.label()} is after the last computed time {self.phases[-1].t1.label()}"
+                                  + (" (the trajectory is partial)" if self.partial else ""))
+        return found
 
     def _phase_at(self, t: Real) -> PhaseRecord:
         """The phase holding t, for u and y; at the end of a phase, the phase after it: u and y
