@@ -17,9 +17,9 @@ from typing import Any
 
 from flint import fmpq_mat
 
-from ..algebra import MAX_PREC_BITS, to_fmpq, to_int, to_short, vector_entries
+from ..algebra import MAX_PREC_BITS, to_fmpq, to_short, vector_entries
 from ..errors import InvalidArgument, LCSError, NotRational, ShapeError
-from ..numbers import MAX_DIGITS, Deadline, ExactVector, Policy, Real, as_real
+from ..numbers import Deadline, ExactVector, Policy, Real, as_real, check_digits
 from ..system import LCS
 
 __all__ = ["RunOptions", "run_options", "CLOSED_FORMS", "ZENO", "BRANCHES"]
@@ -90,10 +90,7 @@ def _check_option_values(lcs, digits, max_events, time_limit, closed_forms, allo
     """Each option value of a run, checked: an InvalidArgument naming the first bad one."""
     if not isinstance(lcs, LCS):
         raise InvalidArgument(f"lcs must be an LCS (lcs_exact.LCS), got {type(lcs).__name__}")
-    if not _is_int(digits):
-        raise InvalidArgument(f"digits must be a Python int in 1..{MAX_DIGITS}, got {to_short(digits)} "
-                              f"({type(digits).__name__}{'; use int(...)' if hasattr(digits, '__index__') else ''})")
-    to_int(digits, "digits", 1, MAX_DIGITS)
+    check_digits(digits)
     if not _is_int(max_events) or max_events < 0:
         raise InvalidArgument(f"max_events must be a nonnegative Python int, got {to_short(max_events)}")
     if time_limit is not None:

@@ -16,14 +16,14 @@ from typing import Any, Sequence
 
 from flint import arb, fmpq, fmpq_mat
 
-from ..numbers import DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, digits_to_bits, workprec
+from ..numbers import DEFAULT_POLICY, Policy, accuracy_bits, check_digits, digits_to_bits, workprec
 from ..errors import InvalidArgument, LCSError, Undetermined
 from ..interfaces import AccumulationWindow
 from .fixture import fixture_dict
 from ..modes import format_mode, latex_mode
 from ..display import derived_outputs
 from ..display import plot_trajectory
-from ..algebra import as_list, to_fmpq, to_int
+from ..algebra import as_list, to_fmpq
 from ..numbers import Real, as_real
 from ..system import source_block
 from ..system import signal_names, time_response
@@ -361,11 +361,11 @@ class Trajectory:
         """Certified balls of x(t) for every t in ``ts`` (rationals), each component to ``digits``
         digits (absolute 10^-digits for components below that).  One exponential per eigenvalue
         and point, from the phase's modal data: thousands of points in well under a second."""
+        digits = check_digits(digits)
         with self.policy.deadline.query():  # bounded by the run's time_limit, as the run was
             return self._sample(ts, digits)
 
     def _sample(self, ts: Sequence[Any], digits: int) -> list[list[arb]]:
-        digits = to_int(digits, "digits", 1, MAX_DIGITS)
         if isinstance(ts, (str, bytes)) or not hasattr(ts, "__iter__"):
             raise InvalidArgument(f"ts must be a sequence of rational times, got {type(ts).__name__}")
         need = digits_to_bits(digits) + 4

@@ -19,7 +19,7 @@ from typing import Any, Sequence
 
 from flint import arb, fmpq
 
-from ..numbers import workprec
+from ..numbers import check_digits, workprec
 from ..errors import FixtureMismatch, FormatError, IllPosed, InvalidArgument, LCSError
 from ..dynamics import ball_text, number_ball, number_exact, number_rational, short_text, to_fraction
 from ..dynamics import SCHEMA, check_digest, validate_fixture
@@ -328,8 +328,10 @@ class FixtureTrajectory:
         ts : sequence of rationals
             The times.
         digits : int, optional
-            Correct digits of each component.
+            Correct digits of each component (1..MAX_DIGITS; InvalidArgument otherwise, also
+            when every time is a sample time).
         """
+        digits = check_digits(digits)
         times = [to_fraction(t, "t") for t in ts]
         rows: list = [self._by_time.get(t) for t in times]
         missing = [i for i, r in enumerate(rows) if r is None]
