@@ -14,6 +14,7 @@ from flint import arb
 
 import lcs_exact as L
 from lcs_exact import InvalidArgument
+from lcs_exact.dynamics.options import CLOSED_FORMS
 from lcs_exact.numbers import MAX_DIGITS, check_digits
 from lcs_exact.verify.compare import Violation
 from lcs_exact.verify.zoo import Problem, write_zoo
@@ -134,3 +135,35 @@ def test_digits_defaults_are_the_documented_ones():
 
 def test_a_fixture_is_written_at_its_runs_digits_by_default(run):
     assert run.to_fixture()["digits"] == 20 and run.to_fixture(digits=7)["digits"] == 7
+@pytest.mark.parametrize("value, meaning", [("lazy", "lazy"), (True, "eager"), ("eager", "eager"),
+                                            (False, "off"), ("off", "off")])
+def test_closed_forms_spellings_and_their_meanings(value, meaning):
+    """lazy: nothing proven until asked, then pi/2; eager (True): the phase's duration pi/2 proven
+    by the run itself (the event time is 0 + theta); off (False): never looked for."""
+    assert CLOSED_FORMS[value] == meaning
+    tr = L.simulate(OSC, [1, 0], 2, closed_forms=value)
+    assert tr.policy.closed_forms == meaning
+    t = tr.events[0].time
+    known = t.b.known_closed_form        # theta, the phase's duration (known_closed_form never derives one)
+    if meaning == "eager":
+        assert str(known) == "pi/2"
+    else:
+        assert known is None
+    if meaning == "off":
+        assert t.closed_form is None and t.closed_form_status == "off"
+    else:
+        assert str(t.closed_form) == "pi/2" and t.closed_form_status == "proven"
+
+
+def test_the_default_is_lazy():
+    assert inspect.signature(L.simulate).parameters["closed_forms"].default == "lazy"
+
+
+@pytest.mark.parametrize("value", ["maybe", "Lazy", 1, 0, None, [], "true", np.bool_(True)])
+def test_closed_forms_other_values_name_the_accepted_ones(value):
+    with pytest.raises(InvalidArgument) as ei:
+        L.simulate(OSC, [1, 0], 2, closed_forms=value)
+    msg = str(ei.value)
+    assert msg.startswith("closed_forms must be")
+    for accepted in ("'lazy'", "'eager'", "'off'", "True", "False"):
+        assert accepted in msg, msg

@@ -24,7 +24,10 @@ from ..system import LCS
 
 __all__ = ["RunOptions", "run_options", "CLOSED_FORMS", "ZENO", "BRANCHES"]
 
-#: the spellings of ``closed_forms`` and the policy's meaning of each
+#: the spellings of ``closed_forms`` and the policy's meaning of each: ``"lazy"`` (the default)
+#: proves a number's closed form on the first access of ``.closed_form``; ``True`` and ``"eager"``
+#: prove the closed form of every phase's duration (the root theta that ends it) at its event, as
+#: the run goes; ``False`` and ``"off"`` never look for one (the bool spellings are the older ones)
 CLOSED_FORMS = {"lazy": "lazy", True: "eager", "eager": "eager", False: "off", "off": "off"}
 #: the values of ``zeno``: cross a proven accumulation (Definition 4.10), or stop there
 ZENO = ("cross", "stop")
@@ -67,7 +70,7 @@ def run_options(lcs: Any, x0: Any, t_end: Any, digits: Any, *, max_events: Any, 
     max_events : int >= 0
     time_limit : float >= 0 or None
     allow_unresolved : bool
-    closed_forms : 'lazy', 'eager', 'off', True or False
+    closed_forms : 'lazy', True or 'eager', False or 'off' (:data:`CLOSED_FORMS`)
     zeno : 'cross' or 'stop'
     branches : 'unique' or 'all'
     max_prec : int in 64..MAX_PREC_BITS or None
@@ -102,7 +105,8 @@ def _check_option_values(lcs, digits, max_events, time_limit, closed_forms, allo
             raise InvalidArgument("time_limit must be a nonnegative number of seconds (a float can hold) or "
                                   f"None, got {to_short(time_limit)}")
     if not isinstance(closed_forms, (str, bool)) or closed_forms not in CLOSED_FORMS:
-        raise InvalidArgument(f"closed_forms must be 'lazy', True or False, got {to_short(closed_forms)}")
+        raise InvalidArgument("closed_forms must be 'lazy' (the default), True or 'eager', False or 'off', "
+                              f"got {to_short(closed_forms)}")
     if not isinstance(allow_unresolved, bool):
         raise InvalidArgument(f"allow_unresolved must be True or False, got {to_short(allow_unresolved)}")
     if max_prec is not None and (not _is_int(max_prec) or not 64 <= max_prec <= MAX_PREC_BITS):

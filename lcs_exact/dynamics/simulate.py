@@ -75,8 +75,11 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         :class:`LimitExceeded` with the partial trajectory in ``.trajectory``.
     allow_unresolved : if True, an undecidable sign is assumed zero, recorded in
         ``traj.assumptions``, and the result is not ``certified``; otherwise UnresolvedSign.
-    closed_forms : ``"lazy"`` (default: proven on first access of ``.closed_form``), True (proven
-        at every event, as the run goes), False (never).
+    closed_forms : ``"lazy"`` (default): a closed form is proven on the first access of
+        ``.closed_form`` (event times, states); True or ``"eager"`` (the same): as lazy, and the
+        closed form of every phase's duration is proven at its event, as the run goes (its cost
+        paid by the run); False or ``"off"`` (the same): none is looked for (``closed_form`` is
+        None, ``closed_form_status`` "off").  Any other value is an InvalidArgument.
     zeno : ``"cross"`` (default): a right-accumulation of events (Remark 4.11) whose geometric law
         is proven exactly (:mod:`lcs_exact.accumulation`) is crossed: recorded in
         ``traj.accumulations``, and the run continues from the limit state; an accumulation
