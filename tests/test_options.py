@@ -46,6 +46,7 @@ def _entry_points(run, osc_fixture, tmp_path):
                           error=0.03, tolerance=1e-6)
     return {
         "simulate": lambda d: L.simulate(carts(), X0, 1, digits=d),
+        "simulate_branches": lambda d: L.simulate_branches(carts(), X0, 1, digits=d),
         "Trajectory.sample": lambda d: run.sample([0, "1/2"], d),
         "Trajectory.to_fixture": lambda d: run.to_fixture(digits=d),
         "ExactVector.ball": lambda d: run.state("1/2").ball(d),
@@ -71,7 +72,7 @@ class _FakeProblem:
         return [1, 0]
 
 
-ENTRY_NAMES = ["simulate", "Trajectory.sample", "Trajectory.to_fixture", "ExactVector.ball", "Real.ball",
+ENTRY_NAMES = ["simulate", "simulate_branches", "Trajectory.sample", "Trajectory.to_fixture", "ExactVector.ball", "Real.ball",
                "Real.decimal", "FixtureTrajectory.sample", "write_zoo", "Problem.run", "assert_matches_fixture",
                "Violation.message"]
 
@@ -127,7 +128,8 @@ def test_digits_defaults_are_the_documented_ones():
     def default(f):
         return inspect.signature(f).parameters["digits"].default
 
-    assert [default(f) for f in (L.simulate, L.Real.ball, L.Real.decimal, L.ExactVector.ball)] == [30] * 4
+    assert [default(f) for f in (L.simulate, L.simulate_branches, L.Real.ball, L.Real.decimal,
+                                 L.ExactVector.ball)] == [30] * 5
     assert [default(f) for f in (L.Trajectory.sample, L.FixtureTrajectory.sample)] == [17, 17]
     assert [default(f) for f in (write_zoo, Problem.run, assert_matches_fixture, Violation.message)] == [20] * 4
     assert default(L.Trajectory.to_fixture) is None

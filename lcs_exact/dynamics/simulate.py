@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import decimal
 import time as _time
-from typing import Any
+from typing import Any, Literal, overload
 
 from flint import arb, fmpq, fmpq_mat
 
@@ -48,12 +48,31 @@ from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
 from .options import run_options
 from .zeno import check_accumulation, shrinking_cycles
 
-__all__ = ["simulate"]
+__all__ = ["simulate", "simulate_branches"]
+@overload
+def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000, time_limit: float | None = None,
+             allow_unresolved: bool = False, closed_forms: Any = "lazy", zeno: str = "cross",
+             branches: Literal["unique"] = "unique", max_prec: int | None = None, progress: bool = False) -> Trajectory: ...
+
+
+@overload
+def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000, time_limit: float | None = None,
+             allow_unresolved: bool = False, closed_forms: Any = "lazy", zeno: str = "cross",
+             branches: Literal["all"], max_prec: int | None = None, progress: bool = False) -> Branches: ...
+
+
+@overload
+def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000, time_limit: float | None = None,
+             allow_unresolved: bool = False, closed_forms: Any = "lazy", zeno: str = "cross", branches: str = "unique",
+             max_prec: int | None = None, progress: bool = False) -> Trajectory | Branches: ...
+
+
 def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
              time_limit: float | None = None, allow_unresolved: bool = False,
              closed_forms: Any = "lazy", zeno: str = "cross", branches: str = "unique",
-             max_prec: int | None = None, progress: bool = False) -> Trajectory:
-    """Run Algorithm 7.1 from x0 on [0, t_end] and return the exact :class:`Trajectory`.
+             max_prec: int | None = None, progress: bool = False) -> Trajectory | Branches:
+    """Run Algorithm 7.1 from x0 on [0, t_end] and return the exact :class:`Trajectory`
+    (:class:`~lcs_exact.trajectory.Branches` with ``branches="all"``: :func:`simulate_branches`).
 
     Parameters
     ----------
@@ -88,10 +107,8 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     branches : ``"unique"`` (default): where S(z) holds several initial solutions that give
         different trajectories (outside Theorem 6.3), raise :class:`IllPosed` with
         ``.alternatives`` (each mode with its initial solution) and the partial trajectory.
-        ``"all"``: follow every branch (at most MAX_BRANCHES, within ``max_events`` and
-        ``time_limit`` each) and return :class:`~lcs_exact.trajectory.Branches` (``.unique`` False
-        when there were choices), each trajectory with its ``.choices`` and ``certified`` when no
-        sign was assumed on it (each is one solution, exactly; none is *the* solution).
+        ``"all"``: follow every branch and return :class:`~lcs_exact.trajectory.Branches`, as
+        :func:`simulate_branches` (the same call, typed as such).
     progress : if True, a progress bar (tqdm) over [0, t_end], advanced at every event (needs
         tqdm: ``pip install tqdm``, or ``lcs_exact[sweep]``).
     max_prec : int, optional
@@ -116,6 +133,8 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     z0 = as_exact_vector(x0, lcs.n)
     bar = _progress_bar(T) if opts.progress else None
     if opts.branches == "all":
+        if bar is not None:
+            bar.close()  # a bar over [0, t_end] says nothing of branches re-run from the start
         return _all_branches(lcs, z0, T, digits, max_events, policy, zeno)
     try:
         return _run(lcs, z0, T, digits, max_events, policy, zeno, "unique", [], bar)
@@ -123,6 +142,35 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         policy.deadline.disarm()
         if bar is not None:
             bar.close()
+
+
+def simulate_branches(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
+                      time_limit: float | None = None, allow_unresolved: bool = False, closed_forms: Any = "lazy",
+                      zeno: str = "cross", max_prec: int | None = None, progress: bool = False) -> Branches:
+    """Every solution from x0 on [0, t_end]: ``simulate(..., branches="all")``, typed as such.
+
+    Where S(z) holds initial solutions that give different trajectories (outside Theorem 6.3),
+    every branch is followed (depth first, each run from the start with its choices; at most
+    MAX_BRANCHES, each within ``max_events``, all within ``time_limit``).  Each trajectory has its
+    ``.choices`` and is ``certified`` when no sign was assumed on it: one solution, exactly, none
+    *the* solution; ``.unique`` is False when there were choices.  A branch stopped early keeps
+    its partial trajectory and status.
+
+    Parameters
+    ----------
+    lcs, x0, t_end, digits, max_events, time_limit, allow_unresolved, closed_forms, zeno, max_prec, progress
+        As for :func:`simulate` (checked the same way).
+
+    Examples
+    --------
+    >>> import lcs_exact as L
+    >>> b = simulate_branches(L.LCS([[-1]], [[1]], [[1]], [[-1]]), [1], 2)   # x = e^-t, or x = 1
+    >>> len(b), b.unique, b.certified, [tr.state(2)[0].rational() for tr in b]
+    (2, False, True, [None, 1])
+    """
+    return simulate(lcs, x0, t_end, digits, max_events=max_events, time_limit=time_limit,
+                    allow_unresolved=allow_unresolved, closed_forms=closed_forms, zeno=zeno, branches="all",
+                    max_prec=max_prec, progress=progress)
 
 
 def _progress_bar(T):

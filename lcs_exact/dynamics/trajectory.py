@@ -668,7 +668,8 @@ def full_feedback(mode) -> fmpq_mat:
 
 
 class Branches:
-    """The solutions of a non-unique problem (``simulate(..., branches="all")``): one
+    """The solutions of a non-unique problem (:func:`~lcs_exact.simulate_branches`, or
+    ``simulate(..., branches="all")``): one
     :class:`Trajectory` per sequence of choices between different initial solutions, each
     recording its ``choices``.
 

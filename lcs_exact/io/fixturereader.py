@@ -26,7 +26,7 @@ from ..dynamics import SCHEMA, check_digest, validate_fixture
 from ..modes import format_mode
 from ..algebra import to_fmpq, to_matrix
 from ..dynamics import scheduled
-from ..dynamics import simulate
+from ..dynamics import simulate, simulate_branches
 from ..system import AppendedStates, SourceBlock
 from ..system import LCS
 from ..numbers import expm_action
@@ -256,7 +256,7 @@ class FixtureTrajectory:
         try:
             traj = simulate(self.lcs, x0, T, digits=self.digits, **opts)
         except IllPosed:  # a non-unique problem (Theorem 6.3 fails): the fixture is one of its branches
-            return self._matching_branch(simulate(self.lcs, x0, T, digits=self.digits, branches="all", **opts))
+            return self._matching_branch(simulate_branches(self.lcs, x0, T, digits=self.digits, **opts))
         except LCSError as e:
             if not self.partial or getattr(e, "trajectory", None) is None:
                 raise FixtureMismatch(f"{self.source}: recomputing the run failed where the fixture "
