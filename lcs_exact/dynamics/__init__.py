@@ -1,7 +1,7 @@
 """Runs of an LCS: real roots of exponential sums (``guesses``, ``roots``, ``polyroots``),
 the continuous phase (``phase``, ``clock``), the next event (``flow``), the trajectory and the
 fixture format it writes (``trajectory``, ``fixture``, ``fixnumbers``), accumulations and
-cascades (``accumulation``, ``cascade``, ``bounces``, ``zeno``), scheduled systems (``schedule``),
+cascades (``symmetry``, ``accumulation``, ``cascade``, ``bounces``, ``zeno``), scheduled systems (``schedule``),
 Algorithm 7.1 (``simulate``) and sweeps (``sweep``).  Imports the doors below it.
 
 This is the subpackage's door: other subpackages and users import what ``__all__`` names,
