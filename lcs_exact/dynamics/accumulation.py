@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
@@ -389,6 +389,26 @@ class Accumulation:
                 f"{'no geometric law' if self.ratio is None else f'ratio {self.ratio}'})")
 
 
+def _cycle_start(j: int, T: Any, rho: Any) -> Any:
+    """s_j = T rho (1 - rho^j) / (1 - rho): where cycle j of a geometric law starts after t_k (cycle
+    j covers [s_j, s_{j+1}): the reference cycle, of length T, scaled by rho^(j+1)), in the
+    arithmetic of T and rho: exact (a Real and a rational), balls or floats."""
+    return T * (rho * (1 - rho ** j) / (1 - rho))
+
+
+def _locate_cycle(m: int, side: Callable[[int], int | None]) -> int | None:
+    """The cycle holding a time, from a guess m (:func:`_cycle_guess`): moved by one cycle while
+    ``side(m)`` says the time lies before cycle m (-1, for m > 0 only) or after it (+1), at most 64
+    moves; None when ``side`` cannot tell (None: a ball on a cycle's boundary) or the moves run out.
+    The one search of :class:`ScaledCycle`'s maps, exact, on balls and in floats."""
+    for _ in range(64):
+        s = side(m)
+        if s is None or s == 0:
+            return m if s == 0 else None
+        m += s
+    return None
+
+
 def _cycle_guess(dt: float, T: Any, rho: fmpq) -> int:
     """A float guess of the cycle m holding t_k + dt (cycle m covers [s_m, s_m + T rho^(m+1)),
     s_m = T rho (1 - rho^m) / (1 - rho)); the callers check it exactly and move it."""
@@ -431,24 +451,48 @@ class ScaledCycle(AccumulationWindow):
                                   "algebraic) times only")
         law = self.law
         rho, T = law.ratio, law.cycle_length
-        # cycle m covers [s_m, s_m + T rho^(m+1)) after t_k, s_m = T rho (1 - rho^m) / (1 - rho):
-        # m from a float estimate, then the two bounds checked exactly (moved by one if needed)
-        m = _cycle_guess(float(d), T, rho)
 
-        def start(j):
-            return T * (rho * (1 - rho ** j) / (1 - rho))
+        def side(j):  # the two bounds of cycle j checked exactly
+            if j > 0 and (d - _cycle_start(j, T, rho)).sign() < 0:
+                return -1
+            return 1 if (d - _cycle_start(j + 1, T, rho)).sign() >= 0 else 0
 
-        for _ in range(64):
-            if m > 0 and (d - start(m)).sign() < 0:
-                m -= 1
-            elif (d - start(m + 1)).sign() >= 0:
-                m += 1
-            else:
-                break
-        else:
+        m = _locate_cycle(_cycle_guess(float(d), T, rho), side)
+        if m is None:
             raise LCSError("internal inconsistency: a time inside an accumulation window beyond its end")
         scale = rho ** (m + 1)
-        return law.cycle_start + (d - start(m)) / scale, scale
+        return law.cycle_start + (d - _cycle_start(m, T, rho)) / scale, scale
+
+    def reference_time(self, t: float) -> float | None:
+        """A time t of the window (absolute, a float: a plot's sample) mapped into the reference
+        cycle as :meth:`_map` maps an exact time, in floats: it places a sample and certifies
+        nothing; None when its cycle cannot be placed (t at T*, to a float's precision).
+
+        Parameters
+        ----------
+        t : float
+        """
+        law = self.law
+        rho, T, d = float(law.ratio), float(law.cycle_length), t - float(self.t_k)
+
+        def side(j):
+            if j > 0 and d < _cycle_start(j, T, rho):
+                return -1
+            return 1 if d >= _cycle_start(j + 1, T, rho) else 0
+
+        m = _locate_cycle(_cycle_guess(d, law.cycle_length, law.ratio), side)
+        return None if m is None else float(law.cycle_start) + (d - _cycle_start(m, T, rho)) / rho ** (m + 1)
+
+    def flight_mode(self, t: float) -> Any:
+        """The mode of the flight holding the time t (a float: a plot's sample): that of the
+        reference cycle's phase where :meth:`reference_time` puts it, or None.
+
+        Parameters
+        ----------
+        t : float
+        """
+        t_ref = self.reference_time(t)
+        return None if t_ref is None else self.reference.mode_at(t_ref)
 
     def event_time_ball(self, k: int, prec: int = 128) -> arb:
         """:meth:`event_time` as a certified ball at ``prec`` bits, from balls of t_k, T and the
@@ -470,22 +514,18 @@ class ScaledCycle(AccumulationWindow):
         with workprec(prec):
             Tb, r = T.arb(prec), arb(rho)
 
-            def start(j):  # T rho (1 - rho^j) / (1 - rho)
-                return Tb * (r * (1 - r ** j) / (1 - r))
+            def side(j):  # None: on a cycle's boundary, to the ball's width
+                lo, hi = d - _cycle_start(j, Tb, r), d - _cycle_start(j + 1, Tb, r)
+                if j > 0 and lo < 0:
+                    return -1
+                if hi >= 0:
+                    return 1
+                return 0 if lo > 0 and hi < 0 else None
 
-            m = _cycle_guess(float(d.mid()), T, rho)
-            for _ in range(64):
-                lo, hi = d - start(m), d - start(m + 1)
-                if m > 0 and lo < 0:
-                    m -= 1
-                elif hi >= 0:
-                    m += 1
-                elif lo > 0 and hi < 0:
-                    break
-                else:
-                    return None  # on a cycle's boundary, to the ball's width
-            else:
+            m = _locate_cycle(_cycle_guess(float(d.mid()), T, rho), side)
+            if m is None:
                 return None
+            lo = d - _cycle_start(m, Tb, r)
             scale = rho ** (m + 1)
             x = self.reference.ball(law.cycle_start.arb(prec) + lo / arb(scale), prec)
             if x is None:
@@ -562,6 +602,17 @@ class ReferenceStates:
             M = F if kind == "u" else self.run.lcs.C + self.run.lcs.D * F
             return ProjectedVector(M, x)
         raise LCSError("internal inconsistency: a reference time outside the computed run")
+
+    def mode_at(self, t_ref: float) -> Any:
+        """The mode of the computed phase holding the time t_ref (a float: a plot's sample), or None.
+
+        Parameters
+        ----------
+        t_ref : float
+        """
+        rec = next((r for r in self.run.phases if not isinstance(r.phase, AccumulationWindow)
+                    and float(r.t0) <= t_ref < float(r.t1)), None)
+        return None if rec is None else rec.phase.mode
 
     def ball(self, t_ref: arb, prec: int):
         """x(t_ref) for a ball t_ref inside the computed part, from the phase holding it (balls

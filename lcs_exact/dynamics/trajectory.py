@@ -332,7 +332,7 @@ class Trajectory:
             Times inside its flights.
         kind : {"u", "y", "w"}
         """
-        modes = [self._window_mode(window, float(t)) for t in ts]
+        modes = [window.flight_mode(float(t)) for t in ts]
         if not ts or any(m is None for m in modes):
             return None
         rows = []
@@ -342,20 +342,6 @@ class Trajectory:
             M = F if kind == "u" else lcs.C + lcs.D * F if kind == "y" else out.Wx + out.Wu * F
             rows.append([sum(float(M[i, j]) * xf[j] for j in range(len(xf))) for i in range(M.nrows())])
         return rows
-
-    def _window_mode(self, window: AccumulationWindow, t: float):
-        """The mode of the flight holding t (a plot's sample) in a window, or None."""
-        law = getattr(window, "law", None)
-        if law is None:
-            return window.mode
-        rho, T, d = float(law.ratio), float(law.cycle_length), t - float(window.t_k)
-        m, s_m = 0, 0.0
-        while d >= s_m + T * rho ** (m + 1) and m < 10_000:  # cycle m covers [s_m, s_m + T rho^(m+1))
-            s_m, m = s_m + T * rho ** (m + 1), m + 1
-        t_ref = float(law.cycle_start) + (d - s_m) / rho ** (m + 1)
-        rec = next((r for r in self.phases if not isinstance(r.phase, AccumulationWindow)
-                    and float(r.t0) <= t_ref < float(r.t1)), None)
-        return None if rec is None else rec.phase.mode
 
     def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list[arb]]:
         """Certified balls of x(t) for every t in ``ts`` (rationals), each component to ``digits``
