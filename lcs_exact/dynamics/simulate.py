@@ -49,6 +49,8 @@ from .options import run_options
 from .zeno import check_accumulation, shrinking_cycles
 
 __all__ = ["simulate", "simulate_branches"]
+
+
 @overload
 def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000, time_limit: float | None = None,
              allow_unresolved: bool = False, closed_forms: Any = "lazy", zeno: str = "cross",
