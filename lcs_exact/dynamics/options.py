@@ -22,7 +22,7 @@ from ..errors import InvalidArgument, LCSError, NotRational, ShapeError
 from ..numbers import Deadline, ExactVector, Policy, Real, as_real, check_digits
 from ..system import LCS
 
-__all__ = ["RunOptions", "run_options", "CLOSED_FORMS", "ZENO", "BRANCHES"]
+__all__ = ["RunOptions", "run_options", "progress_bar", "CLOSED_FORMS", "ZENO", "BRANCHES"]
 
 #: the spellings of ``closed_forms`` and the policy's meaning of each: ``"lazy"`` (the default)
 #: proves a number's closed form on the first access of ``.closed_form``; ``True`` and ``"eager"``
@@ -131,3 +131,20 @@ def _end_time(lcs, x0, t_end) -> Real:
     if T.sign() < 0:
         raise InvalidArgument(f"t_end must be >= 0, got {T.label()}")
     return T
+
+
+def progress_bar(T: Real) -> Any:
+    """The bar of ``progress=True``: a tqdm bar over [0, t_end], in time units (the run advances it
+    at every event); an InvalidArgument when tqdm is not installed.
+
+    Parameters
+    ----------
+    T : Real
+        t_end.
+    """
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        raise InvalidArgument("progress=True needs tqdm: pip install tqdm (or lcs_exact[sweep])") from None
+    return tqdm(total=float(T), desc="simulate", unit="t", bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} "
+                                                                        "[{elapsed}<{remaining}]")

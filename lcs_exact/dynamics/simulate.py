@@ -27,7 +27,7 @@ from typing import Any, Literal, overload
 from flint import arb, fmpq, fmpq_mat
 
 from ..numbers import (ACCURACY_HEADROOM, Policy, accuracy_bits, digits_to_bits, dyadic_lower, dyadic_upper, workprec)
-from ..errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, TimeLimitExceeded,
+from ..errors import (Deadlock, HorizonExceeded, IllPosed, LCSError, LimitExceeded, TimeLimitExceeded,
                      UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ReferenceStates, ScaledCycle, geometric_law, symmetry_exponents
 from .bounces import BOUNCE_PATIENCE, BounceWindow, bounce_cycle, bounce_window
@@ -45,7 +45,7 @@ from ..modes import (format_mode, impulse_forms, initial_solution, initial_solut
                      select_modes, state_groups, undetermined_inputs)
 from ..interfaces import AccumulationWindow
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
-from .options import run_options
+from .options import progress_bar, run_options
 from .zeno import check_accumulation, shrinking_cycles
 
 __all__ = ["simulate", "simulate_branches"]
@@ -133,7 +133,7 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
                        max_prec=max_prec, progress=progress)
     T, policy = opts.t_end, opts.policy
     z0 = as_exact_vector(x0, lcs.n)
-    bar = _progress_bar(T) if opts.progress else None
+    bar = progress_bar(T) if opts.progress else None
     if opts.branches == "all":
         if bar is not None:
             bar.close()  # a bar over [0, t_end] says nothing of branches re-run from the start
@@ -150,13 +150,10 @@ def simulate_branches(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events:
                       time_limit: float | None = None, allow_unresolved: bool = False, closed_forms: Any = "lazy",
                       zeno: str = "cross", max_prec: int | None = None, progress: bool = False) -> Branches:
     """Every solution from x0 on [0, t_end]: ``simulate(..., branches="all")``, typed as such.
-
     Where S(z) holds initial solutions that give different trajectories (outside Theorem 6.3),
-    every branch is followed (depth first, each run from the start with its choices; at most
-    MAX_BRANCHES, each within ``max_events``, all within ``time_limit``).  Each trajectory has its
-    ``.choices`` and is ``certified`` when no sign was assumed on it: one solution, exactly, none
-    *the* solution; ``.unique`` is False when there were choices.  A branch stopped early keeps
-    its partial trajectory and status.
+    every branch is followed (at most MAX_BRANCHES, each within ``max_events``, all within
+    ``time_limit``), each with its ``.choices``: one solution, exactly, none *the* solution
+    (:class:`~lcs_exact.trajectory.Branches`).
 
     Parameters
     ----------
@@ -173,16 +170,6 @@ def simulate_branches(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events:
     return simulate(lcs, x0, t_end, digits, max_events=max_events, time_limit=time_limit,
                     allow_unresolved=allow_unresolved, closed_forms=closed_forms, zeno=zeno, branches="all",
                     max_prec=max_prec, progress=progress)
-
-
-def _progress_bar(T):
-    """A tqdm bar over [0, t_end] (in time units, advanced at every event)."""
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:
-        raise InvalidArgument("progress=True needs tqdm: pip install tqdm (or lcs_exact[sweep])") from None
-    return tqdm(total=float(T), desc="simulate", unit="t", bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} "
-                                                                        "[{elapsed}<{remaining}]")
 
 
 class _Fork(Exception):
