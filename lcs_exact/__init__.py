@@ -12,14 +12,14 @@ from .numbers import ExactVector, Real, expm_action
 from .modes import Mode
 from .display import plot_convergence
 from .system import LCS, ModeMap, Region, WellPosedness
-from .dynamics import (Accumulation, Branches, Event, Status, SweepResult, Trajectory, param_sweep, simulate, sweep,
-                       validate_fixture)
+from .dynamics import (Accumulation, Branches, Event, Status, SweepResult, Trajectory, param_sweep, simulate,
+                       simulate_branches, sweep, validate_fixture)
 from .io import FixtureTrajectory, read_fixture, read_model
 from .verify import ComparisonReport, compare, convergence_order
 from . import examples, modelfile, models, sources, testing, zoo  # the documented modules, as attributes
 
 __all__ = [
-    "LCS", "Mode", "simulate", "Branches", "Accumulation", "Status", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
+    "LCS", "Mode", "simulate", "simulate_branches", "Branches", "Accumulation", "Status", "sweep", "param_sweep", "SweepResult", "expm_action", "Trajectory", "Event", "Real", "ExactVector", "WellPosedness", "RationalFunction", "RationalMatrix",
     "solve_lcp", "all_solutions", "is_p_matrix",
     "LCSError", "ShapeError", "NotRational", "NotAutonomous", "IllPosed", "Deadlock",
     "ZenoDetected", "UnresolvedSign", "LimitExceeded", "FormatError", "FixtureMismatch",

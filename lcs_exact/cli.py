@@ -40,7 +40,7 @@ import time
 from pathlib import Path
 
 from . import __version__
-from .numbers import MAX_DIGITS
+from .numbers import MAX_DIGITS, check_digits
 from .verify import compare, convergence_order, read_solution_csv
 from .errors import FormatError, InvalidArgument, LCSError, UnresolvedSign
 from .dynamics import MAX_SAMPLES, ball_number, sample_grid
@@ -214,10 +214,10 @@ def check_report(lcs: LCS, out=print, max_k: int = 8) -> None:
 # ---------------------------------------------------------------------------------------------
 
 def _digits(text: str) -> int:
-    v = _int(text)
-    if not 1 <= v <= MAX_DIGITS:
-        raise argparse.ArgumentTypeError(f"must be in 1..{MAX_DIGITS}, got {v}")
-    return v
+    try:
+        return check_digits(_int(text), "--digits")
+    except InvalidArgument as e:
+        raise argparse.ArgumentTypeError(str(e).removeprefix("--digits ")) from None
 
 
 def _max_events(text: str) -> int:

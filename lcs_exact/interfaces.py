@@ -51,3 +51,14 @@ class AccumulationWindow:
     phase it has no spectrum and no mode of its own over the window: it gives its states and
     inputs itself (``state(dt)``, ``output(dt, kind)``, ``ball_state(dt, prec)``), its implied
     event times (``offsets``, ``event_times``), and it has no value at T* itself."""
+
+    def flight_mode(self, t: float) -> Any:
+        """The mode of the flight holding the time t (a float: a plot's sample), or None when it
+        cannot be placed.  Here the window's ``mode`` (its flights share one); a geometric law's
+        window maps t into its reference cycle (``ScaledCycle.flight_mode``).
+
+        Parameters
+        ----------
+        t : float
+        """
+        return getattr(self, "mode", None)

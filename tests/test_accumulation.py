@@ -179,3 +179,33 @@ def test_a_damped_ball_crosses_its_accumulation_without_a_law():
     assert tr.events[-1].triggers == ("y_0",) and tr.phases[-1].mode == frozenset({0})
     assert tr.state(5).known_rational() == fmpq_mat([[0], [0], [1]])
     assert tr.u(5).known_rational() == fmpq_mat([[10]])  # the floor carries the ball's weight
+
+
+def test_one_map_of_a_window_time_to_its_reference_cycle():
+    """A time of a geometric law's window is mapped into the reference cycle by one search
+    (exact for states, on balls for samples, in floats for a plot's flight modes): the float map
+    agrees with the exact one, the flight's mode is that of the reference phase holding the exact
+    reference time, and the flights' float times a plot cuts its lines at are the exact event
+    times.  A window without a law (a ball on a spring) has one mode for all its flights."""
+    from lcs_exact.display.plotting import _flight_times
+    from lcs_exact.interfaces import AccumulationWindow
+
+    spiral = L.examples.filippov_spiral()
+    tr = L.simulate(spiral, spiral.embed([1, 2]), 2)
+    rec = next(r for r in tr.phases if isinstance(r.phase, ScaledCycle))
+    w, t_k, T_star = rec.phase, rec.t0, tr.accumulations[0].time
+    a, b = float(t_k), float(T_star)
+    ts = [Fraction(round((a + (b - a) * (1 - Fraction(9, 10) ** j)) * 10 ** 15), 10 ** 15) for j in range(1, 40)]
+    phases = [r for r in tr.phases if not isinstance(r.phase, AccumulationWindow)]
+    for t in ts:
+        t_ref, _ = w._map(fmpq(t.numerator, t.denominator) - t_k)   # the exact map (a state's)
+        exact_ref = float(t_ref)
+        assert abs(w.reference_time(float(t)) - exact_ref) <= 1e-9 * max(1.0, abs(exact_ref))
+        holder = next(r for r in phases if (t_ref - r.t0).sign() >= 0 and (t_ref - r.t1).sign() < 0)
+        assert w.flight_mode(float(t)) is holder.phase.mode
+    flights = list(_flight_times(w, 30))
+    assert all(abs(f - float(w.event_time(k))) <= 1e-14 * abs(f) for k, f in enumerate(flights))
+    ball = L.examples.ball_on_spring(k=100, mass="1/1000", g="981/100", e="9/10", rest=0)
+    tb = L.simulate(ball, ball.embed(["1/100", 0]), Fraction(1, 2))
+    bw = next(r.phase for r in tb.phases if isinstance(r.phase, AccumulationWindow))
+    assert not isinstance(bw, ScaledCycle) and bw.flight_mode(float(bw.t_k) + 1e-9) is bw.mode

@@ -320,10 +320,10 @@ def test_bad_toml(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, fragment", [
-    (["--digits", "0"], f"must be in 1..{MAX_DIGITS}, got 0"),
-    (["--digits", str(MAX_DIGITS + 1)], f"must be in 1..{MAX_DIGITS}"),
+    (["--digits", "0"], f"must be an integer in 1..{MAX_DIGITS}, got 0"),
+    (["--digits", str(MAX_DIGITS + 1)], f"must be an integer in 1..{MAX_DIGITS}"),
     (["--digits", "abc"], "must be an integer, got 'abc'"),
-    (["--digits", "-5"], "must be in 1.."),
+    (["--digits", "-5"], "must be an integer in 1.."),
     (["--max-events", "-1"], "must be >= 0, got -1"),
     (["--time-limit", "0"], "must be a positive number of seconds"),
     (["--time-limit", "-1"], "must be a positive number of seconds"),
@@ -360,7 +360,7 @@ def test_bad_inputs_as_a_module(tmp_path):
     """The same through ``python -m lcs_exact``: exit 2, one line, no traceback."""
     for args, fragment in ((["check", write(tmp_path, [1, 2], "list.json")], "got a list"),
                            (["check", write(tmp_path, NESTED, "deep.json")], "nested too deeply"),
-                           (["simulate", write(tmp_path, OSC), "--digits", "0"], "must be in 1.."),
+                           (["simulate", write(tmp_path, OSC), "--digits", "0"], "must be an integer in 1.."),
                            (["compare", write(tmp_path, {"schema": "x"}, "fx.json"), "nope.csv"], "schema")):
         p = run(*args)
         assert p.returncode == 2 and one_line_error(p.stderr) and fragment in p.stderr, (args, p.stderr)

@@ -3,11 +3,12 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+import pytest
 from helpers import carts, columns, hook, mat
 
 from reference.linalg import mv, same_span
 
-from lcs_exact import LCS
+from lcs_exact import LCS, NotAutonomous
 
 
 def test_two_carts_mode_1_section_7():
@@ -56,6 +57,32 @@ def test_non_autonomous_mode_reason():
     m = lcs.mode({0})
     assert m.is_autonomous is False
     assert "G_II(s) is singular" in m.autonomy_reason
+
+
+def test_a_modes_data_are_computed_once_in_typed_attributes(monkeypatch):
+    """V_I, T_I, P_I, F_I, A_I and the spectrum are computed on first use and kept (cached
+    properties of the mode, no string-keyed memo): a second call returns the same object and
+    does not compute again; a mode whose state is not determined raises at every call."""
+    import lcs_exact.modes.mode as mode_module
+
+    h = hook()
+    m = h.mode({1})
+    calls = []
+    real = mode_module.projection
+    monkeypatch.setattr(mode_module, "projection", lambda V, T: calls.append(1) or real(V, T))
+    first = [m.annihilator(), m.consistent_subspace(), m.jump_space(), m.projection(), m.feedback(),
+             m.closed_loop(), m.spectrum(), m.free_inputs()]
+    again = [m.annihilator(), m.consistent_subspace(), m.jump_space(), m.projection(), m.feedback(),
+             m.closed_loop(), m.spectrum(), m.free_inputs()]
+    assert all(a is b for a, b in zip(first, again)) and calls == [1]
+    assert not hasattr(m, "_cache") and m.derived.family is None  # the data of the modules above: still lazy
+    lcs = LCS([[0, 0], [0, 0]], [[1], [0]], [[0, 1]], [[0]])   # not autonomous, V + T != Q^2
+    bad = lcs.mode({0})
+    for _ in range(2):
+        with pytest.raises(NotAutonomous, match="not determined"):
+            bad.projection()
+        with pytest.raises(NotAutonomous, match="not determined"):
+            bad.feedback()
 
 
 def test_projection_is_idempotent_and_splits():

@@ -2,6 +2,7 @@
 the alternatives (default) or yields every branch (branches="all"); derived by hand."""
 from __future__ import annotations
 
+import typing
 from fractions import Fraction
 
 import mpmath as mp
@@ -109,3 +110,56 @@ def test_a_branch_fixture_without_its_digests_is_checked_against_its_branch():
         d["samples"][2]["x"][0].update(value="0.7", exact=None)  # x(1) is e^-1 or 1, never 0.7
         with pytest.raises(L.FixtureMismatch, match="none of its 2 solutions matches"):
             L.read_fixture(d)
+
+
+def _summary(b):
+    """What a Branches says, exactly: per branch its status, choices (time, mode), events (time,
+    jump modes) and states at t = 1/3 and at t_end (rationals where exact, balls to 30 digits)."""
+    def value(c):
+        q = c.rational()
+        return ("q", q) if q is not None else ("ball", c.ball(30).mid().str(30, radius=False))
+
+    out = []
+    for tr in b:
+        out.append((tr.status, tr.certified, tr.partial,
+                    tuple((t.rational(), m) for t, m in tr.choices),
+                    tuple((e.time.ball(30).mid().str(30, radius=False), tuple(e.jumps)) for e in tr.events),
+                    tuple(value(c) for c in tr.state("1/3")), tuple(value(c) for c in tr.state(tr.t_end))))
+    return b.unique, b.certified, out
+
+
+@pytest.mark.parametrize("system, x0, t_end, count", [
+    (SCALAR, [1], 2, 2),                                          # x = e^-t or x = 1
+    (L.LCS([[-1, 0], [0, -1]], [[1, 0], [0, 1]], [[1, 0], [0, 1]], [[-1, 0], [0, -1]]), [1, 1], 3, 4),
+    (SCALAR, [0], 1, 1),                                          # unique, through the same door
+])
+def test_simulate_branches_is_simulate_with_branches_all(system, x0, t_end, count):
+    """The typed entry point returns the same branches, in the same order, as simulate(...,
+    branches="all"), which keeps working as before."""
+    mine = L.simulate_branches(system, x0, t_end, digits=25)
+    theirs = L.simulate(system, x0, t_end, digits=25, branches="all")
+    assert type(mine) is type(theirs) is L.Branches
+    assert _summary(mine) == _summary(theirs)
+    assert len(mine) == count and mine.unique == (count == 1)
+
+
+def test_simulate_branches_takes_simulates_options_but_not_branches():
+    b = L.simulate_branches(SCALAR, [1], 2, max_events=5, closed_forms="off", zeno="stop", digits=12)
+    assert len(b) == 2 and all(tr.digits == 12 and tr.policy.closed_forms == "off" for tr in b)
+    with pytest.raises(TypeError, match="branches"):
+        L.simulate_branches(SCALAR, [1], 2, branches="unique")
+    with pytest.raises(L.InvalidArgument, match="zeno"):
+        L.simulate_branches(SCALAR, [1], 2, zeno="go")
+    with pytest.raises(L.ShapeError, match="x0"):
+        L.simulate_branches(SCALAR, [1, 2], 2)
+
+
+def test_simulate_is_typed_by_its_branches_argument():
+    """typing.overload with Literal: branches="unique" (the default) gives a Trajectory,
+    branches="all" a Branches; simulate_branches is annotated Branches."""
+    hints = [typing.get_type_hints(f) for f in typing.get_overloads(L.simulate)]
+    assert [(h["branches"], h["return"]) for h in hints] == [
+        (typing.Literal["unique"], L.Trajectory), (typing.Literal["all"], L.Branches), (str, L.Trajectory | L.Branches)]
+    assert typing.get_type_hints(L.simulate)["return"] == L.Trajectory | L.Branches
+    assert typing.get_type_hints(L.simulate_branches)["return"] is L.Branches
+    assert "simulate_branches" in L.__all__ and "simulate_branches" in L.dynamics.__all__

@@ -230,3 +230,36 @@ def test_a_sweep_keeps_restitution_and_schedules():
         same_run(r.trajectory, seq)
         assert [e.triggers for e in r.trajectory.events] == [e.triggers for e in seq.events]
         assert r.trajectory.state(3).rational() == seq.state(3).rational()
+
+
+def test_a_system_with_its_derived_data_travels_exactly():
+    """An LCS pickled by value (the sweep's exact pickler: a system a trajectory refers to that is
+    not the sweep's own) carries its derived data, kept in typed attributes since issue 29 (no
+    string-keyed memo): the copy answers charpoly, G, R, the leading indices, well-posedness,
+    sources and its modes' V, T, P, F, A_I without recomputing, and the same as the original."""
+    from lcs_exact.dynamics.sweep import _dumps, _loads
+
+    lcs = L.models.driven([[-1, 0], [0, -2]], [[1], [1]], [[1, 1]], [[1]], E=[[1], [0]], F=[[-1]],
+                          w=[L.sources.sine(1)])
+    m = lcs.mode({0})
+    before = (lcs.charpoly(), lcs.G(), lcs.R(), lcs.leading_row_indices(), lcs.leading_column_indices(),
+              bool(lcs.well_posedness()), lcs.spectral_scales(), m.consistent_subspace(), m.jump_space(),
+              m.projection(), m.feedback(), m.closed_loop(), m.is_autonomous)
+    copy = _loads(_dumps(lcs))
+    assert copy is not lcs and copy.sources.expressions == lcs.sources.expressions
+    cached = {"_charpoly", "_G", "_R", "_rho", "_eta", "_well_posedness", "_scales", "_sources"}
+    assert cached <= set(vars(copy)) and "_cache" not in vars(copy)
+    cm = copy.mode({0})
+    assert {"_V", "_T", "_P", "_F", "_A_I", "_autonomy"} <= set(vars(cm)) and "_cache" not in vars(cm)
+    after = (copy.charpoly(), copy.G(), copy.R(), copy.leading_row_indices(), copy.leading_column_indices(),
+             bool(copy.well_posedness()), copy.spectral_scales(), cm.consistent_subspace(), cm.jump_space(),
+             cm.projection(), cm.feedback(), cm.closed_loop(), cm.is_autonomous)
+    for a, b in zip(before, after):
+        if isinstance(a, tuple) and a and hasattr(a[0], "mid"):   # spectral scales: balls, radii rounded up
+            assert all(x.mid() == y.mid() and y.contains(x) and float(y.rad()) < 1.001 * float(x.rad())
+                       for x, y in zip(a, b))
+        elif isinstance(a, L.RationalMatrix):
+            assert [[str(e) for e in r] for r in a.rows] == [[str(e) for e in r] for r in b.rows]
+        else:
+            assert a == b
+    same_run(simulate(lcs, lcs.embed([1, 0]), 2), simulate(copy, copy.embed([1, 0]), 2))

@@ -455,23 +455,16 @@ def _draw_window(cv: Canvas, ph: PhaseInterval, npts: int) -> None:
 
 
 def _flight_times(window, count: int):
-    """The first ``count`` event times of an accumulation window as floats, for cutting its lines
-    (the law's cycles: cycle m starts at t_k + T (rho + ... + rho^m) and repeats the reference
-    cycle's offsets scaled by rho^(m+1), as ``window.event_times``, whose exact sums grow with
-    every cycle: 400 of a bouncing ball's took a minute); the samples inside each flight are
-    exact."""
-    law = getattr(window, "law", None)
-    if law is None or not getattr(window, "offsets", ()):
+    """The first ``count`` event times of an accumulation window as floats, for cutting its lines:
+    a geometric law's from the window's balls of them (``event_time_ball``: one closed expression
+    each, where the exact sums of ``event_times`` grow with every cycle: 400 of a bouncing ball's
+    took a minute), a window without a reference cycle's from ``event_times``; the samples inside
+    each flight are exact."""
+    if not getattr(window, "offsets", ()):
         yield from (float(t) for t in window.event_times(count))
         return
-    rho, T = float(law.ratio), float(law.cycle_length)
-    offsets = [float(d) for d in window.offsets]
-    start, scale, n = float(window.t_k), rho, 0
-    while n < count:
-        for d in offsets:
-            yield start + d * scale
-            n += 1
-        start, scale = start + T * scale, scale * rho
+    for k in range(count):
+        yield float(window.event_time_ball(k, 64).mid())
 
 
 def _draw_events(cv: Canvas, evs: list) -> None:

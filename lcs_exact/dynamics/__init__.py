@@ -1,7 +1,7 @@
 """Runs of an LCS: real roots of exponential sums (``guesses``, ``roots``, ``polyroots``),
 the continuous phase (``phase``, ``clock``), the next event (``flow``), the trajectory and the
 fixture format it writes (``trajectory``, ``fixture``, ``fixnumbers``), accumulations and
-cascades (``accumulation``, ``cascade``, ``bounces``, ``zeno``), scheduled systems (``schedule``),
+cascades (``symmetry``, ``accumulation``, ``cascade``, ``bounces``, ``zeno``), scheduled systems (``schedule``),
 Algorithm 7.1 (``simulate``) and sweeps (``sweep``).  Imports the doors below it.
 
 This is the subpackage's door: other subpackages and users import what ``__all__`` names,
@@ -15,10 +15,10 @@ from .fixture import MAX_SAMPLES, SCHEMA, check_digest, sample_grid, validate_fi
 from .trajectory import Branches, Event, Status, Trajectory
 from .accumulation import Accumulation
 from .schedule import sampled, scheduled
-from .simulate import simulate
+from .simulate import simulate, simulate_branches
 from .sweep import param_sweep, sweep, SweepResult
 
 __all__ = ["ball_number", "ball_text", "number_ball", "number_exact", "number_rational", "short_text",
            "to_fraction", "MAX_SAMPLES", "SCHEMA", "check_digest", "sample_grid", "validate_fixture",
-           "Branches", "Event", "Status", "Trajectory", "Accumulation", "sampled", "scheduled", "simulate",
+           "Branches", "Event", "Status", "Trajectory", "Accumulation", "sampled", "scheduled", "simulate", "simulate_branches",
            "param_sweep", "sweep", "SweepResult"]

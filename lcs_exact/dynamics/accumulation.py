@@ -28,144 +28,22 @@ cascades, which have no symmetry, are proven on a family of states by :mod:`lcs_
 from __future__ import annotations
 
 import math
-from collections import deque
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from ..numbers import calcium
 from ..numbers import digits_to_bits, dyadic_lower, dyadic_upper, workprec
 from ..errors import InvalidArgument, LCSError
-from ..algebra import solve_any, submatrix
+from ..algebra import submatrix
 from ..interfaces import AccumulationWindow
 from ..numbers import Real, as_real
 from .trajectory import full_feedback
+from .symmetry import symmetry_exponents  # re-exported: the driver and the tests take it from here
 from ..numbers import ExactVector, ProjectedVector, RationalVector, algebraic_vector, ca_matvec
 
 __all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle", "ReferenceStates", "event_signature"]
-
-
-def symmetry_exponents(lcs, active: Sequence[int] | None = None) -> dict | None:
-    """Exponents of the scaling symmetries of the LCS (see the module docstring):
-    ``{"x": [...], "u": [...], "y": [...], "component": {node: id}, "T": T}`` with one solution
-    per connected component (add any integer to a whole component), or None when the nonzero
-    pattern admits none.  ``T`` (None, or an n x n rational matrix) is a change of coordinates
-    x~ = T x in which the symmetry holds: constant offsets (a gap y = q - r, a floor at height r)
-    are moved onto the states by x~ = x - alpha c, c a state that never changes (an exosystem
-    constant), alpha chosen so that y no longer reads c (:func:`_offset_transform`).
-
-    >>> from lcs_exact import LCS
-    >>> s = symmetry_exponents(LCS([[0, -1], [0, 0]], [[1], [0]], [[1, 0]], [[0]]))  # x' = u - c
-    >>> s["x"], s["u"], s["y"]          # up to a shift: x like t, c constant, u like c, y like x
-    ([0, -1], [-1], [0])
-
-    ``active``: the symmetry of the system restricted to these constraints (the others dropped:
-    their rows of C, D and columns of B, D), for a cycle in which the others never act; their
-    u and y get exponent 0 (unused: u = 0 there, and y is recomputed from x).
-    """
-    A, B, C, D = lcs.A, lcs.B, lcs.C, lcs.D
-    if active is not None:
-        J = sorted(set(active))
-        B, C, D = submatrix(B, None, J), submatrix(C, J, None), submatrix(D, J, J)
-    out = _symmetry(lcs.n, A, B, C, D)
-    if out is None or active is None:
-        return out
-    full = {"u": [0] * lcs.k, "y": [0] * lcs.k}
-    comp = dict(out["component"])
-    for r, j in enumerate(J):
-        full["u"][j], full["y"][j] = out["u"][r], out["y"][r]
-        comp[("u", j)], comp[("y", j)] = out["component"][("u", r)], out["component"][("y", r)]
-    for j in range(lcs.k):
-        if j not in J:
-            comp[("u", j)] = comp[("y", j)] = -1  # no component: its shift is 0
-    return {"x": out["x"], "u": full["u"], "y": full["y"], "component": comp, "T": out["T"], "active": J}
-
-
-def _symmetry(n: int, A, B, C, D) -> dict | None:
-    plain = _pattern_exponents(A, B, C, D)
-    if plain is not None:
-        return {**plain, "T": None}
-    moved = _offset_transform(n, A, B, C)
-    if moved is None:
-        return None
-    T, At, Ct = moved
-    shifted = _pattern_exponents(At, B, Ct, D)
-    return None if shifted is None else {**shifted, "T": T}
-
-
-def _offset_transform(n: int, A, B, C):
-    """(T, A~, C~) for x~ = T x = x - alpha c, with c the constant states (zero rows of A and B)
-    and alpha (zero on the constant states) solving C alpha_c = -C_{.c}: in x~, y = C~ x~ has no
-    constant term.  None when there is no constant state or no such alpha."""
-    k = B.ncols()
-    consts = [i for i in range(n) if all(A[i, j] == 0 for j in range(n)) and all(B[i, j] == 0 for j in range(k))]
-    others = [i for i in range(n) if i not in consts]
-    if not consts or not others:
-        return None
-    Co = submatrix(C, None, others)
-    T = fmpq_mat(n, n)
-    for i in range(n):
-        T[i, i] = 1
-    At, Ct = fmpq_mat(A), fmpq_mat(C)
-    for c in consts:
-        a = solve_any(Co, -submatrix(C, None, [c]))
-        if a is None:
-            return None
-        alpha = fmpq_mat(n, 1)
-        for r, i in enumerate(others):
-            alpha[i, 0] = a[r, 0]
-            T[i, c] = -a[r, 0]
-        col_A = A * alpha
-        col_C = C * alpha
-        for i in range(n):
-            At[i, c] = A[i, c] + col_A[i, 0]
-        for i in range(C.nrows()):
-            Ct[i, c] = C[i, c] + col_C[i, 0]
-    return T, At, Ct
-
-
-def _pattern_exponents(A, B, C, D) -> dict | None:
-    """The difference constraints of the nonzero pattern of (A, B, C, D), solved (module docstring)."""
-    n, k = A.nrows(), B.ncols()
-    edges: dict = {}
-
-    def link(a, b, w):  # value(b) = value(a) + w
-        edges.setdefault(a, []).append((b, w))
-        edges.setdefault(b, []).append((a, -w))
-
-    for i in range(n):
-        for j in range(n):
-            if A[i, j] != 0:
-                link(("x", i), ("x", j), -1)
-        for j in range(k):
-            if B[i, j] != 0:
-                link(("x", i), ("u", j), -1)
-    for i in range(k):
-        for j in range(n):
-            if C[i, j] != 0:
-                link(("x", j), ("y", i), 0)
-        for j in range(k):
-            if D[i, j] != 0:
-                link(("u", j), ("y", i), 0)
-    nodes = [("x", i) for i in range(n)] + [("u", j) for j in range(k)] + [("y", i) for i in range(k)]
-    value: dict = {}
-    comp: dict = {}
-    for c, start in enumerate(nodes):
-        if start in value:
-            continue
-        value[start], comp[start] = 0, c
-        queue = deque([start])
-        while queue:
-            a = queue.popleft()
-            for b, w in edges.get(a, ()):
-                if b not in value:
-                    value[b], comp[b] = value[a] + w, c
-                    queue.append(b)
-                elif value[b] != value[a] + w:
-                    return None
-    return {"x": [value[("x", i)] for i in range(n)], "u": [value[("u", j)] for j in range(k)],
-            "y": [value[("y", i)] for i in range(k)], "component": comp}
 
 
 def _power(rho: fmpq, e: int) -> fmpq:
@@ -511,6 +389,26 @@ class Accumulation:
                 f"{'no geometric law' if self.ratio is None else f'ratio {self.ratio}'})")
 
 
+def _cycle_start(j: int, T: Any, rho: Any) -> Any:
+    """s_j = T rho (1 - rho^j) / (1 - rho): where cycle j of a geometric law starts after t_k (cycle
+    j covers [s_j, s_{j+1}): the reference cycle, of length T, scaled by rho^(j+1)), in the
+    arithmetic of T and rho: exact (a Real and a rational), balls or floats."""
+    return T * (rho * (1 - rho ** j) / (1 - rho))
+
+
+def _locate_cycle(m: int, side: Callable[[int], int | None]) -> int | None:
+    """The cycle holding a time, from a guess m (:func:`_cycle_guess`): moved by one cycle while
+    ``side(m)`` says the time lies before cycle m (-1, for m > 0 only) or after it (+1), at most 64
+    moves; None when ``side`` cannot tell (None: a ball on a cycle's boundary) or the moves run out.
+    The one search of :class:`ScaledCycle`'s maps, exact, on balls and in floats."""
+    for _ in range(64):
+        s = side(m)
+        if s is None or s == 0:
+            return m if s == 0 else None
+        m += s
+    return None
+
+
 def _cycle_guess(dt: float, T: Any, rho: fmpq) -> int:
     """A float guess of the cycle m holding t_k + dt (cycle m covers [s_m, s_m + T rho^(m+1)),
     s_m = T rho (1 - rho^m) / (1 - rho)); the callers check it exactly and move it."""
@@ -553,24 +451,48 @@ class ScaledCycle(AccumulationWindow):
                                   "algebraic) times only")
         law = self.law
         rho, T = law.ratio, law.cycle_length
-        # cycle m covers [s_m, s_m + T rho^(m+1)) after t_k, s_m = T rho (1 - rho^m) / (1 - rho):
-        # m from a float estimate, then the two bounds checked exactly (moved by one if needed)
-        m = _cycle_guess(float(d), T, rho)
 
-        def start(j):
-            return T * (rho * (1 - rho ** j) / (1 - rho))
+        def side(j):  # the two bounds of cycle j checked exactly
+            if j > 0 and (d - _cycle_start(j, T, rho)).sign() < 0:
+                return -1
+            return 1 if (d - _cycle_start(j + 1, T, rho)).sign() >= 0 else 0
 
-        for _ in range(64):
-            if m > 0 and (d - start(m)).sign() < 0:
-                m -= 1
-            elif (d - start(m + 1)).sign() >= 0:
-                m += 1
-            else:
-                break
-        else:
+        m = _locate_cycle(_cycle_guess(float(d), T, rho), side)
+        if m is None:
             raise LCSError("internal inconsistency: a time inside an accumulation window beyond its end")
         scale = rho ** (m + 1)
-        return law.cycle_start + (d - start(m)) / scale, scale
+        return law.cycle_start + (d - _cycle_start(m, T, rho)) / scale, scale
+
+    def reference_time(self, t: float) -> float | None:
+        """A time t of the window (absolute, a float: a plot's sample) mapped into the reference
+        cycle as :meth:`_map` maps an exact time, in floats: it places a sample and certifies
+        nothing; None when its cycle cannot be placed (t at T*, to a float's precision).
+
+        Parameters
+        ----------
+        t : float
+        """
+        law = self.law
+        rho, T, d = float(law.ratio), float(law.cycle_length), t - float(self.t_k)
+
+        def side(j):
+            if j > 0 and d < _cycle_start(j, T, rho):
+                return -1
+            return 1 if d >= _cycle_start(j + 1, T, rho) else 0
+
+        m = _locate_cycle(_cycle_guess(d, law.cycle_length, law.ratio), side)
+        return None if m is None else float(law.cycle_start) + (d - _cycle_start(m, T, rho)) / rho ** (m + 1)
+
+    def flight_mode(self, t: float) -> Any:
+        """The mode of the flight holding the time t (a float: a plot's sample): that of the
+        reference cycle's phase where :meth:`reference_time` puts it, or None.
+
+        Parameters
+        ----------
+        t : float
+        """
+        t_ref = self.reference_time(t)
+        return None if t_ref is None else self.reference.mode_at(t_ref)
 
     def event_time_ball(self, k: int, prec: int = 128) -> arb:
         """:meth:`event_time` as a certified ball at ``prec`` bits, from balls of t_k, T and the
@@ -592,22 +514,18 @@ class ScaledCycle(AccumulationWindow):
         with workprec(prec):
             Tb, r = T.arb(prec), arb(rho)
 
-            def start(j):  # T rho (1 - rho^j) / (1 - rho)
-                return Tb * (r * (1 - r ** j) / (1 - r))
+            def side(j):  # None: on a cycle's boundary, to the ball's width
+                lo, hi = d - _cycle_start(j, Tb, r), d - _cycle_start(j + 1, Tb, r)
+                if j > 0 and lo < 0:
+                    return -1
+                if hi >= 0:
+                    return 1
+                return 0 if lo > 0 and hi < 0 else None
 
-            m = _cycle_guess(float(d.mid()), T, rho)
-            for _ in range(64):
-                lo, hi = d - start(m), d - start(m + 1)
-                if m > 0 and lo < 0:
-                    m -= 1
-                elif hi >= 0:
-                    m += 1
-                elif lo > 0 and hi < 0:
-                    break
-                else:
-                    return None  # on a cycle's boundary, to the ball's width
-            else:
+            m = _locate_cycle(_cycle_guess(float(d.mid()), T, rho), side)
+            if m is None:
                 return None
+            lo = d - _cycle_start(m, Tb, r)
             scale = rho ** (m + 1)
             x = self.reference.ball(law.cycle_start.arb(prec) + lo / arb(scale), prec)
             if x is None:
@@ -684,6 +602,17 @@ class ReferenceStates:
             M = F if kind == "u" else self.run.lcs.C + self.run.lcs.D * F
             return ProjectedVector(M, x)
         raise LCSError("internal inconsistency: a reference time outside the computed run")
+
+    def mode_at(self, t_ref: float) -> Any:
+        """The mode of the computed phase holding the time t_ref (a float: a plot's sample), or None.
+
+        Parameters
+        ----------
+        t_ref : float
+        """
+        rec = next((r for r in self.run.phases if not isinstance(r.phase, AccumulationWindow)
+                    and float(r.t0) <= t_ref < float(r.t1)), None)
+        return None if rec is None else rec.phase.mode
 
     def ball(self, t_ref: arb, prec: int):
         """x(t_ref) for a ball t_ref inside the computed part, from the phase holding it (balls

@@ -28,7 +28,7 @@ from typing import Any
 
 from flint import arb, fmpq
 
-from ..numbers import MAX_DIGITS, digits_to_bits, workprec
+from ..numbers import MAX_DIGITS, check_digits, digits_to_bits, workprec
 from ..errors import FixtureMismatch, FormatError, InvalidArgument
 from .fixnumbers import (MAX_SAMPLES, ball_number, number_ball, number_exact, number_rational,
                          rational_number, sample_grid)
@@ -131,9 +131,7 @@ def build_fixture(traj: Any, digits: int | None = None, sample: Any = None, prov
     >>> fx["events"][0]["time"]["exact"], len(fx["samples"]), fx["samples"][1]["x"][0]["value"]
     ('pi/2', 5, '0.8775825619')
     """
-    d = traj.digits if digits is None else digits
-    if isinstance(d, bool) or not isinstance(d, int) or not 1 <= d <= MAX_DIGITS:
-        raise FormatError(f"digits must be a positive integer <= {MAX_DIGITS} (balls.MAX_DIGITS), got {d!r}")
+    d = traj.digits if digits is None else check_digits(digits)
     lcs = traj.lcs
     until = _computed_until(traj)
     final = traj.state(until) if until is not None else traj.x0

@@ -17,14 +17,17 @@ from typing import Any
 
 from flint import fmpq_mat
 
-from ..algebra import MAX_PREC_BITS, to_fmpq, to_int, to_short, vector_entries
+from ..algebra import MAX_PREC_BITS, to_fmpq, to_short, vector_entries
 from ..errors import InvalidArgument, LCSError, NotRational, ShapeError
-from ..numbers import MAX_DIGITS, Deadline, ExactVector, Policy, Real, as_real
+from ..numbers import Deadline, ExactVector, Policy, Real, as_real, check_digits
 from ..system import LCS
 
-__all__ = ["RunOptions", "run_options", "CLOSED_FORMS", "ZENO", "BRANCHES"]
+__all__ = ["RunOptions", "run_options", "progress_bar", "CLOSED_FORMS", "ZENO", "BRANCHES"]
 
-#: the spellings of ``closed_forms`` and the policy's meaning of each
+#: the spellings of ``closed_forms`` and the policy's meaning of each: ``"lazy"`` (the default)
+#: proves a number's closed form on the first access of ``.closed_form``; ``True`` and ``"eager"``
+#: prove the closed form of every phase's duration (the root theta that ends it) at its event, as
+#: the run goes; ``False`` and ``"off"`` never look for one (the bool spellings are the older ones)
 CLOSED_FORMS = {"lazy": "lazy", True: "eager", "eager": "eager", False: "off", "off": "off"}
 #: the values of ``zeno``: cross a proven accumulation (Definition 4.10), or stop there
 ZENO = ("cross", "stop")
@@ -67,7 +70,7 @@ def run_options(lcs: Any, x0: Any, t_end: Any, digits: Any, *, max_events: Any, 
     max_events : int >= 0
     time_limit : float >= 0 or None
     allow_unresolved : bool
-    closed_forms : 'lazy', 'eager', 'off', True or False
+    closed_forms : 'lazy', True or 'eager', False or 'off' (:data:`CLOSED_FORMS`)
     zeno : 'cross' or 'stop'
     branches : 'unique' or 'all'
     max_prec : int in 64..MAX_PREC_BITS or None
@@ -90,10 +93,7 @@ def _check_option_values(lcs, digits, max_events, time_limit, closed_forms, allo
     """Each option value of a run, checked: an InvalidArgument naming the first bad one."""
     if not isinstance(lcs, LCS):
         raise InvalidArgument(f"lcs must be an LCS (lcs_exact.LCS), got {type(lcs).__name__}")
-    if not _is_int(digits):
-        raise InvalidArgument(f"digits must be a Python int in 1..{MAX_DIGITS}, got {to_short(digits)} "
-                              f"({type(digits).__name__}{'; use int(...)' if hasattr(digits, '__index__') else ''})")
-    to_int(digits, "digits", 1, MAX_DIGITS)
+    check_digits(digits)
     if not _is_int(max_events) or max_events < 0:
         raise InvalidArgument(f"max_events must be a nonnegative Python int, got {to_short(max_events)}")
     if time_limit is not None:
@@ -105,7 +105,8 @@ def _check_option_values(lcs, digits, max_events, time_limit, closed_forms, allo
             raise InvalidArgument("time_limit must be a nonnegative number of seconds (a float can hold) or "
                                   f"None, got {to_short(time_limit)}")
     if not isinstance(closed_forms, (str, bool)) or closed_forms not in CLOSED_FORMS:
-        raise InvalidArgument(f"closed_forms must be 'lazy', True or False, got {to_short(closed_forms)}")
+        raise InvalidArgument("closed_forms must be 'lazy' (the default), True or 'eager', False or 'off', "
+                              f"got {to_short(closed_forms)}")
     if not isinstance(allow_unresolved, bool):
         raise InvalidArgument(f"allow_unresolved must be True or False, got {to_short(allow_unresolved)}")
     if max_prec is not None and (not _is_int(max_prec) or not 64 <= max_prec <= MAX_PREC_BITS):
@@ -130,3 +131,20 @@ def _end_time(lcs, x0, t_end) -> Real:
     if T.sign() < 0:
         raise InvalidArgument(f"t_end must be >= 0, got {T.label()}")
     return T
+
+
+def progress_bar(T: Real) -> Any:
+    """The bar of ``progress=True``: a tqdm bar over [0, t_end], in time units (the run advances it
+    at every event); an InvalidArgument when tqdm is not installed.
+
+    Parameters
+    ----------
+    T : Real
+        t_end.
+    """
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        raise InvalidArgument("progress=True needs tqdm: pip install tqdm (or lcs_exact[sweep])") from None
+    return tqdm(total=float(T), desc="simulate", unit="t", bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} "
+                                                                        "[{elapsed}<{remaining}]")

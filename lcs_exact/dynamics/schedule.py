@@ -22,6 +22,7 @@ names and shapes) that carries the :class:`Schedule`; :func:`lcs_exact.simulate`
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import Any, Iterator, Sequence
 
 from flint import fmpq, fmpq_mat
@@ -29,7 +30,7 @@ from flint import fmpq, fmpq_mat
 from .clock import autonomous_block
 from ..errors import InvalidArgument, ShapeError, Unsupported
 from ..algebra import hstack, identity, to_fmpq, to_matrix, vstack, zeros
-from ..system import LCS
+from ..system import LCS, WellPosedness
 
 __all__ = ["SchedulePhase", "Schedule", "ScheduledLCS", "scheduled", "sampled", "HeldInputs", "shares_clock"]
 
@@ -133,13 +134,15 @@ class ScheduledLCS(LCS):
         """Theorem 6.3 for every phase: the report of the first phase whose leading matrices are
         not both P-matrices (its reasons prefixed with the phase), else phase 0's (every phase is
         well-posed: each event inside a phase has multiplicity <= 1)."""
-        if "wp" not in self._cache:
-            reports = [p.lcs.well_posedness() for p in self.schedule.phases]
-            bad = next(((k, r) for k, r in enumerate(reports) if not r), None)
-            self._cache["wp"] = reports[0] if bad is None else \
-                replace(bad[1], reasons=tuple(f"phase {bad[0]} of the schedule: {x}" for x in bad[1].reasons)
-                        or (f"phase {bad[0]} of the schedule is not well-posed",))
-        return self._cache["wp"]
+        return self._schedule_report
+
+    @cached_property
+    def _schedule_report(self) -> WellPosedness:
+        reports = [p.lcs.well_posedness() for p in self.schedule.phases]
+        bad = next(((k, r) for k, r in enumerate(reports) if not r), None)
+        return reports[0] if bad is None else \
+            replace(bad[1], reasons=tuple(f"phase {bad[0]} of the schedule: {x}" for x in bad[1].reasons)
+                    or (f"phase {bad[0]} of the schedule is not well-posed",))
 
     def to_statespace(self):
         """Refused: python-control's StateSpace holds one linear system, a schedule several."""

@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import decimal
 import time as _time
-from typing import Any
+from typing import Any, Literal, overload
 
 from flint import arb, fmpq, fmpq_mat
 
 from ..numbers import (ACCURACY_HEADROOM, Policy, accuracy_bits, digits_to_bits, dyadic_lower, dyadic_upper, workprec)
-from ..errors import (Deadlock, HorizonExceeded, IllPosed, InvalidArgument, LCSError, LimitExceeded, TimeLimitExceeded,
+from ..errors import (Deadlock, HorizonExceeded, IllPosed, LCSError, LimitExceeded, TimeLimitExceeded,
                      UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ReferenceStates, ScaledCycle, geometric_law, symmetry_exponents
 from .bounces import BOUNCE_PATIENCE, BounceWindow, bounce_cycle, bounce_window
@@ -45,15 +45,36 @@ from ..modes import (format_mode, impulse_forms, initial_solution, initial_solut
                      select_modes, state_groups, undetermined_inputs)
 from ..interfaces import AccumulationWindow
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
-from .options import run_options
+from .options import progress_bar, run_options
 from .zeno import check_accumulation, shrinking_cycles
 
-__all__ = ["simulate"]
+__all__ = ["simulate", "simulate_branches"]
+
+
+@overload
+def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000, time_limit: float | None = None,
+             allow_unresolved: bool = False, closed_forms: Any = "lazy", zeno: str = "cross",
+             branches: Literal["unique"] = "unique", max_prec: int | None = None, progress: bool = False) -> Trajectory: ...
+
+
+@overload
+def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000, time_limit: float | None = None,
+             allow_unresolved: bool = False, closed_forms: Any = "lazy", zeno: str = "cross",
+             branches: Literal["all"], max_prec: int | None = None, progress: bool = False) -> Branches: ...
+
+
+@overload
+def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000, time_limit: float | None = None,
+             allow_unresolved: bool = False, closed_forms: Any = "lazy", zeno: str = "cross", branches: str = "unique",
+             max_prec: int | None = None, progress: bool = False) -> Trajectory | Branches: ...
+
+
 def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
              time_limit: float | None = None, allow_unresolved: bool = False,
              closed_forms: Any = "lazy", zeno: str = "cross", branches: str = "unique",
-             max_prec: int | None = None, progress: bool = False) -> Trajectory:
-    """Run Algorithm 7.1 from x0 on [0, t_end] and return the exact :class:`Trajectory`.
+             max_prec: int | None = None, progress: bool = False) -> Trajectory | Branches:
+    """Run Algorithm 7.1 from x0 on [0, t_end] and return the exact :class:`Trajectory`
+    (:class:`~lcs_exact.trajectory.Branches` with ``branches="all"``: :func:`simulate_branches`).
 
     Parameters
     ----------
@@ -75,8 +96,11 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
         :class:`LimitExceeded` with the partial trajectory in ``.trajectory``.
     allow_unresolved : if True, an undecidable sign is assumed zero, recorded in
         ``traj.assumptions``, and the result is not ``certified``; otherwise UnresolvedSign.
-    closed_forms : ``"lazy"`` (default: proven on first access of ``.closed_form``), True (proven
-        at every event, as the run goes), False (never).
+    closed_forms : ``"lazy"`` (default): a closed form is proven on the first access of
+        ``.closed_form`` (event times, states); True or ``"eager"`` (the same): as lazy, and the
+        closed form of every phase's duration is proven at its event, as the run goes (its cost
+        paid by the run); False or ``"off"`` (the same): none is looked for (``closed_form`` is
+        None, ``closed_form_status`` "off").  Any other value is an InvalidArgument.
     zeno : ``"cross"`` (default): a right-accumulation of events (Remark 4.11) whose geometric law
         is proven exactly (:mod:`lcs_exact.accumulation`) is crossed: recorded in
         ``traj.accumulations``, and the run continues from the limit state; an accumulation
@@ -85,10 +109,8 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
     branches : ``"unique"`` (default): where S(z) holds several initial solutions that give
         different trajectories (outside Theorem 6.3), raise :class:`IllPosed` with
         ``.alternatives`` (each mode with its initial solution) and the partial trajectory.
-        ``"all"``: follow every branch (at most MAX_BRANCHES, within ``max_events`` and
-        ``time_limit`` each) and return :class:`~lcs_exact.trajectory.Branches` (``.unique`` False
-        when there were choices), each trajectory with its ``.choices`` and ``certified`` when no
-        sign was assumed on it (each is one solution, exactly; none is *the* solution).
+        ``"all"``: follow every branch and return :class:`~lcs_exact.trajectory.Branches`, as
+        :func:`simulate_branches` (the same call, typed as such).
     progress : if True, a progress bar (tqdm) over [0, t_end], advanced at every event (needs
         tqdm: ``pip install tqdm``, or ``lcs_exact[sweep]``).
     max_prec : int, optional
@@ -111,8 +133,10 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
                        max_prec=max_prec, progress=progress)
     T, policy = opts.t_end, opts.policy
     z0 = as_exact_vector(x0, lcs.n)
-    bar = _progress_bar(T) if opts.progress else None
+    bar = progress_bar(T) if opts.progress else None
     if opts.branches == "all":
+        if bar is not None:
+            bar.close()  # a bar over [0, t_end] says nothing of branches re-run from the start
         return _all_branches(lcs, z0, T, digits, max_events, policy, zeno)
     try:
         return _run(lcs, z0, T, digits, max_events, policy, zeno, "unique", [], bar)
@@ -122,14 +146,30 @@ def simulate(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 10
             bar.close()
 
 
-def _progress_bar(T):
-    """A tqdm bar over [0, t_end] (in time units, advanced at every event)."""
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:
-        raise InvalidArgument("progress=True needs tqdm: pip install tqdm (or lcs_exact[sweep])") from None
-    return tqdm(total=float(T), desc="simulate", unit="t", bar_format="{l_bar}{bar}| t = {n:.4g} of {total:.4g} "
-                                                                        "[{elapsed}<{remaining}]")
+def simulate_branches(lcs, x0: Any, t_end: Any, digits: int = 30, *, max_events: int = 1000,
+                      time_limit: float | None = None, allow_unresolved: bool = False, closed_forms: Any = "lazy",
+                      zeno: str = "cross", max_prec: int | None = None, progress: bool = False) -> Branches:
+    """Every solution from x0 on [0, t_end]: ``simulate(..., branches="all")``, typed as such.
+    Where S(z) holds initial solutions that give different trajectories (outside Theorem 6.3),
+    every branch is followed (at most MAX_BRANCHES, each within ``max_events``, all within
+    ``time_limit``), each with its ``.choices``: one solution, exactly, none *the* solution
+    (:class:`~lcs_exact.trajectory.Branches`).
+
+    Parameters
+    ----------
+    lcs, x0, t_end, digits, max_events, time_limit, allow_unresolved, closed_forms, zeno, max_prec, progress
+        As for :func:`simulate` (checked the same way).
+
+    Examples
+    --------
+    >>> import lcs_exact as L
+    >>> b = simulate_branches(L.LCS([[-1]], [[1]], [[1]], [[-1]]), [1], 2)   # x = e^-t, or x = 1
+    >>> len(b), b.unique, b.certified, [tr.state(2)[0].rational() for tr in b]
+    (2, False, True, [None, 1])
+    """
+    return simulate(lcs, x0, t_end, digits, max_events=max_events, time_limit=time_limit,
+                    allow_unresolved=allow_unresolved, closed_forms=closed_forms, zeno=zeno, branches="all",
+                    max_prec=max_prec, progress=progress)
 
 
 class _Fork(Exception):

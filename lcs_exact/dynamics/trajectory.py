@@ -15,7 +15,7 @@ from typing import Any, Sequence
 
 from flint import arb, fmpq, fmpq_mat
 
-from ..numbers import DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, digits_to_bits, workprec
+from ..numbers import DEFAULT_POLICY, Policy, accuracy_bits, check_digits, digits_to_bits, workprec
 from ..errors import InvalidArgument, LCSError, Undetermined
 from ..interfaces import AccumulationWindow
 from .fixture import fixture_dict
@@ -23,7 +23,7 @@ from .timeline import Timeline
 from ..modes import format_mode, latex_mode
 from ..display import derived_outputs
 from ..display import plot_trajectory
-from ..algebra import as_list, to_fmpq, to_int
+from ..algebra import as_list, to_fmpq
 from ..numbers import Real, as_real
 from ..system import source_block
 from ..system import signal_names, time_response
@@ -313,7 +313,7 @@ class Trajectory:
             Times inside its flights.
         kind : {"u", "y", "w"}
         """
-        modes = [self._window_mode(window, float(t)) for t in ts]
+        modes = [window.flight_mode(float(t)) for t in ts]
         if not ts or any(m is None for m in modes):
             return None
         rows = []
@@ -324,29 +324,15 @@ class Trajectory:
             rows.append([sum(float(M[i, j]) * xf[j] for j in range(len(xf))) for i in range(M.nrows())])
         return rows
 
-    def _window_mode(self, window: AccumulationWindow, t: float):
-        """The mode of the flight holding t (a plot's sample) in a window, or None."""
-        law = getattr(window, "law", None)
-        if law is None:
-            return window.mode
-        rho, T, d = float(law.ratio), float(law.cycle_length), t - float(window.t_k)
-        m, s_m = 0, 0.0
-        while d >= s_m + T * rho ** (m + 1) and m < 10_000:  # cycle m covers [s_m, s_m + T rho^(m+1))
-            s_m, m = s_m + T * rho ** (m + 1), m + 1
-        t_ref = float(law.cycle_start) + (d - s_m) / rho ** (m + 1)
-        rec = next((r for r in self.phases if not isinstance(r.phase, AccumulationWindow)
-                    and float(r.t0) <= t_ref < float(r.t1)), None)
-        return None if rec is None else rec.phase.mode
-
     def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list[arb]]:
         """Certified balls of x(t) for every t in ``ts`` (rationals), each component to ``digits``
         digits (absolute 10^-digits for components below that).  One exponential per eigenvalue
         and point, from the phase's modal data: thousands of points in well under a second."""
+        digits = check_digits(digits)
         with self.policy.deadline.query():  # bounded by the run's time_limit, as the run was
             return self._sample(ts, digits)
 
     def _sample(self, ts: Sequence[Any], digits: int) -> list[list[arb]]:
-        digits = to_int(digits, "digits", 1, MAX_DIGITS)
         if isinstance(ts, (str, bytes)) or not hasattr(ts, "__iter__"):
             raise InvalidArgument(f"ts must be a sequence of rational times, got {type(ts).__name__}")
         need = digits_to_bits(digits) + 4
@@ -649,7 +635,8 @@ def full_feedback(mode) -> fmpq_mat:
 
 
 class Branches:
-    """The solutions of a non-unique problem (``simulate(..., branches="all")``): one
+    """The solutions of a non-unique problem (:func:`~lcs_exact.simulate_branches`, or
+    ``simulate(..., branches="all")``): one
     :class:`Trajectory` per sequence of choices between different initial solutions, each
     recording its ``choices``.
 

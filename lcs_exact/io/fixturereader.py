@@ -19,14 +19,14 @@ from typing import Any, Sequence
 
 from flint import arb, fmpq
 
-from ..numbers import workprec
+from ..numbers import check_digits, workprec
 from ..errors import FixtureMismatch, FormatError, IllPosed, InvalidArgument, LCSError
 from ..dynamics import ball_text, number_ball, number_exact, number_rational, short_text, to_fraction
 from ..dynamics import SCHEMA, check_digest, validate_fixture
 from ..modes import format_mode
 from ..algebra import to_fmpq, to_matrix
 from ..dynamics import scheduled
-from ..dynamics import simulate
+from ..dynamics import simulate, simulate_branches
 from ..system import AppendedStates, SourceBlock
 from ..system import LCS
 from ..numbers import expm_action
@@ -256,7 +256,7 @@ class FixtureTrajectory:
         try:
             traj = simulate(self.lcs, x0, T, digits=self.digits, **opts)
         except IllPosed:  # a non-unique problem (Theorem 6.3 fails): the fixture is one of its branches
-            return self._matching_branch(simulate(self.lcs, x0, T, digits=self.digits, branches="all", **opts))
+            return self._matching_branch(simulate_branches(self.lcs, x0, T, digits=self.digits, **opts))
         except LCSError as e:
             if not self.partial or getattr(e, "trajectory", None) is None:
                 raise FixtureMismatch(f"{self.source}: recomputing the run failed where the fixture "
@@ -328,8 +328,10 @@ class FixtureTrajectory:
         ts : sequence of rationals
             The times.
         digits : int, optional
-            Correct digits of each component.
+            Correct digits of each component (1..MAX_DIGITS; InvalidArgument otherwise, also
+            when every time is a sample time).
         """
+        digits = check_digits(digits)
         times = [to_fraction(t, "t") for t in ts]
         rows: list = [self._by_time.get(t) for t in times]
         missing = [i for i, r in enumerate(rows) if r is None]

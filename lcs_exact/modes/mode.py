@@ -24,6 +24,7 @@ Indices are 0-based.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 from flint import fmpq_mat
@@ -137,8 +138,7 @@ class Mode:
         self.index_set = frozenset(I)
         self.I = sorted(I)
         self.Ic = [i for i in range(lcs.k) if i not in I]
-        self._cache: dict[str, Any] = {}
-        self.derived = DerivedData()
+        self.derived = DerivedData()  # the data of the modules above; the mode's own: cached properties
 
     # the quadruple (A, B_.I, C_I., D_II)
     @property
@@ -156,75 +156,81 @@ class Mode:
     # --- V_I (3.2) ---------------------------------------------------------------------------
     def annihilator(self) -> fmpq_mat:
         """W with V_I = Ker W, by (3.2): V_{i+1} = {x : exists u, Kx + Lu in V_i, Mx + Nu = 0}."""
-        if "W" not in self._cache:
-            n, A = self.lcs.n, self.lcs.A
-            L, M, N = self._L, self._M, self._N
-            W = zeros(0, n)
-            dim = n
-            for _ in range(n + 1):
-                lhs = vstack(W * A, M, ncols=n)
-                rhs = vstack(W * L, N, ncols=len(self.I))
-                Q = left_kernel(rhs)  # rows q with q [WL; N] = 0 eliminate u
-                W_next = Q * lhs if Q.nrows() else zeros(0, n)
-                d = n - rank(W_next)
-                W = W_next
-                if d == dim:
-                    break
-                dim = d
-            self._cache["W"] = W
-        return self._cache["W"]
+        return self._W
+
+    @cached_property
+    def _W(self) -> fmpq_mat:
+        n, A = self.lcs.n, self.lcs.A
+        L, M, N = self._L, self._M, self._N
+        W = zeros(0, n)
+        dim = n
+        for _ in range(n + 1):
+            lhs = vstack(W * A, M, ncols=n)
+            rhs = vstack(W * L, N, ncols=len(self.I))
+            Q = left_kernel(rhs)  # rows q with q [WL; N] = 0 eliminate u
+            W_next = Q * lhs if Q.nrows() else zeros(0, n)
+            d = n - rank(W_next)
+            W = W_next
+            if d == dim:
+                break
+            dim = d
+        return W
 
     def consistent_subspace(self) -> fmpq_mat:
         """V_I = ``V(A, B_.I, C_I., D_II)`` (Def. 3.1, recursion (3.2)): an n x dim basis (columns)."""
-        if "V" not in self._cache:
-            self._cache["V"] = kernel(self.annihilator())
-        return self._cache["V"]
+        return self._V
+
+    @cached_property
+    def _V(self) -> fmpq_mat:
+        return kernel(self._W)
 
     # --- T_I (3.5) ---------------------------------------------------------------------------
     def jump_space(self) -> fmpq_mat:
         """T_I = ``T(A, B_.I, C_I., D_II)`` (recursion (3.5)): an n x dim basis (columns)."""
-        if "T" not in self._cache:
-            n, A = self.lcs.n, self.lcs.A
-            L, M, N = self._L, self._M, self._N
-            T = zeros(n, 0)
-            for _ in range(n + 1):
-                # T_{i+1} = {A x + L u : x in T_i, M x + N u = 0}; x = T a
-                k = kernel(hstack(M * T, N, nrows=len(self.I)))
-                T_next = image(hstack(A * T, L, nrows=n) * k) if k.ncols() else zeros(n, 0)
-                if T_next.ncols() == T.ncols():
-                    break
-                T = T_next
-            self._cache["T"] = T
-        return self._cache["T"]
+        return self._T
+
+    @cached_property
+    def _T(self) -> fmpq_mat:
+        n, A = self.lcs.n, self.lcs.A
+        L, M, N = self._L, self._M, self._N
+        T = zeros(n, 0)
+        for _ in range(n + 1):
+            # T_{i+1} = {A x + L u : x in T_i, M x + N u = 0}; x = T a
+            k = kernel(hstack(M * T, N, nrows=len(self.I)))
+            T_next = image(hstack(A * T, L, nrows=n) * k) if k.ncols() else zeros(n, 0)
+            if T_next.ncols() == T.ncols():
+                break
+            T = T_next
+        return T
 
     # --- autonomy (Lemma 3.3) ----------------------------------------------------------------
+    @cached_property
     def _autonomy(self) -> tuple[bool, str]:
-        if "aut" not in self._cache:
-            n, m = self.lcs.n, len(self.I)
-            V, T = self.consistent_subspace(), self.jump_space()
-            reason = ""
-            if rank(vstack(self._L, self._N, ncols=m)) < m:
-                reason = "Ker[B_I; D_II] != {0} (the inputs u_I are not determined by the state)"
-            elif intersection(V, T).ncols() > 0:
-                reason = f"V_I ∩ T_I != {{0}} (dim V_I = {V.ncols()}, dim T_I = {T.ncols()})"
-            elif V.ncols() + T.ncols() != n:
-                reason = f"V_I + T_I != Q^{n} (dim V_I = {V.ncols()}, dim T_I = {T.ncols()})"
-            # equivalently det G_II(s) != 0 (Lemma 3.3; tests/test_properties.py checks the two
-            # agree on random systems: the transfer matrix is not built on the hot path)
-            if reason:
-                reason += "; G_II(s) is singular"
-            self._cache["aut"] = (not reason, reason)
-        return self._cache["aut"]
+        """(autonomous, the reason when it is not)."""
+        n, m = self.lcs.n, len(self.I)
+        V, T = self._V, self._T
+        reason = ""
+        if rank(vstack(self._L, self._N, ncols=m)) < m:
+            reason = "Ker[B_I; D_II] != {0} (the inputs u_I are not determined by the state)"
+        elif intersection(V, T).ncols() > 0:
+            reason = f"V_I ∩ T_I != {{0}} (dim V_I = {V.ncols()}, dim T_I = {T.ncols()})"
+        elif V.ncols() + T.ncols() != n:
+            reason = f"V_I + T_I != Q^{n} (dim V_I = {V.ncols()}, dim T_I = {T.ncols()})"
+        # equivalently det G_II(s) != 0 (Lemma 3.3; tests/test_properties.py checks the two
+        # agree on random systems: the transfer matrix is not built on the hot path)
+        if reason:
+            reason += "; G_II(s) is singular"
+        return not reason, reason
 
     @property
     def is_autonomous(self) -> bool:
         """Lemma 3.3: V_I ⊕ T_I = Q^n and Ker[B_I; D_II] = 0, equivalently det G_II(s) != 0."""
-        return self._autonomy()[0]
+        return self._autonomy[0]
 
     @property
     def autonomy_reason(self) -> str:
         """Why the mode is not autonomous ('' when it is)."""
-        return self._autonomy()[1]
+        return self._autonomy[1]
 
     def require_autonomous(self) -> None:
         if not self.is_autonomous:
@@ -233,21 +239,24 @@ class Mode:
     def free_inputs(self) -> fmpq_mat:
         """A basis (columns, ``|I| x d``) of ``Ker[B_I; D_II]``: directions of u_I that change neither
         the state nor y_I (d = 0 for an autonomous mode)."""
-        if "free" not in self._cache:
-            m = len(self.I)
-            self._cache["free"] = kernel(vstack(self._L, self._N, ncols=m)) if m else zeros(0, 0)
-        return self._cache["free"]
+        return self._free
+
+    @cached_property
+    def _free(self) -> fmpq_mat:
+        m = len(self.I)
+        return kernel(vstack(self._L, self._N, ncols=m)) if m else zeros(0, 0)
 
     @property
     def is_state_determined(self) -> bool:
         """True when the state of every solution of (4.2) is unique and P_I is defined: autonomous,
         or V_I ⊕ T_I = Q^n with only free inputs left undetermined (module docstring)."""
-        if self.is_autonomous:
-            return True
-        if "det" not in self._cache:
-            V, T = self.consistent_subspace(), self.jump_space()
-            self._cache["det"] = (V.ncols() + T.ncols() == self.lcs.n and intersection(V, T).ncols() == 0)
-        return self._cache["det"]
+        return self.is_autonomous or self._splits
+
+    @cached_property
+    def _splits(self) -> bool:
+        """V_I ⊕ T_I = Q^n."""
+        V, T = self._V, self._T
+        return V.ncols() + T.ncols() == self.lcs.n and intersection(V, T).ncols() == 0
 
     def require_state_determined(self) -> None:
         if not self.is_state_determined:
@@ -257,42 +266,49 @@ class Mode:
     # --- P_I, F_I, A_I ------------------------------------------------------------------------
     def projection(self) -> fmpq_mat:
         """P_I: projection onto V_I along T_I (section 4.2); x(0+) = P_I x0."""
-        if "P" not in self._cache:
-            self.require_state_determined()
-            self._cache["P"] = projection(self.consistent_subspace(), self.jump_space())
-        return self._cache["P"]
+        return self._P
+
+    @cached_property
+    def _P(self) -> fmpq_mat:
+        self.require_state_determined()  # raises: nothing is cached
+        return projection(self._V, self._T)
 
     def feedback(self) -> fmpq_mat:
         """F_I (``|I| x n``): u_I = F_I x keeps x in V_I and y_I = 0 (section 4.1); F_I T_I = 0."""
-        if "F" not in self._cache:
-            self.require_state_determined()
-            n, m = self.lcs.n, len(self.I)
-            V, T, W = self.consistent_subspace(), self.jump_space(), self.annihilator()
-            if m == 0:
-                self._cache["F"] = zeros(0, n)
-                return self._cache["F"]
-            # for each basis vector v of V: [W L; N] u = -[W A; M] v (unique when the mode is
-            # autonomous; otherwise one solution, up to the free inputs, which change nothing in x)
-            lhs = vstack(W * self._L, self._N, ncols=m)
-            rhs = -(vstack(W * self.lcs.A, self._M, ncols=n) * V)
-            U = solve_any(lhs, rhs)
-            if U is None:
-                raise LCSError(f"internal inconsistency: V_I of mode {format_mode(self.I)} is not invariant")
-            coords = hstack(V, T).solve(identity(n))
-            self._cache["F"] = U * submatrix(coords, range(V.ncols()), None) if V.ncols() else zeros(m, n)
-        return self._cache["F"]
+        return self._F
+
+    @cached_property
+    def _F(self) -> fmpq_mat:
+        self.require_state_determined()
+        n, m = self.lcs.n, len(self.I)
+        V, T, W = self._V, self._T, self._W
+        if m == 0:
+            return zeros(0, n)
+        # for each basis vector v of V: [W L; N] u = -[W A; M] v (unique when the mode is
+        # autonomous; otherwise one solution, up to the free inputs, which change nothing in x)
+        lhs = vstack(W * self._L, self._N, ncols=m)
+        rhs = -(vstack(W * self.lcs.A, self._M, ncols=n) * V)
+        U = solve_any(lhs, rhs)
+        if U is None:
+            raise LCSError(f"internal inconsistency: V_I of mode {format_mode(self.I)} is not invariant")
+        coords = hstack(V, T).solve(identity(n))
+        return U * submatrix(coords, range(V.ncols()), None) if V.ncols() else zeros(m, n)
 
     def closed_loop(self) -> fmpq_mat:
         """A_I = ``A + B_.I F_I``: x' = A_I x on V_I."""
-        if "AI" not in self._cache:
-            self._cache["AI"] = self.lcs.A + self._L * self.feedback() if self.I else self.lcs.A
-        return self._cache["AI"]
+        return self._A_I
 
-    def spectrum(self):
+    @cached_property
+    def _A_I(self) -> fmpq_mat:
+        return self.lcs.A + self._L * self._F if self.I else self.lcs.A
+
+    def spectrum(self) -> Spectrum:
         """The spectral data of e^{A_I t} (:class:`~lcs_exact.expm.Spectrum`), computed once."""
-        if "spectrum" not in self._cache:
-            self._cache["spectrum"] = Spectrum(self.closed_loop())
-        return self._cache["spectrum"]
+        return self._spectrum
+
+    @cached_property
+    def _spectrum(self) -> Spectrum:
+        return Spectrum(self._A_I)
 
     def contains(self, x: fmpq_mat) -> bool:
         """x in V_I (Algorithm 7.1, step two), exact for rational x.

@@ -8,7 +8,7 @@ from here; the modules behind it are its own.
 """
 from __future__ import annotations
 
-from .balls import (ACCURACY_HEADROOM, DEFAULT_POLICY, MAX_DIGITS, accuracy_bits, ball_sign, Deadline,
+from .balls import (ACCURACY_HEADROOM, DEFAULT_POLICY, MAX_DIGITS, accuracy_bits, ball_sign, check_digits, Deadline,
                     digits_to_bits, dyadic, dyadic_lower, dyadic_upper, Policy, workprec)
 from .duals import Dual, norm2_bound, vector_norm2_bound
 from . import calcium
@@ -23,7 +23,7 @@ from .closedforms import (candidates, prove_root, prove_root_is, prove_touch, pr
 from .taylormodels import (Box, interval, ipow, Model, NoProof, positive_on, series_root, shift, Space, terms,
                            truncate, WorkBudget)
 
-__all__ = ["ACCURACY_HEADROOM", "DEFAULT_POLICY", "MAX_DIGITS", "accuracy_bits", "ball_sign", "Deadline",
+__all__ = ["ACCURACY_HEADROOM", "DEFAULT_POLICY", "MAX_DIGITS", "accuracy_bits", "ball_sign", "check_digits", "Deadline",
            "digits_to_bits", "dyadic", "dyadic_lower", "dyadic_upper", "Policy", "workprec", "Dual", "norm2_bound",
            "vector_norm2_bound", "calcium",
            "Closed", "sympy_proves_zero", "Spectrum", "spectrum_of", "AlgebraicReal", "as_real",

@@ -27,13 +27,15 @@ import math
 import sys
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Iterator
+from typing import Any, Callable, Iterator
 
 from flint import arb, ctx, fmpq
 
+from ..algebra import to_short
 from ..errors import InvalidArgument, TimeLimitExceeded, UnresolvedSign, Unsupported
 
-__all__ = ["Policy", "Deadline", "check_in_force", "DEFAULT_POLICY", "workprec", "long_int_strings", "digits_to_bits", "decide_sign",
+__all__ = ["Policy", "Deadline", "check_in_force", "DEFAULT_POLICY", "workprec", "long_int_strings", "check_digits",
+           "digits_to_bits", "decide_sign",
            "ball_sign", "MAX_DIGITS", "accuracy_bits", "closed_form_arb", "dyadic", "dyadic_lower",
            "dyadic_upper", "decimal_of_fmpq", "decimal_of_ball"]
 
@@ -42,6 +44,42 @@ MAX_DIGITS = 10_000
 #: guard bits added to the bits of the promised digits
 GUARD_BITS = 16
 
+
+def check_digits(digits: Any, what: str = "digits") -> int:
+    """``digits`` checked, the one rule of every entry point that takes it: a Python ``int`` (not a
+    bool, a float, a string or a numpy integer: ``int(...)`` converts one) in 1..``MAX_DIGITS``;
+    :class:`~lcs_exact.errors.InvalidArgument` naming ``what`` otherwise.
+
+    Where ``digits`` is taken and its default: a run and its exact numbers, 30
+    (``simulate``, ``simulate_branches``, ``Real.ball``, ``Real.decimal``, ``ExactVector.ball``,
+    ``lcs-exact simulate --digits``); float-sized samples, 17 (the digits that round-trip a
+    float64: ``Trajectory.sample``, ``FixtureTrajectory.sample``); the zoo and the exact values an
+    assertion prints, 20 (``write_zoo``, the zoo's ``Problem.run``, ``assert_matches_fixture``,
+    ``Violation.message``, ``lcs-exact zoo --digits``); a fixture, its run's ``digits``
+    (``Trajectory.to_fixture``).
+
+    Parameters
+    ----------
+    digits : int
+        Correct significant digits asked for.
+    what : str, optional
+        Its name in the message.
+
+    >>> check_digits(30)
+    30
+    >>> check_digits(0)
+    Traceback (most recent call last):
+    ...
+    lcs_exact.errors.InvalidArgument: digits must be an integer in 1..10000, got 0
+    """
+    if isinstance(digits, bool) or not isinstance(digits, int):
+        if hasattr(digits, "__index__") and not isinstance(digits, bool):  # numpy, flint, SymPy integers
+            raise InvalidArgument(f"{what} must be a Python int in 1..{MAX_DIGITS}, got {to_short(digits)} "
+                                  f"({type(digits).__name__}; use int(...))")
+        raise InvalidArgument(f"{what} must be an integer, got {to_short(digits)} ({type(digits).__name__})")
+    if not 1 <= digits <= MAX_DIGITS:
+        raise InvalidArgument(f"{what} must be an integer in 1..{MAX_DIGITS}, got {to_short(digits)}")
+    return int(digits)
 
 
 def digits_to_bits(digits: int) -> int:

@@ -20,12 +20,12 @@ from typing import Any
 from flint import arb, fmpq, fmpq_mat
 
 from . import calcium
-from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, accuracy_bits, closed_form_arb, decide_sign, decimal_of_ball,
+from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, check_digits, accuracy_bits, closed_form_arb, decide_sign, decimal_of_ball,
                     decimal_of_fmpq, digits_to_bits, dyadic_lower, dyadic_upper, workprec)
 from ..errors import LCSError, NotRational, UnresolvedSign
 from .forms import Closed, ca_of_sympy
 from .nodes import Node, closed_ready, in_dependency_order
-from ..algebra import to_fmpq, to_int
+from ..algebra import to_fmpq
 
 __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
            "AlgebraicReal", "radical_form", "as_real", "is_sympy", "ca_state", "ca_from_state", "rational_ca"]
@@ -137,7 +137,7 @@ class Real(Node):
         """An arb ball containing the value with relative radius < 10^-digits (absolute for a
         value that is zero or below 10^-digits).  Bounded by the run's ``time_limit`` (a
         :class:`~lcs_exact.errors.LimitExceeded` instead of a hang)."""
-        digits = to_int(digits, "digits", 1, MAX_DIGITS)
+        digits = check_digits(digits)
         with self.policy.deadline.query():
             return self._refined(digits)
 
@@ -168,7 +168,7 @@ class Real(Node):
     def decimal(self, digits: int = 30) -> str:
         """The value to ``digits`` significant digits, followed by an error bound ``+/- e``
         unless it is exact."""
-        digits = to_int(digits, "digits", 1, MAX_DIGITS)
+        digits = check_digits(digits)
         q = self.known_rational()
         if q is None and self._cf_done and self._cf is not None and self._cf.is_rational:
             q = self._cf.to_fmpq()  # a closed form already proven rational

@@ -20,7 +20,7 @@ from typing import Any, Callable, Iterator
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from . import calcium
-from .balls import Policy, decide_sign
+from .balls import Policy, check_digits, decide_sign
 from ..errors import ShapeError, UnresolvedSign
 from .expm import Spectrum, spectrum_of, symbolic_expm, t_symbol
 from ..interfaces import SystemLike
@@ -210,6 +210,7 @@ class ExactVector(Node):
         Parameters
         ----------
         digits : int, optional"""
+        digits = check_digits(digits)
         with self.policy.deadline.query():
             return [c.ball(digits) for c in self]
 

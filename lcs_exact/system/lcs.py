@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping, Sized
+from functools import cached_property
 from itertools import islice
 from typing import Any, Iterable
 
@@ -28,7 +29,7 @@ from ..algebra import (MAX_DIMENSION, MAX_MARKOV_INDEX, adjugate_coefficients, a
 from ..modes import initial_solution, is_regular, ldcp, rcp, select_modes
 from .sources import SourceBlock, source_block
 from .statespace import read_statespace, to_statespace
-from .wellposedness import WellPosedness
+from .wellposedness import WellPosedness, leading_indices
 
 __all__ = ["LCS", "LATEX_MAX_CHARS"]
 
@@ -153,7 +154,6 @@ class LCS:
         self._markov: list[fmpq_mat] = [self.D]
         self._apow_b: list[fmpq_mat] = [self.B]  # A^i B
         self._modes: dict[frozenset, Any] = {}
-        self._cache: dict[str, Any] = {}
         self.restitution = self._restitution(restitution)
         self.roles = self._roles(roles)
 
@@ -274,9 +274,11 @@ class LCS:
 
     def charpoly(self) -> fmpq_poly:
         """det(sI - A)."""
-        if "chi" not in self._cache:
-            self._cache["chi"] = self.A.charpoly()
-        return self._cache["chi"]
+        return self._charpoly
+
+    @cached_property
+    def _charpoly(self) -> fmpq_poly:
+        return self.A.charpoly()
 
     def spectral_scales(self):
         """(smallest nonzero ``|lambda|``, largest ``|lambda|``) over the eigenvalues lambda of A, as
@@ -287,17 +289,18 @@ class LCS:
         >>> lo.contains(2) and hi.contains(2)
         True
         """
-        if "scales" not in self._cache:
-            self._cache["scales"] = eigenvalue_moduli(self.A, self.charpoly())
-        return self._cache["scales"]
+        return self._scales
 
+    @cached_property
+    def _scales(self) -> tuple | None:
+        return eigenvalue_moduli(self.A, self._charpoly)
+
+    @cached_property
     def _adjugate_coeffs(self) -> list[fmpq_mat]:
-        if "adj" not in self._cache:
-            self._cache["adj"] = adjugate_coefficients(self.A, self.charpoly())
-        return self._cache["adj"]
+        return adjugate_coefficients(self.A, self._charpoly)
 
     def _poly_matrix_over_chi(self, left: fmpq_mat, right: fmpq_mat | None) -> RationalMatrix:
-        bs, chi, n = self._adjugate_coeffs(), self.charpoly(), self.n
+        bs, chi, n = self._adjugate_coeffs, self._charpoly, self.n
         mats = [left * b * right if right is not None else left * b for b in bs]
         r, c = mats[0].nrows(), mats[0].ncols()
         rows = []
@@ -311,42 +314,36 @@ class LCS:
 
     def R(self) -> RationalMatrix:
         """R(s) = C (sI - A)^{-1}, k x n, strictly proper (section 5.2)."""
-        if "R" not in self._cache:
-            self._cache["R"] = self._poly_matrix_over_chi(self.C, None)
-        return self._cache["R"]
+        return self._R
+
+    @cached_property
+    def _R(self) -> RationalMatrix:
+        return self._poly_matrix_over_chi(self.C, None)
 
     def G(self) -> RationalMatrix:
         """G(s) = C (sI - A)^{-1} B + D, k x k, proper (5.3, 5.9)."""
-        if "G" not in self._cache:
-            g = self._poly_matrix_over_chi(self.C, self.B)
-            self._cache["G"] = RationalMatrix([[g[i, j] + RationalFunction(self.D[i, j]) for j in range(self.k)]
-                                               for i in range(self.k)])
-        return self._cache["G"]
+        return self._G
 
-    def _leading(self, rows: bool) -> tuple:
-        out = []
-        for j in range(self.k):
-            idx: float | int = math.inf
-            for i in range(self.n + 1):  # Cayley-Hamilton: rho_j, eta_j <= n when finite
-                h = self.markov(i)
-                vals = [h[j, l] for l in range(self.k)] if rows else [h[l, j] for l in range(self.k)]
-                if any(v != 0 for v in vals):
-                    idx = i
-                    break
-            out.append(idx)
-        return tuple(out)
+    @cached_property
+    def _G(self) -> RationalMatrix:
+        g = self._poly_matrix_over_chi(self.C, self.B)
+        return RationalMatrix([[g[i, j] + RationalFunction(self.D[i, j]) for j in range(self.k)] for i in range(self.k)])
+
+    @cached_property
+    def _rho(self) -> tuple:
+        return leading_indices(self, rows=True)
+
+    @cached_property
+    def _eta(self) -> tuple:
+        return leading_indices(self, rows=False)
 
     def leading_row_indices(self) -> tuple:
         """(rho_1, ..., rho_k): rho_j = inf{i : H^i_{j.} != 0} (Def. 6.2); math.inf if never."""
-        if "rho" not in self._cache:
-            self._cache["rho"] = self._leading(True)
-        return self._cache["rho"]
+        return self._rho
 
     def leading_column_indices(self) -> tuple:
         """(eta_1, ..., eta_k): eta_j = inf{i : H^i_{.j} != 0} (Def. 6.2); math.inf if never."""
-        if "eta" not in self._cache:
-            self._cache["eta"] = self._leading(False)
-        return self._cache["eta"]
+        return self._eta
 
     def leading_row_matrix(self) -> fmpq_mat:
         """M (6.1): row j is row j of H_{rho_j}.  IllPosed if a row of G(s) is identically zero."""
@@ -372,9 +369,11 @@ class LCS:
         Returns a report that is truthy iff the conditions hold; it lists M, N, their P-matrix
         verdicts and, when one fails, a principal minor that is not positive.
         """
-        if "wp" not in self._cache:
-            self._cache["wp"] = WellPosedness.of(self)
-        return self._cache["wp"]
+        return self._well_posedness
+
+    @cached_property
+    def _well_posedness(self) -> WellPosedness:
+        return WellPosedness.of(self)
 
     @classmethod
     def from_statespace(cls, sys: Any, **options: Any) -> "LCS":
@@ -532,11 +531,10 @@ class LCS:
         >>> sb.states, sb.expressions
         ((1, 2), ('sin(t)', 'cos(t)'))
         """
-        if "sources" not in self._cache:
-            self._cache["sources"] = self._source_block()
-        return self._cache["sources"]
+        return self._sources
 
-    def _source_block(self) -> SourceBlock | None:
+    @cached_property
+    def _sources(self) -> SourceBlock | None:
         plant = self.plant
         tail = getattr(self.embedding, "tail", None)
         J = list(range(len(plant), self.n))

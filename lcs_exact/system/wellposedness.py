@@ -14,7 +14,31 @@ from ..errors import IllPosed
 from ..algebra import p_matrix_violation
 from ..algebra import mat_rows, submatrix
 
-__all__ = ["WellPosedness"]
+__all__ = ["WellPosedness", "leading_indices"]
+
+
+def leading_indices(lcs: Any, rows: bool) -> tuple:
+    """The leading row indices rho_j = inf{i : H^i_{j.} != 0} (``rows``), or the column indices
+    eta_j = inf{i : H^i_{.j} != 0}, of Definition 6.2: ``math.inf`` when there is none.
+
+    Parameters
+    ----------
+    lcs : LCS
+        Read through ``k``, ``n`` and its Markov parameters ``markov(i)`` (duck-typed).
+    rows : bool
+        Row indices (rho) or column indices (eta).
+    """
+    out = []
+    for j in range(lcs.k):
+        idx: float | int = math.inf
+        for i in range(lcs.n + 1):  # Cayley-Hamilton: rho_j, eta_j <= n when finite
+            h = lcs.markov(i)
+            vals = [h[j, l] for l in range(lcs.k)] if rows else [h[l, j] for l in range(lcs.k)]
+            if any(v != 0 for v in vals):
+                idx = i
+                break
+        out.append(idx)
+    return tuple(out)
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,7 @@ from ..errors import FormatError, InvalidArgument, ShapeError
 from ..dynamics import ball_number, number_rational, short_text, to_fraction
 from ..io import read_fixture
 from ..algebra import to_fmpq
+from ..numbers import check_digits
 from .solverevents import SEARCH_STEPS, event_windows, in_windows, signature
 
 __all__ = ["read_solution_csv", "compare", "ComparisonReport", "EventComparison", "Violation", "convergence_order",
@@ -129,7 +130,13 @@ class Violation:
     tolerance: float
 
     def message(self, digits: int = 20) -> str:
-        """The sentence an :class:`AssertionError` carries."""
+        """The sentence an :class:`AssertionError` carries, the exact value to ``digits`` digits.
+
+        Parameters
+        ----------
+        digits : int, optional
+        """
+        digits = check_digits(digits)
         exact = f"{self.exact.mid().str(digits, radius=False)} (+/- {float(self.exact.rad()):.3g})"
         return (f"the solution differs from the fixture by {self.error:.3g} > tolerance {self.tolerance:.3g} at "
                 f"t = {self.time:.17g}, component {self.name}: solver {self.solver!r}, exact {exact}")

@@ -17,6 +17,7 @@ from typing import Any, Sequence
 
 from .compare import ComparisonReport, compare
 from ..errors import FormatError
+from ..numbers import check_digits
 
 __all__ = ["assert_matches_fixture"]
 
@@ -74,6 +75,7 @@ def assert_matches_fixture(fixture: Any, t: Sequence[Any], X: Any, atol: float =
     ...
     AssertionError: the solution differs from the fixture by 0.00242 > tolerance 1e-06 at t = 0.5, component x_0: solver 0.88, exact 0.87758256189037271612 (+/- ...)
     """
+    digits = check_digits(digits)  # before the comparison: a bad value is not an error of the solver
     report = compare(fixture, t, X, event_tol=event_tol, atol=atol, rtol=rtol)
     if report.n_unmatched:
         raise FormatError(f"{report.n_unmatched} of the solver's times are not on the fixture's sample grid and "

@@ -43,7 +43,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-from ..numbers import MAX_DIGITS
+from ..numbers import check_digits
 from .compare import ComparisonReport, compare
 from ..errors import FormatError, InvalidArgument, LCSError
 from ..builders import (ball_column, bouncing_ball, buck_converter, cart_chain, diode_bridge, diode_bridge_cap_filter,
@@ -275,8 +275,7 @@ def _selected(only: str | Sequence[str] | None) -> list[Problem]:
 
 
 def _check_settings(digits: Any, samples: Any) -> None:
-    if isinstance(digits, bool) or not isinstance(digits, int) or not 1 <= digits <= MAX_DIGITS:
-        raise InvalidArgument(f"digits must be an int in 1..{MAX_DIGITS}, got {digits!r}")
+    check_digits(digits)
     if isinstance(samples, bool) or not isinstance(samples, int) or not 1 <= samples < MAX_SAMPLES:
         raise InvalidArgument(f"samples (grid intervals per problem) must be an int in 1..{MAX_SAMPLES - 1}, "
                               f"got {samples!r}")
