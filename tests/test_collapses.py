@@ -185,3 +185,28 @@ def test_without_a_proof_the_run_stops_as_a_suspected_accumulation(monkeypatch):
         gap = last - mp.mpf(int(lower.p)) / int(lower.q)
         assert info.value.upper is None and -mp.mpf(10) ** -30 <= gap < mp.mpf(10) ** -24
     assert "suspected" in str(info.value) and 2.5315096 < float(lower) < 2.5315097
+
+
+def test_a_collapse_beside_a_falling_ball(fast):
+    """A third ball (mass 1) falls from 10 above ball 2: the background moves while balls 1 and 2
+    collapse, and its gap is bounded over the whole window.  The collapse is the two-ball one (same
+    impacts, same T*); at T* ball 3 is in free fall from rest (q3 = q3(0) - g T*^2 / 2, v3 = -g T*),
+    and it lands on the stack (q3 = 2) at sqrt(2 (q3(0) - 2) / g) = sqrt(53/25)."""
+    _, two, (events, t_star) = fast
+    q = [FAST["q1"], FAST["q2"], FAST["q2"] + 1 + 10]
+    three = L.models.mechanical([[1, 0, 0], [0, 2, 0], [0, 0, 1]], [[0] * 3] * 3, [[1, 0, 0], [-1, 1, 0], [0, -1, 1]],
+                                force=[-10, -20, -10], gap=[0, -1, -1], restitution="1/2")
+    tr = L.simulate(three, three.embed(q + [0, 0, 0]), 2)
+    assert tr.certified and len(tr.accumulations) == 1
+    acc = tr.accumulations[0]
+    assert acc.cycle.proof.cycle.moving and acc.cycle.proof.cycle.P == (0, 1)
+    assert [e.triggers for e in tr.events[:len(two.events)]] == [e.triggers for e in two.events]
+    with mp.workdps(80):
+        assert abs(mid(acc.time, 45) - t_star) < mp.mpf(10) ** -43
+        q3 = mp.mpf(int(q[2].numerator)) / int(q[2].denominator)
+        x = [mid(c, 35) for c in acc.state]
+        assert abs(x[2] - (q3 - 5 * t_star ** 2)) < mp.mpf(10) ** -33 and abs(x[5] + 10 * t_star) < mp.mpf(10) ** -33
+        assert abs(x[0]) < mp.mpf(10) ** -33 and abs(x[1] - 1) < mp.mpf(10) ** -33
+    landing = tr.events[len(two.events)]  # after T*, a sum with T*: certified digits, no closed form
+    with mp.workdps(60):
+        assert landing.triggers == ("y_2",) and abs(mid(landing.time, 40) - mp.sqrt(mp.mpf(53) / 25)) < mp.mpf(10) ** -38

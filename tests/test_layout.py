@@ -34,7 +34,7 @@ SUBPACKAGES = ["algebra", "numbers", "modes", "display", "system", "dynamics", "
 
 #: each subpackage's modules, bottom up: each imports only modules before it (and lower doors)
 LAYERS = {
-    "algebra": ["rational", "ratfunc", "subspaces", "lcp", "polyhedra"],
+    "algebra": ["rational", "matrixfunctions", "ratfunc", "subspaces", "lcp", "polyhedra"],
     "numbers": ["balls", "duals", "flintlib", "calcium", "forms", "expm", "nodes", "reals", "vectors", "closedforms",
                 "taylormodels"],
     "modes": ["mode", "ldcp", "rcpfamily", "selection"],

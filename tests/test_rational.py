@@ -19,7 +19,8 @@ from hypothesis import strategies as st
 
 from lcs_exact.errors import NotRational, ShapeError, UnresolvedSign
 from lcs_exact.algebra.ratfunc import RationalFunction, RationalMatrix, laurent_coefficients, resolvent
-from lcs_exact.algebra.rational import lex_sign, poly_at_matrix, sign_of_form, to_fmpq, to_matrix, to_vector
+from lcs_exact.algebra.matrixfunctions import poly_at_matrix
+from lcs_exact.algebra.rational import lex_sign, sign_of_form, to_fmpq, to_matrix, to_vector
 
 from reference.polynomials import peval
 

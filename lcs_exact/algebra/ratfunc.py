@@ -18,7 +18,8 @@ from typing import Any, Sequence
 from flint import fmpq, fmpq_mat, fmpq_poly
 
 from ..errors import NotRational, ShapeError
-from .rational import adjugate_coefficients, fmpq_to_sympy, to_fmpq
+from .matrixfunctions import adjugate_coefficients
+from .rational import fmpq_to_sympy, to_fmpq
 
 __all__ = ["RationalFunction", "RationalMatrix", "laurent_coefficients", "resolvent"]
 

@@ -41,7 +41,7 @@ from typing import Any, Sequence
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from ..algebra import hstack, identity, kernel, rank, submatrix, vstack, zeros
+from ..algebra import hstack, identity, kernel, norm_inf, rank, submatrix, vstack, zeros
 from ..errors import LimitExceeded, UnresolvedSign
 from ..interfaces import AccumulationWindow
 from ..numbers import ExactVector, ProjectedVector, RationalVector, Real, as_real, dyadic_lower, dyadic_upper, workprec
@@ -57,10 +57,6 @@ BOUNCE_PATIENCE = 400
 #: cycles of the ball iteration before it gives up (a contraction this slow is not an accumulation
 #: this method serves: kappa = 0.999 needs ~90,000 cycles for 128 bits)
 MAX_CYCLES = 200_000
-
-
-def _norm_inf(M: fmpq_mat) -> fmpq:
-    return max((sum((abs(M[i, j]) for j in range(M.ncols())), fmpq(0)) for i in range(M.nrows())), default=fmpq(0))
 
 
 def _row(M: fmpq_mat, i: int) -> fmpq_mat:
@@ -172,13 +168,13 @@ def _growth(A: fmpq_mat) -> tuple[fmpq, fmpq]:
     while p <= 8:
         while len(powers) <= p:
             powers.append(A * powers[-1])
-        norm = _norm_inf(powers[p])
+        norm = norm_inf(powers[p])
         if norm == 0:  # nilpotent: A^j = 0 for j >= p, any nu > 0 serves
             nu = fmpq(1, 2 ** 30)
         else:
             with workprec(64):
                 nu = max(dyadic_upper(arb(norm).root(p) * arb(1 + 2 ** -40)) if p > 1 else norm, fmpq(1, 2 ** 30))
-        C = max(_norm_inf(powers[i]) / nu ** i for i in range(p))
+        C = max(norm_inf(powers[i]) / nu ** i for i in range(p))
         if best is None or nu < best[0]:
             best = (nu, C)
         p *= 2
@@ -210,9 +206,9 @@ class _Eval:
         with workprec(prec):
             self.nu, self.C = arb(cyc.nu), arb(cyc.C)
             self.cn = arb(sum((abs(cyc.c[0, j]) for j in range(cyc.c.ncols())), fmpq(0)))
-            self.rn = arb(_norm_inf(cyc.r))
-            self.Vn = arb(_norm_inf(cyc.V))
-            self.LRn = arb(_norm_inf(cyc.L * cyc.R))
+            self.rn = arb(norm_inf(cyc.r))
+            self.Vn = arb(norm_inf(cyc.V))
+            self.LRn = arb(norm_inf(cyc.L * cyc.R))
             self.fn = [arb(sum((abs(f[0, j]) for j in range(f.ncols())), fmpq(0))) for f in cyc.others]
             self.fV = [arb_mat(f * cyc.V) for f in cyc.others]
             self.fAr = [[arb_mat(f) * a for a in self.k["Ar"]] for f in cyc.others]

@@ -44,9 +44,10 @@ from typing import Any, Sequence
 import mpmath
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from ..algebra import RowSpan, hstack, identity, image, is_zero, kernel, submatrix, vstack
+from ..algebra import RowSpan, hstack, identity, image, is_zero, kernel, norm_inf, submatrix, vstack
 from ..errors import LimitExceeded, UnresolvedSign
-from ..numbers import Dual, ExactVector, norm2_bound, vector_norm2_bound, ProjectedVector, RationalVector, Real, dyadic_upper, workprec
+from ..numbers import (Dual, ExactVector, ProjectedVector, RationalVector, Real, dyadic_upper, expm_action, norm2_bound,
+                       spectrum_of, vector_norm2_bound, workprec)
 from .accumulation import event_signature
 from .bounces import BounceWindow
 
@@ -76,10 +77,12 @@ class CollapseCycle:
     W: fmpq_mat  # |P| x |P|: W[i, j] = c_i A r_j, the speed of gap i an impact of j adds per unit
     acc: fmpq_mat  # |P| x n: c_i A^2 (the gaps' accelerations, acc x = acc x_bg)
     monitors: tuple  # rows that must stay positive: resting forces F_J, far gaps
+    Abg: fmpq_mat  # (I - E G) A: x_bg' = Abg x_bg on the flights (0 on V_J: a background at rest)
+    moving: bool  # Abg is not 0 on V_J (a body falling beside the collapse)
 
     @property
     def background(self) -> fmpq_mat:
-        """I - E G: x -> x_bg, the part of the state every flight and impact keeps."""
+        """I - E G: x -> x_bg, the part of the state the impacts keep and the flights move alone."""
         return identity(self.lcs.n) - self.E * self.G
 
 
@@ -91,24 +94,32 @@ def _pattern(events: Sequence) -> tuple | None:
     for ev in reversed(events[-4 * MAX_PATTERN:]):
         J, chain, after, triggers = event_signature(ev)
         J = frozenset(J or ())
-        if after != J or len(chain) != 1 or not J <= chain[0] or len(chain[0] - J) != 1:
+        if after != J or len(chain) != 1 or len(chain[0] - J) != 1:
             break
         b = next(iter(chain[0] - J))
         if triggers != (f"y_{b}",) or (hits and hits[-1][0] != J):
             break
         hits.append((J, b))
     seq = [b for _, b in reversed(hits)]
-    for p in range(2, MAX_PATTERN + 1):
-        if len(seq) >= 3 * p and len(set(seq[-p:])) > 1 and all(seq[i] == seq[i - p] for i in range(len(seq) - 3 * p, len(seq)) if i >= p):
-            if all(seq[-j] == seq[-j - p] for j in range(1, 2 * p + 1)):
-                return hits[0][0], tuple(seq[-p:])
+    for p in range(2, MAX_PATTERN + 1):  # the last 3p impacts repeat with period p
+        if len(seq) >= 3 * p and len(set(seq[-p:])) > 1 and all(seq[-j] == seq[-j - p] for j in range(1, 2 * p + 1)):
+            return hits[0][0], tuple(seq[-p:])
     return None
 
 
 def collapse_cycle(lcs, events: Sequence) -> CollapseCycle | None:
     """The exact data of the pattern the last events repeat (the module docstring), or None when
     they repeat none or a condition fails: 0 < e_b < 1, D = 0 on the contacts involved, Theorem
-    6.3, W_CC^-1 e_b > 0, S of dimension 2|P| with G invertible on it, c_i A^2 E = 0."""
+    6.3, W_CC^-1 e_b >= 0, S = span{r_b, A r_b} of dimension 2|P| with G invertible on it and A S
+    in S, constant accelerations (c_i A^2 E = 0, c_i A^2 Abg = 0).
+
+    Parameters
+    ----------
+    lcs : LCS
+        The system, with Newton's restitution.
+    events : sequence of Event
+        The run's events so far.
+    """
     rest = getattr(lcs, "restitution", None)
     found = _pattern(events) if rest is not None and len(events) >= 6 else None
     if found is None:
@@ -126,34 +137,39 @@ def collapse_cycle(lcs, events: Sequence) -> CollapseCycle | None:
     if any(r is None for r in rs):
         return None
     G = vstack(*[_row(lcs.C, b) for b in P], *[_row(lcs.C, b) * A for b in P])
-    S = image(hstack(A * K, *rs, nrows=lcs.n))
+    S = image(hstack(*rs, *[A * r for r in rs], nrows=lcs.n))
     if S.ncols() != 2 * len(P) or (G * S).det() == 0:
         return None
     E = S * (G * S).inv()
+    bg = identity(lcs.n) - E * G
     acc = vstack(*[_row(lcs.C, b) * A * A for b in P])
-    if not is_zero(acc * E):
-        return None  # the accelerations depend on the fast part: no exact scaling (a spring)
+    Abg = bg * A
+    if not (is_zero(bg * A * E) and is_zero(acc * E) and is_zero(acc * Abg * K)):
+        return None  # the fast part feeds the background, or the accelerations vary (a spring)
     W = fmpq_mat([[(_row(lcs.C, i) * lcs.A * r)[0, 0] for r in rs] for i in P])
     F, I = (mode.feedback(), list(mode.I)) if J else (None, [])
     monitors = tuple(_row(F, k) for k in range(len(I))) + tuple(
         _row(lcs.C, i) + submatrix(lcs.D, [i], I) * F if I else _row(lcs.C, i)
         for i in range(lcs.k) if i not in P and i not in J)
-    return CollapseCycle(lcs, J, tuple(P.index(b) for b in seq), P, tuple(rest[b] for b in P), G, E, W, acc, monitors)
+    return CollapseCycle(lcs, J, tuple(P.index(b) for b in seq), P, tuple(rest[b] for b in P), G, E, W, acc,
+                         monitors, Abg, not is_zero(Abg * K))
 
 
 def _push(lcs, J: frozenset, b: int) -> fmpq_mat | None:
-    """r_b = B_C W_CC^-1 e_b (C = J + {b}) when W_CC^-1 e_b > 0 and c_b A r_b = 1, else None."""
+    """r_b = B_C W_CC^-1 e_b (C = J + {b}, every closed contact: the impact's LCP) when W_CC^-1 e_b
+    >= 0 with its b-th entry > 0 (the resting contacts pushed or untouched, their speeds kept at 0),
+    else None."""
     closed = sorted(J | {b})
     W = submatrix(lcs.C * lcs.A * lcs.B, closed, closed)
     if W.det() == 0:
         return None
     z = W.inv() * fmpq_mat([[int(i == b)] for i in closed])
-    if any(z[i, 0] <= 0 for i in range(len(closed))):
+    if any(z[i, 0] < 0 for i in range(len(closed))) or z[closed.index(b), 0] <= 0:
         return None
     return submatrix(lcs.B, None, closed) * z
 
 
-def _val(x) -> arb:
+def _val(x) -> arb:  # the value of a ball or of a Dual
     return x.v if isinstance(x, Dual) else x
 
 
@@ -184,7 +200,7 @@ class _Steps:
     """The scaled flights and impacts of a cycle at one precision: a (the accelerations, balls, with
     their exact signs), the background's monitored values, and one step of the map."""
 
-    def __init__(self, cyc: CollapseCycle, x: ExactVector, prec: int):
+    def __init__(self, cyc: CollapseCycle, x: ExactVector, prec: int, theta: fmpq | None = None):
         self.cyc, self.prec = cyc, prec
         signs = [x.sign_of_form(_row(cyc.acc, i)) for i in range(len(cyc.P))]
         xb = x.arb(prec)
@@ -195,7 +211,10 @@ class _Steps:
             self.W = [[arb(cyc.W[i, j]) for j in range(len(cyc.P))] for i in range(len(cyc.P))]
             self.e = [arb(e) for e in cyc.e]
             bg = arb_mat(cyc.background) * xb
-            self.mon = [(arb_mat(m) * bg)[0, 0] for m in cyc.monitors]
+            # lower bounds of the monitored rows on the background (over the window when it moves;
+            # the ball iteration of a proven window checks none: no theta)
+            self.mon = [(arb_mat(m) * bg)[0, 0] if not cyc.moving else None if theta is None else
+                        _lowest(m, cyc.Abg, bg, theta) for m in cyc.monitors]
             self.monE = [[abs(arb((m * cyc.E)[0, j])) for j in range(cyc.E.ncols())] for m in cyc.monitors]
 
     def step(self, sh: _Shape, b: int, sigma: arb | None):
@@ -256,8 +275,26 @@ class _Steps:
         speeds = [abs(_val(v)) + abs(a) * S for v, a in zip(V, self.a)]
         n = len(Y)
         for m, row in zip(self.mon, self.monE):
+            if m is None:
+                continue  # a moving background on a first pass (prove_collapse): the window's length not yet known
             bound = sum((row[j] * gaps[j] * sigma * sigma + row[n + j] * speeds[j] * sigma for j in range(n)), arb(0))
             _positive(m - bound)
+
+
+def _lowest(m: fmpq_mat, Abg: fmpq_mat, bg: arb_mat, theta: fmpq) -> arb:
+    """A lower bound of m e^{Abg s} x_bg over 0 <= s <= theta: the Taylor terms m Abg^j x_bg s^j / j!
+    bounded one by one (exact when m Abg^j = 0 from some j < 8 on: a body falling freely), then
+    the tail |m Abg^8|_1 theta^8 / 8! e^{|Abg| theta} |x_bg| (infinity norms)."""
+    th, out, row, term = arb(theta), (arb_mat(m) * bg)[0, 0], m, arb(1)
+    for j in range(1, 9):
+        row = row * Abg
+        if is_zero(row):
+            return out
+        term = term * th / j
+        if j < 8:
+            out -= abs((arb_mat(row) * bg)[0, 0]) * term
+    xn = max((abs(bg[i, 0]).upper() for i in range(bg.nrows())), key=lambda b: b.mid())
+    return out - arb(norm_inf(row)) * term * (arb(norm_inf(Abg)) * th).exp() * xn
 
 
 def _period(steps: _Steps, sh: _Shape, pattern: tuple, sigma: arb | None):
@@ -327,6 +364,7 @@ class CollapseProof:
     lipschitz: fmpq
     radius: fmpq
     T: fmpq_mat
+    length: fmpq  # T* - t_k is at most this
 
     def __repr__(self):
         pat = " ".join(f"y_{self.cycle.P[b]}" for b in self.cycle.pattern)
@@ -352,8 +390,8 @@ class _Tracker:
     <= e} (a mean-value form: balls iterated directly widen ~4 bits a period by cancellation, here
     e contracts with the map), and the scale sigma."""
 
-    def __init__(self, steps: _Steps, cyc: CollapseCycle, T: fmpq_mat, sh: _Shape, sigma: arb):
-        self.steps, self.cyc, self.last, self.sigma = steps, cyc, sh.last, sigma
+    def __init__(self, steps: _Steps, cyc: CollapseCycle, T: fmpq_mat, sh: _Shape, sigma: arb, monitored: bool = True):
+        self.steps, self.cyc, self.last, self.sigma, self.monitored = steps, cyc, sh.last, sigma, monitored
         self.Ta, self.Ti = arb_mat(T), arb_mat(T.inv())
         p = _pack(sh)
         self.c = [arb(v.mid()) for v in p]
@@ -371,7 +409,8 @@ class _Tracker:
         zb = (-self.e).union(self.e)
         box = [Dual(self.c[i] + sum((Ta[i, j] * zb for j in range(d)), arb(0)), [Ta[i, j] for j in range(d)])
                for i in range(d)]
-        out, ratio, _, recs = _period(self.steps, _unpack(box, self.last, n), self.cyc.pattern, self.sigma)
+        out, ratio, _, recs = _period(self.steps, _unpack(box, self.last, n), self.cyc.pattern,
+                                      self.sigma if self.monitored else None)
         q = _pack(out)
         L = norm2_bound(self.Ti * arb_mat(d, d, [q[i].d[j] for i in range(d) for j in range(d)]))
         centre = _pack(_period(self.steps, _unpack(self.c, self.last, n), self.cyc.pattern, None)[0])
@@ -398,18 +437,28 @@ def prove_collapse(cyc: CollapseCycle, events: Sequence, prec: int = 128) -> Col
     x = events[-1].state_after
     if x.sign_of_form(_row(cyc.lcs.C, cyc.P[cyc.pattern[-1]])) != 0:
         return None
+    first = _attempts(cyc, x, len(events) - 1, prec, None)
+    if first is None or not cyc.moving:
+        return first
+    # a moving background: its monitored rows bounded over twice the window the first pass found
+    return _attempts(cyc, x, len(events) - 1, prec, 2 * first.length)
+
+
+def _attempts(cyc: CollapseCycle, x: ExactVector, k0: int, prec: int, theta: fmpq | None) -> CollapseProof | None:
+    """:func:`_attempt` at rising precisions while a ball is too wide to decide a check."""
     for wp in (prec + 64, 2 * prec + 256, 4 * prec + 1024):
         try:
-            return _attempt(cyc, x, len(events) - 1, wp)
+            return _attempt(cyc, x, k0, wp, theta)
         except _Fail as f:
             if not f.undecided:
                 return None
     return None
 
 
-def _attempt(cyc: CollapseCycle, x: ExactVector, k0: int, wp: int) -> CollapseProof | None:
-    """Track the shape from x period by period, and at periods 0, 1, 2, 4, ... try an invariant disc."""
-    steps = _Steps(cyc, x, wp)
+def _attempt(cyc: CollapseCycle, x: ExactVector, k0: int, wp: int, theta: fmpq | None) -> CollapseProof | None:
+    """Track the shape from x period by period, and at periods 0, 1, 2, 4, ... try an invariant disc;
+    with a moving background (``theta`` given) the window's length must come out below ``theta``."""
+    steps = _Steps(cyc, x, wp, theta)
     sh, sigma = _start(cyc, x, wp)
     with workprec(wp):
         fp = _fixed_point(steps, cyc, _pack(sh), sh.last)
@@ -417,37 +466,39 @@ def _attempt(cyc: CollapseCycle, x: ExactVector, k0: int, wp: int) -> CollapsePr
         if T is None:
             return None
         tracker = _Tracker(steps, cyc, T, sh, sigma)
-        check = 0
+        check, elapsed = 0, arb(0)
         for periods in range(MAX_PERIODS + 1):
             if periods == check:
                 check = max(1, 2 * check)
                 found = _invariant_disc(steps, cyc, fp[0], fp[1], T, tracker)
                 if found is not None:
-                    return CollapseProof(cyc, k0, periods, *found, T)
-            tracker.period()
+                    length = elapsed + tracker.sigma * arb(found[1]) / (1 - arb(found[0]))
+                    if theta is not None and not length < arb(theta):
+                        return None  # the window is longer than the monitored rows were bounded over
+                    return CollapseProof(cyc, k0, periods, *found, T, dyadic_upper(length))
+            sig = tracker.sigma
+            for s, rho, _ in tracker.period():
+                elapsed, sig = elapsed + sig * s, sig * rho
     return None
 
 
 def _fixed_point(steps: _Steps, cyc: CollapseCycle, p: list, last: int) -> tuple[list, arb_mat] | None:
     """Newton's method for F(p) = p from the midpoints of p: (p^, DF(p^))."""
     d, n = len(p), len(cyc.P)
-    ph = [arb(v.mid()) for v in p]
-    for _ in range(12):
+    ph, done = [arb(v.mid()) for v in p], False
+    for it in range(13):
         duals = [Dual(v, [arb(int(i == j)) for j in range(d)]) for i, v in enumerate(ph)]
-        out, _, _, _ = _period(steps, _unpack(duals, last, n), cyc.pattern, None)
-        q = _pack(out)
-        M = arb_mat(d, d, [q[i].d[j] - int(i == j) for i in range(d) for j in range(d)])
+        q = _pack(_period(steps, _unpack(duals, last, n), cyc.pattern, None)[0])
+        J = arb_mat(d, d, [q[i].d[j] for i in range(d) for j in range(d)])
+        if done or it == 12:
+            return ph, J
         try:
-            delta = M.solve(arb_mat(d, 1, [q[i].v - ph[i] for i in range(d)]))
+            delta = (J - arb_mat(identity(d))).solve(arb_mat(d, 1, [q[i].v - ph[i] for i in range(d)]))
         except (ZeroDivisionError, ValueError):
             return None
         ph = [arb((ph[i] - delta[i, 0]).mid()) for i in range(d)]
-        if all(abs(delta[i, 0]).upper() < arb(2) ** (-steps.prec // 2) * (1 + abs(ph[i]).upper()) for i in range(d)):
-            break
-    duals = [Dual(v, [arb(int(i == j)) for j in range(d)]) for i, v in enumerate(ph)]
-    out, _, _, _ = _period(steps, _unpack(duals, last, n), cyc.pattern, None)
-    q = _pack(out)
-    return ph, arb_mat(d, d, [q[i].d[j] for i in range(d) for j in range(d)])
+        done = all(abs(delta[i, 0]).upper() < arb(2) ** (-steps.prec // 2) * (1 + abs(ph[i]).upper()) for i in range(d))
+    return None
 
 
 def _invariant_disc(steps: _Steps, cyc: CollapseCycle, ph: list, J: arb_mat, T: fmpq_mat,
@@ -507,8 +558,9 @@ class _Iteration:
         self.steps = _Steps(cyc, x, prec)
         sh, sigma = _start(cyc, x, prec)
         self.shapes, self.sig, self.t = [sh], [sigma], [t0]
+        self.moving = spectrum_of(cyc.Abg) if cyc.moving else None  # x_bg(t) = e^{Abg (t - t_k)} x_bg
         with workprec(prec):
-            self.tracker = _Tracker(self.steps, cyc, proof.T, sh, sigma)
+            self.tracker = _Tracker(self.steps, cyc, proof.T, sh, sigma, monitored=False)  # proven: no re-check
             self.bg = arb_mat(cyc.background) * x.arb(prec)
             self.kappa, self.D = arb(proof.kappa), arb(proof.D)
 
@@ -574,7 +626,8 @@ class _Iteration:
             s = (t - self.t[m]) / sig
             xi = [sig * sig * (sh.Y[j] + sh.V[j] * s + a[j] * s * s / 2) for j in range(n)]
             xi += [sig * (sh.V[j] + a[j] * s) for j in range(n)]
-            return self.bg + arb_mat(cyc.E) * arb_mat(2 * n, 1, xi)
+            bg = self.bg if self.moving is None else self.moving.apply(t - self.t[0], self.bg, self.prec)
+            return bg + arb_mat(cyc.E) * arb_mat(2 * n, 1, xi)
 
 
 class CollapseWindow(BounceWindow):
@@ -607,6 +660,8 @@ class CollapseWindow(BounceWindow):
         I - E G are forms the whole run keeps (q A = 0, q B = 0: gravity's constant source), so a
         rational start gives an exact rational limit."""
         bg, lcs = self.proof.cycle.background, self.proof.cycle.lcs
+        if self.proof.cycle.moving:  # x_bg moved on alone: e^{Abg (T* - t_k)} x_bg(t_k)
+            return expm_action(spectrum_of(self.proof.cycle.Abg), self.time - self.t_k, ProjectedVector(bg, self.z))
         if self.origin is not None:
             keep = kernel(hstack(lcs.A, lcs.B, nrows=lcs.n).transpose()).transpose()
             span = RowSpan(keep) if keep.nrows() else None
