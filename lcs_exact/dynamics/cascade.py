@@ -175,6 +175,19 @@ class _Cascade:
         arith.follows(step, chain, after)
         return step.state.x, step.state.U, tstar
 
+    def cycle(self, x: list, V: fmpq_mat, mode_now, pattern: list) -> tuple[list, Model]:
+        """The cycle ``pattern`` of events (signatures) from x, a family in V = V_I of ``mode_now``:
+        (the state after it, back in V, and its duration, the sum of the phases' t*)."""
+        U, D = V, None
+        for sig in pattern:
+            if self.box.check is not None:
+                self.box.check()
+            x, U, tstar = self.event(x, U, mode_now, sig)
+            D, mode_now = (tstar if D is None else self.box.add(D, tstar)), sig[2]
+        if rank(hstack(V, U, nrows=V.nrows())) != V.ncols():
+            raise NoProof("the cycle does not return to V_I")
+        return x, D
+
     def trigger(self, x: list, U: fmpq_mat, mode, cons: list, triggers: tuple) -> tuple["_Phase", fmpq_mat]:
         """The phase in ``mode`` from x on its trigger's time scale (:class:`_Phase`), and K, the
         smallest A_J-invariant subspace holding the family (the orbit): the triggers are
@@ -436,27 +449,8 @@ def _certify_cycle(lcs, ev, k0: int, pattern: list, N: int, prec: int, max_prec:
     with workprec(max(prec, pbits)):
         fam = _corner_family(dec, co, n) if nb == 0 else _background_family(dec, zb, co, n, cusp)
         box = Box(fam.sp, check)
-        x = [box.model(xi, N) for xi in fam.x_of]
-        casc = _Cascade(lcs, box, N)
-        D, mode_now, U = None, ev.mode_after, dec.V
-        for sig in pattern:
-            if check is not None:
-                check()
-            x, U, tstar = casc.event(x, U, mode_now, sig)
-            D, mode_now = (tstar if D is None else box.add(D, tstar)), sig[2]
-        if rank(hstack(dec.V, U, nrows=n)) != dec.V.ncols():
-            raise NoProof("the cycle does not return to V_I")
-        gx, gAx = box.lin(_row(dec.g, 0), x), box.lin(_row(dec.gA, 0), x)
-        if box.sign(gx) != 1 or box.sign(gAx) != -1:
-            raise NoProof("the state after the cycle is not certified in the family", order=True)
-        if nb == 0:
-            kappa, eps1, drift = _corner_contraction(box, gx, gAx, fam.point)
-        else:
-            kappa, eps1, drift = _background_contraction(box, gx, gAx, x, fam, cusp)
-        if not kappa < 1:
-            raise NoProof("the cycle is not certified to contract")
-        if drift is not None and not (arb(fam.dmax) + drift * arb(fam.S) / (1 - kappa)) <= arb(fam.sp.Delta):
-            raise NoProof("the background's drift is not certified inside the box")
+        x, D = _Cascade(lcs, box, N).cycle([box.model(xi, N) for xi in fam.x_of], dec.V, ev.mode_after, pattern)
+        kappa, eps1 = _contraction(box, dec, x, fam, cusp)
         beta = box.bounds(D, 1).upper()
         D0 = box.at(D, fam.point)
         t0 = ev.time.ball(max(1, int(prec * 0.30103)))
@@ -464,6 +458,24 @@ def _certify_cycle(lcs, ev, k0: int, pattern: list, N: int, prec: int, max_prec:
         upper = t0 + D0 + beta * eps1 / (1 - kappa)
         return CascadeBound(dyadic_lower(lower), dyadic_upper(upper), len(pattern), k0, dyadic_upper(kappa), N,
                             nb > 0)
+
+
+def _contraction(box: Box, dec: "_Decomposition", x: list, fam: "_Family", cusp: int) -> tuple[arb, arb]:
+    """The state x after the cycle back in the family (a positive gap closing), its small
+    parameter contracted (kappa < 1) and, with a background, its drift kept inside the box:
+    (kappa, the small parameter after the cycle at the run's point)."""
+    gx, gAx = box.lin(_row(dec.g, 0), x), box.lin(_row(dec.gA, 0), x)
+    if box.sign(gx) != 1 or box.sign(gAx) != -1:
+        raise NoProof("the state after the cycle is not certified in the family", order=True)
+    if dec.Vbg.ncols() == 0:
+        kappa, eps1, drift = _corner_contraction(box, gx, gAx, fam.point)
+    else:
+        kappa, eps1, drift = _background_contraction(box, gx, gAx, x, fam, cusp)
+    if not kappa < 1:
+        raise NoProof("the cycle is not certified to contract")
+    if drift is not None and not (arb(fam.dmax) + drift * arb(fam.S) / (1 - kappa)) <= arb(fam.sp.Delta):
+        raise NoProof("the background's drift is not certified inside the box")
+    return kappa, eps1
 
 
 @dataclass(frozen=True)

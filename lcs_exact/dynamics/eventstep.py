@@ -29,11 +29,11 @@ the state: ``sign_of_form``), and apply P_I and Newton's jump as the rational ma
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Callable, Protocol
+from typing import Any, Callable, Iterator, Protocol
 
 from flint import fmpq_mat
 
-from ..algebra import image, is_zero, sign_of_form, submatrix
+from ..algebra import image, is_zero, sign_of_form, submatrix, vstack
 from ..errors import Deadlock, UnresolvedSign, ZenoDetected
 from ..modes import admissibility_forms, impulse_forms, mode_order, rcp_data, select_modes
 from ..numbers import NoProof, ProjectedVector, RationalVector
@@ -60,8 +60,9 @@ class StepArithmetic(Protocol):
 
     lcs: Any
 
-    def sign(self, form: fmpq_mat, z) -> int | None:
-        """The sign of form . z: exact or certified (-1, 0, 1), or None when undecided."""
+    def signs(self, M: fmpq_mat, z) -> Iterator[int | None]:
+        """The signs of the rows of M at z, each decided when it is asked for: exact or certified
+        (-1, 0, 1), or None when undecided."""
 
     def undecided(self, what: str):
         """Raise the arithmetic's error for a decision ``what`` it could not make."""
@@ -108,10 +109,8 @@ def in_consistent_subspace(arith: StepArithmetic, mode, z) -> bool:
     """Step two: z in V_I, decided form by form on the annihilator of V_I: False at the first
     form certified nonzero at z, True when every form is zero there (exactly: an exact zero, or a
     structural one for a family); ``arith.undecided`` when neither is certified."""
-    W = mode.annihilator()
     undecided = False
-    for r in range(W.nrows()):
-        s = arith.sign(submatrix(W, [r], None), z)
+    for s in arith.signs(mode.annihilator(), z):
         if s is None:
             undecided = True
         elif s:
@@ -124,8 +123,7 @@ def in_consistent_subspace(arith: StepArithmetic, mode, z) -> bool:
 def lex_sign_at(arith: StepArithmetic, forms, z) -> int | None:
     """The lexicographic sign (5.7) of the forms (f_1, f_2, ...) at z: the sign of the first one
     not zero there; 0 when all are; None when a sign before the first nonzero one is undecided."""
-    for f in forms:
-        s = arith.sign(f, z)
+    for s in arith.signs(vstack(*forms, ncols=arith.lcs.n), z):
         if s is None or s:
             return s
     return 0
@@ -193,8 +191,12 @@ class ExactStates:
     def when(self) -> str:
         return f"t = {self.t.label()}" if self.t is not None else "the event"
 
-    def sign(self, form: fmpq_mat, z) -> int:
-        return sign_of_form(form, _point(z))
+    def signs(self, M: fmpq_mat, z) -> Iterator[int]:
+        q = z.known_rational()
+        if q is not None:  # one product for all the rows
+            yield from ((v > 0) - (v < 0) for v in (M * q).entries())
+        else:
+            yield from (sign_of_form(submatrix(M, [r], None), z) for r in range(M.nrows()))
 
     def undecided(self, what: str):
         raise UnresolvedSign(f"{what} at {self.when()}")
@@ -292,8 +294,8 @@ class FamilyStates:
         self.lcs = lcs
         self.expected = list(expected)
 
-    def sign(self, form: fmpq_mat, z: FamilyState) -> int | None:
-        return z.sign(form)
+    def signs(self, M: fmpq_mat, z: FamilyState) -> Iterator[int | None]:
+        return (z.sign(submatrix(M, [r], None)) for r in range(M.nrows()))
 
     def undecided(self, what: str):
         raise NoProof(what)
