@@ -25,11 +25,13 @@ symmetry, so no geometric law.  It is proven here by induction over a family of 
   monotonicity of the blown-up function (d/dtau < 0 on the whole box).  Every other monitored
   function is t^r eps^m sigma^k (P(tau) + O(eps)) with P > 0 on the box, certified by interval
   evaluation (or P > 0 up to tau_a, f' < 0 after it and f(t*) > 0: a force that vanishes with
-  the gaps).  The re-initialization is certified as Algorithm 7.1 runs it: each chain mode I
-  admissible (the RCP admissibility rows lexicographically nonnegative, the rows of u_I
-  strictly positive: by Theorem 6.3 the smallest admissible mode), the state outside V_I
-  before each jump, inside V of the next mode after the chain.  Exact zeros are structural
-  only: a form vanishing on an exact subspace that contains the state for every parameter.
+  the gaps).  The re-initialization is Algorithm 7.1's own event step
+  (:func:`~lcs_exact.dynamics.eventstep.event_step`) in the arithmetic of families
+  (:class:`~lcs_exact.dynamics.eventstep.FamilyStates`): each mode of the run's chain certified
+  selected (the RCP admissibility rows lexicographically nonnegative, the rows of u_I strictly
+  positive: by Theorem 6.3 the smallest admissible mode), the state outside V_I before each
+  jump, inside V of the mode after at the end.  Exact zeros are structural only: a form
+  vanishing on an exact subspace that contains the state for every parameter.
 * The induction.  After the cycle the state is in the family again, with eps' <= kappa eps
   (kappa < 1), sigma' <= sigma and |delta' - delta| <= D eps, all certified on the box; with
   |delta_0| + D eps_0 / (1 - kappa) <= Delta every later cycle stays in the box: the run has
@@ -47,10 +49,10 @@ from typing import Sequence
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
+from .eventstep import FamilyState, FamilyStates, event_step, vanishes
 from .accumulation import event_signature
 from ..numbers import dyadic_lower, dyadic_upper, workprec
 from ..algebra import hstack, submatrix, vstack
-from ..modes import admissibility_forms
 from ..algebra import image, intersection, kernel, rank
 from ..numbers import (Box, Model, NoProof, Space, WorkBudget, interval, ipow, positive_on, series_root, shift, terms,
                            truncate)
@@ -70,11 +72,6 @@ def _monitored(lcs, mode) -> list:
             g = g + submatrix(lcs.D, [i], mode.I) * F
         out.append((f"y_{i}", g))
     return out
-
-
-def _vanishes(form: fmpq_mat, U: fmpq_mat) -> bool:
-    """form . x = 0 for every x in span(U) (exactly)."""
-    return U.ncols() == 0 or all(v == 0 for v in (form * U).entries())
 
 
 def _krylov(A: fmpq_mat, U: fmpq_mat) -> fmpq_mat:
@@ -104,10 +101,10 @@ def _vanishing_orders(cons: list, triggers: tuple, K: fmpq_mat, A: fmpq_mat, U: 
     K are left out."""
     orders = {}
     for name, f in cons:
-        if name in triggers or _vanishes(f, K):
+        if name in triggers or vanishes(f, K):
             continue
         r = 0
-        while _vanishes(f * A ** r, U):
+        while vanishes(f * A ** r, U):
             r += 1
         orders[name] = r
     return orders
@@ -144,38 +141,6 @@ class _Cascade:
     def __init__(self, lcs, box: Box, order: int):
         self.lcs, self.box, self.N = lcs, box, order
 
-    def selected(self, I, z: list, U: fmpq_mat) -> None:
-        """Certify that Algorithm 7.1 selects mode I at z, on the whole box: every row of u_I(s) of
-        the RCP admissibility forms lexicographically strictly positive, every row of y_Ic(s)
-        strictly positive or identically zero (structurally).  By Theorem 6.3 the initial
-        solution is unique, so every admissible mode contains the inputs that do not vanish,
-        i.e. I: the smallest admissible mode (Remark 4.8) is I."""
-        mode = self.lcs.mode(I)
-        if not mode.is_autonomous:
-            raise NoProof(f"mode {sorted(I)} is not autonomous")
-        for r, row in enumerate(admissibility_forms(mode)):
-            for f in row:
-                if _vanishes(f, U):
-                    continue
-                sg = self.box.sign(self.box.lin(_row(f, 0), z))
-                if sg is None:
-                    raise NoProof(f"an admissibility sign of mode {sorted(I)} is not decided", order=True)
-                if sg < 0:
-                    raise NoProof(f"mode {sorted(I)} is not admissible along the family")
-                break
-            else:
-                if r < len(mode.I):
-                    raise NoProof(f"an input of mode {sorted(I)} vanishes (a smaller mode is selected)")
-
-    def outside(self, I, z: list, U: fmpq_mat) -> None:
-        """Certify z not in V_I on the whole box (a row of the annihilator of V_I nonzero)."""
-        W = self.lcs.mode(I).annihilator()
-        for r in range(W.nrows()):
-            w = submatrix(W, [r], None)
-            if not _vanishes(w, U) and self.box.sign(self.box.lin(_row(w, 0), z)) is not None:
-                return
-        raise NoProof(f"the state is not certified outside V_{sorted(I)}")
-
     def event(self, x: list, U: fmpq_mat, mode_now, sig: tuple) -> tuple[list, fmpq_mat, Model]:
         """The next event from x (in the exact subspace U, a consistent state of ``mode_now``) with
         signature ``sig`` (mode before, chain, mode after, triggers): (state after, its subspace,
@@ -200,13 +165,28 @@ class _Cascade:
             if name in orders and self.positive(name, f, ph.A, orders[name], ph.X, ph.mu, ph.nu, top, ph.alpha,
                                                 ph.xbound, ph.growth):
                 at_end.append((name, f))
-        xm = self.state_at(ph, tstar)
-        Um = intersection(K, kernel(ph.g))
+        xm = FamilyState(box, self.state_at(ph, tstar), intersection(K, kernel(ph.g)))
         for name, f in at_end:
-            if _vanishes(f, Um) or box.sign(box.lin(_row(f, 0), xm)) != 1:
+            if xm.sign(f) != 1:
                 raise NoProof(f"{name} is not certified positive at the event", order=True)
-        z, Uz = self.reinitialized(xm, Um, chain, after)
-        return z, Uz, tstar
+        # the jumps, as Algorithm 7.1 makes them (the event step), certified on the whole family
+        arith = FamilyStates(self.lcs, (*chain, after))
+        step = event_step(arith, xm)
+        arith.follows(step, chain, after)
+        return step.state.x, step.state.U, tstar
+
+    def cycle(self, x: list, V: fmpq_mat, mode_now, pattern: list) -> tuple[list, Model]:
+        """The cycle ``pattern`` of events (signatures) from x, a family in V = V_I of ``mode_now``:
+        (the state after it, back in V, and its duration, the sum of the phases' t*)."""
+        U, D = V, None
+        for sig in pattern:
+            if self.box.check is not None:
+                self.box.check()
+            x, U, tstar = self.event(x, U, mode_now, sig)
+            D, mode_now = (tstar if D is None else self.box.add(D, tstar)), sig[2]
+        if rank(hstack(V, U, nrows=V.nrows())) != V.ncols():
+            raise NoProof("the cycle does not return to V_I")
+        return x, D
 
     def trigger(self, x: list, U: fmpq_mat, mode, cons: list, triggers: tuple) -> tuple["_Phase", fmpq_mat]:
         """The phase in ``mode`` from x on its trigger's time scale (:class:`_Phase`), and K, the
@@ -326,22 +306,6 @@ class _Cascade:
         ex = box.error(ph.mu * (ph.Jmax + 1), ph.nu * (ph.Jmax + 1),
                        ph.xbound * ipow(ph.alpha * arb(ph.tau_max), ph.Jmax + 1) / factorial(ph.Jmax + 1) * ph.growth)
         return [box.add(c, ex) for c in xm]
-
-    def reinitialized(self, xm: list, Um: fmpq_mat, chain: tuple, after) -> tuple[list, fmpq_mat]:
-        """The re-initialization chain, as Algorithm 7.1 runs it: each chain mode selected with the
-        state outside its V_I before the jump P_I, the mode after selected and holding the state."""
-        box, lcs = self.box, self.lcs
-        z, Uz = xm, Um
-        for I in chain:
-            self.selected(I, z, Uz)
-            self.outside(I, z, Uz)
-            P = lcs.mode(I).projection()
-            z, Uz = box.matvec(P, z), image(P * Uz) if Uz.ncols() else Uz
-        self.selected(after, z, Uz)
-        W = lcs.mode(after).annihilator()
-        if W.nrows() and not _vanishes(W, Uz):
-            raise NoProof(f"the state after the jumps is not proven in V_{sorted(after)}")
-        return z, Uz
 
     def profile(self, name, f, phi, X, mu, nu, r, top, alpha, xbound, growth):
         """F(t) = sum_j f X_j t^j / j! (+ its series' tail) on t = eps^mu sigma^nu tau, tau in
@@ -485,27 +449,8 @@ def _certify_cycle(lcs, ev, k0: int, pattern: list, N: int, prec: int, max_prec:
     with workprec(max(prec, pbits)):
         fam = _corner_family(dec, co, n) if nb == 0 else _background_family(dec, zb, co, n, cusp)
         box = Box(fam.sp, check)
-        x = [box.model(xi, N) for xi in fam.x_of]
-        casc = _Cascade(lcs, box, N)
-        D, mode_now, U = None, ev.mode_after, dec.V
-        for sig in pattern:
-            if check is not None:
-                check()
-            x, U, tstar = casc.event(x, U, mode_now, sig)
-            D, mode_now = (tstar if D is None else box.add(D, tstar)), sig[2]
-        if rank(hstack(dec.V, U, nrows=n)) != dec.V.ncols():
-            raise NoProof("the cycle does not return to V_I")
-        gx, gAx = box.lin(_row(dec.g, 0), x), box.lin(_row(dec.gA, 0), x)
-        if box.sign(gx) != 1 or box.sign(gAx) != -1:
-            raise NoProof("the state after the cycle is not certified in the family", order=True)
-        if nb == 0:
-            kappa, eps1, drift = _corner_contraction(box, gx, gAx, fam.point)
-        else:
-            kappa, eps1, drift = _background_contraction(box, gx, gAx, x, fam, cusp)
-        if not kappa < 1:
-            raise NoProof("the cycle is not certified to contract")
-        if drift is not None and not (arb(fam.dmax) + drift * arb(fam.S) / (1 - kappa)) <= arb(fam.sp.Delta):
-            raise NoProof("the background's drift is not certified inside the box")
+        x, D = _Cascade(lcs, box, N).cycle([box.model(xi, N) for xi in fam.x_of], dec.V, ev.mode_after, pattern)
+        kappa, eps1 = _contraction(box, dec, x, fam, cusp)
         beta = box.bounds(D, 1).upper()
         D0 = box.at(D, fam.point)
         t0 = ev.time.ball(max(1, int(prec * 0.30103)))
@@ -513,6 +458,24 @@ def _certify_cycle(lcs, ev, k0: int, pattern: list, N: int, prec: int, max_prec:
         upper = t0 + D0 + beta * eps1 / (1 - kappa)
         return CascadeBound(dyadic_lower(lower), dyadic_upper(upper), len(pattern), k0, dyadic_upper(kappa), N,
                             nb > 0)
+
+
+def _contraction(box: Box, dec: "_Decomposition", x: list, fam: "_Family", cusp: int) -> tuple[arb, arb]:
+    """The state x after the cycle back in the family (a positive gap closing), its small
+    parameter contracted (kappa < 1) and, with a background, its drift kept inside the box:
+    (kappa, the small parameter after the cycle at the run's point)."""
+    gx, gAx = box.lin(_row(dec.g, 0), x), box.lin(_row(dec.gA, 0), x)
+    if box.sign(gx) != 1 or box.sign(gAx) != -1:
+        raise NoProof("the state after the cycle is not certified in the family", order=True)
+    if dec.Vbg.ncols() == 0:
+        kappa, eps1, drift = _corner_contraction(box, gx, gAx, fam.point)
+    else:
+        kappa, eps1, drift = _background_contraction(box, gx, gAx, x, fam, cusp)
+    if not kappa < 1:
+        raise NoProof("the cycle is not certified to contract")
+    if drift is not None and not (arb(fam.dmax) + drift * arb(fam.S) / (1 - kappa)) <= arb(fam.sp.Delta):
+        raise NoProof("the background's drift is not certified inside the box")
+    return kappa, eps1
 
 
 @dataclass(frozen=True)
@@ -540,7 +503,7 @@ def _decomposition(lcs, ev, pattern: list) -> _Decomposition:
     d = V.ncols()
     J0, _, _, triggers = pattern[0]
     mode0 = lcs.mode(J0)
-    if not _vanishes(mode0.annihilator(), V):
+    if not vanishes(mode0.annihilator(), V):
         raise NoProof("V_I is not inside the consistent subspace of the next mode")
     named = dict(_monitored(lcs, mode0))
     if not triggers or triggers[0] not in named:

@@ -34,15 +34,15 @@ from .bounces import BOUNCE_PATIENCE, BounceWindow, bounce_cycle, bounce_window
 from .collapses import CollapseWindow, collapse_cycle, prove_collapse
 from .cascade import cascade_bound
 from .clock import SourceClock
+from .eventstep import ExactStates, apply_forms, event_step
 from .flow import next_event
-from ..system import newton_impact
 from .schedule import shares_clock
 from .phase import Phase, PhaseFunction, phase_horizon
-from ..algebra import is_zero, submatrix, vstack
+from ..algebra import vstack
 from ..numbers import RationalReal
-from ..numbers import ExactVector, ProjectedVector, RationalVector, as_exact_vector, homogenized
-from ..modes import (format_mode, impulse_forms, initial_solution, initial_solution_groups, mode_order, rcp_data,
-                     select_modes, state_groups, undetermined_inputs)
+from ..numbers import ExactVector, as_exact_vector, homogenized
+from ..modes import (format_mode, initial_solution, initial_solution_groups, mode_order, state_groups,
+                     undetermined_inputs)
 from ..interfaces import AccumulationWindow
 from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
 from .options import progress_bar, run_options
@@ -281,7 +281,7 @@ class _Run:
             state_before = z
             reset, self.pending_reset = self.pending_reset, None
             if reset is not None:  # the schedule's reset at its switch time: x := R x
-                z = _apply_forms(reset, z)
+                z = apply_forms(reset, z)
             try:
                 mode, chain, z, impulse = self.select_and_reinitialize(z, t)
             except UnresolvedSign as e:
@@ -491,30 +491,12 @@ class _Run:
         return prec
 
     def select_and_reinitialize(self, z: ExactVector, t):
-        """Steps one to three; returns (mode, chain of jump modes, state after, impulse)."""
-        lcs = self.lcs
-        chain, impulse = [], {}
-        hit = newton_impact(lcs, z.known_rational() if z.known_rational() is not None else z)
-        if hit is not None:  # Newton's law (restitution) instead of P_I: one jump of the velocities
-            chain.append(hit.active)
-            impulse = {0: _apply_forms(hit.impulse_forms, z)}
-            z = _apply_forms(hit.jump, z)
-        cap = 2 ** lcs.k + lcs.n + 1
-        for _ in range(cap):
-            q = z.known_rational()
-            S = select_modes(lcs, q if q is not None else z)
-            if not S:
-                raise Deadlock(f"deadlock at t = {t.label()}: S(z) is empty at z = {z!r} (Remark 7.2)")
-            I = self.choose(S, z, t)
-            mode = lcs.mode(I)
-            if _in_consistent_subspace(mode, z):
-                return mode, chain, z, impulse
-            if not chain:
-                impulse = _impulse(mode, z)
-            z = _apply_forms(mode.projection(), z)  # step three: z := P_I z
-            chain.append(I)
-        raise ZenoDetected(f"re-initialization at t = {t.label()} did not end after {cap} jumps "
-                           "(infinite multiplicity, Remark 7.2 (2))")
+        """Steps one to three (:func:`~lcs_exact.dynamics.eventstep.event_step` on exact states,
+        step one's choice by :meth:`choose`); returns (mode, chain of jump modes, state after,
+        impulse)."""
+        arith = ExactStates(self.lcs, lambda S, x: self.choose(S, x, t), t)
+        step = event_step(arith, z)
+        return step.mode, list(step.chain), step.state, arith.impulse
 
     def choose(self, S: set, z: ExactVector, t) -> frozenset:
         """The mode to continue in: the smallest of S(z) (Remark 4.8) when all of S(z) carries one
@@ -654,15 +636,6 @@ def _accuracy(ball) -> int:
     return accuracy_bits(max(comps, key=lambda b: abs(b.mid())))
 
 
-def _in_consistent_subspace(mode, z: ExactVector) -> bool:
-    """Step two: z in V_I, decided form by form on the annihilator of V_I (exact or certified)."""
-    W = mode.annihilator()
-    q = z.known_rational()
-    if q is not None:
-        return all(v == 0 for v in (W * q).entries()) if W.nrows() else True
-    return all(z.sign_of_form(submatrix(W, [r], None)) == 0 for r in range(W.nrows()))
-
-
 def _same(R: fmpq_mat, z: ExactVector) -> bool:
     """R z = z, proven (a rational state: exactly; else only when R is the identity)."""
     q = z.known_rational()
@@ -670,26 +643,3 @@ def _same(R: fmpq_mat, z: ExactVector) -> bool:
         return R * q == q
     n = R.nrows()
     return all(R[i, j] == (1 if i == j else 0) for i in range(n) for j in range(n))
-
-
-def _apply_forms(P, z: ExactVector) -> ExactVector:
-    """P z for a rational matrix P (rational stays rational)."""
-    q = z.known_rational()
-    return RationalVector(P * q, z.policy) if q is not None else ProjectedVector(P, z)
-
-
-def _impulse(mode, z: ExactVector) -> dict:
-    """{i: u^{-i}} of the initial solution in mode I from z (nonzero terms only); empty for a
-    mode that is not autonomous (its impulse is not unique, only the jump P_I z is)."""
-    out = {}
-    if not mode.is_autonomous:
-        return out
-    lcs = mode.lcs
-    # well-posed (Theorem 6.3): the impulse of the unique initial solution comes from the LDCP
-    # stages at z; otherwise from the mode's RCP data W_I(s) = -G_II^{-1} R_I
-    q = z.known_rational()
-    forms = impulse_forms(lcs, q if q is not None else z) if lcs.well_posedness() else rcp_data(mode).impulse
-    for i, U in enumerate(forms):
-        if not is_zero(U):
-            out[i] = RationalVector(U * q, z.policy) if q is not None else ProjectedVector(U, z)
-    return out
