@@ -617,9 +617,7 @@ class ReferenceStates:
     def ball(self, t_ref: arb, prec: int):
         """x(t_ref) for a ball t_ref inside the computed part, from the phase holding it (balls
         only), or None when t_ref's ball touches an event time."""
-        for rec in self.run.phases:
-            if not hasattr(rec.phase, "ball_state"):
-                return None
+        for rec in self.run.phases:  # a Phase or a window: both give ball_state
             if t_ref < rec.t1.arb(prec):
                 dt = t_ref - rec.t0.arb(prec)
                 return rec.phase.ball_state(dt, prec) if dt > 0 else None
