@@ -263,3 +263,24 @@ def test_a_system_with_its_derived_data_travels_exactly():
         else:
             assert a == b
     same_run(simulate(lcs, lcs.embed([1, 0]), 2), simulate(copy, copy.embed([1, 0]), 2))
+
+
+def test_algebraic_event_times_and_a_collapse_come_back_from_the_workers(pool):
+    """Two balls dropped on a floor: their event times are algebraic (Calcium numbers inside the
+    trajectory: they travel as minimal polynomials and isolating intervals) and their impacts
+    collapse (a proven accumulation window).  Each swept trajectory equals the direct run: the first
+    impact at sqrt(2 h / g) exactly, T* to 30 digits, the balls at rest after it."""
+    import sympy
+    two = L.models.mechanical([[1, 0], [0, 2]], [[0, 0], [0, 0]], [[1, 0], [-1, 1]], force=[-10, -20], gap=[0, -1],
+                              restitution="1/2")
+    x0s = [two.embed([Fraction(1, 2), Fraction(8, 5), 0, 0]), two.embed([Fraction(4, 5), Fraction(2), 0, 0])]
+    results = sweep(two, x0s, 1, executor=pool, progress=False)
+    for x0, h, res in zip(x0s, (Fraction(1, 2), Fraction(4, 5)), results):
+        assert res.error is None
+        tr, direct = res.trajectory, simulate(two, x0, 1)
+        assert sympy.simplify(tr.events[0].time.closed_form - sympy.sqrt(sympy.Rational(2 * h.numerator, 10 * h.denominator))) == 0
+        assert len(tr.accumulations) == 1 and len(tr.events) == len(direct.events)
+        with mpmath.workdps(40):
+            a, b = (mpmath.mpf(t.accumulations[0].time.ball(30).mid().str(35, radius=False)) for t in (tr, direct))
+            assert abs(a - b) < mpmath.mpf(10) ** -29
+        assert tr.state(1).known_rational() == direct.state(1).known_rational()

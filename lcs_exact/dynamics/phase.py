@@ -25,7 +25,7 @@ from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
 from ..numbers import calcium
 from ..numbers import Policy, dyadic_lower, workprec
 from ..modes import format_mode
-from ..numbers import RationalReal, as_real
+from ..numbers import RationalReal, as_real, ca_from_state, ca_state
 from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, ca_matvec, orbit_start
 from ..algebra import eliminate
 from ..algebra import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, submatrix, to_fmpq, zeros
@@ -170,7 +170,15 @@ class Phase:
         return out
 
     def __getstate__(self):
-        return {**self.__dict__, "_modal": None, "_modal_prec": 0}  # ball caches, as above
+        state = {**self.__dict__, "_modal": None, "_modal_prec": 0}  # ball caches, as above
+        if isinstance(self.exact_start, list):  # Calcium numbers travel as exact descriptions (sweeps)
+            state["exact_start"] = ("ca", [ca_state(c) for c in self.exact_start])
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        if isinstance(self.exact_start, tuple):
+            self.exact_start = [ca_from_state(c) for c in self.exact_start[1]]
 
     # --- data per precision -------------------------------------------------------------------
     def ball_state(self, dt: arb, prec: int) -> arb_mat:

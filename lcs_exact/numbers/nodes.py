@@ -49,6 +49,8 @@ class Node:
         state = dict(self.__dict__)
         if "_ca" in state:
             state["_ca"], state["_ca_done"] = None, False
+        if isinstance(state.get("_kca"), list):  # a vector's Calcium components (rebuilt by known_ca)
+            del state["_kca"]
         return state
 
     @abc.abstractmethod

@@ -15,6 +15,7 @@ access; nothing on the evaluation path imports SymPy.
 """
 from __future__ import annotations
 
+import operator
 from typing import Any
 
 from flint import arb, fmpq, fmpq_mat
@@ -342,6 +343,19 @@ class _Linear(Real):
             return self._kca
         return super().known_ca()
 
+    def __getstate__(self):
+        # a formed Calcium number travels as its exact description (minimal polynomial and an
+        # isolating interval: sweeps send trajectories back from their workers)
+        state = super().__getstate__()
+        if state.get("_kca") is not None:
+            state["_kca"] = ca_state(state["_kca"])
+        return state
+
+    def __setstate__(self, state):
+        self.__dict__.update(state)
+        if state.get("_kca") is not None:
+            self._kca = ca_from_state(state["_kca"])
+
     def _set_known_ca(self, parts: list, combine) -> None:
         """Record that the combination of ``parts`` is an exact algebraic number when one of them
         is (rational-only combinations stay rational and need none); formed on first use."""
@@ -432,7 +446,7 @@ class SumReal(_Linear):
         qa, qb = a.known_rational(), b.known_rational()  # O(1): cached in the parts
         if qa is not None and qb is not None:
             self._q = qa + qb if sign == 1 else qa - qb
-        self._set_known_ca([a, b], (lambda x, y: x + y) if sign == 1 else (lambda x, y: x - y))
+        self._set_known_ca([a, b], operator.add if sign == 1 else operator.sub)  # picklable (sweeps)
 
     def _deps(self):
         return (self.a, self.b)
@@ -457,7 +471,7 @@ class ScaledReal(_Linear):
         qa = a.known_rational()
         if qa is not None or q == 0:
             self._q = fmpq(0) if q == 0 else qa * q
-        self._set_known_ca([a], lambda x: x * q)
+        self._set_known_ca([a, RationalReal(q)], operator.mul)
 
     def _deps(self):
         return (self.a,)
