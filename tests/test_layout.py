@@ -276,6 +276,20 @@ def test_import_is_light():
     assert out.stdout.strip() == "[]"
 
 
+def test_simulate_of_the_two_carts_is_light():
+    """``simulate`` of the paper's two carts (section 7) and of the two carts with the hook
+    (Example 8.3) imports neither numpy nor SymPy or SciPy: the float estimates that guide the
+    root search of a small system use Python's complex arithmetic (numpy's import was 50-100 ms of
+    the first simulate in a process; a large system's estimates still use numpy)."""
+    code = ("import sys, lcs_exact as L; from lcs_exact.examples import two_carts, two_carts_with_hook; "
+            "c = two_carts(); tr = L.simulate(c, L.expm_action(c.A, -1, [0, -1, -1, 0]), 3, digits=30); "
+            "tr2 = L.simulate(two_carts_with_hook(), [0, 0, -1, 2], 3); "
+            "print(len(tr.events), tr.certified, len(tr2.events) > 0, "
+            "[m for m in ('numpy', 'sympy', 'scipy') if m in sys.modules])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "2 True True []"
+
+
 def test_large_chain_runs_without_sympy():
     """A run whose spectra have irreducible factors of degree > 4 (an 8-cart chain) decides that
     no symbolic e^{At} exists from the factor degrees alone (every root is asked for a closed form,

@@ -203,3 +203,30 @@ def test_polish_from_a_bracket_narrower_than_floats():
     b = r.arb(3300)
     with workprec(3500):
         assert b.overlaps(arb(2).log()) and b.rad() < arb(2) ** -3250
+
+
+
+@pytest.mark.parametrize("terms, a, b, first", [
+    ([(acb(0, 1), 2, [fmpq(1, 2)])], 0.0, 3.0, 1.5707963),                     # cos t
+    ([(0, 1, [fmpq(3, 4), -2, 1])], 0.0, 4.0, 0.5),                             # (t - 1)^2 - 1/4
+    ([(-1, 1, [1]), (0, 1, [fmpq(-1, 2)])], 0.0, 40.0, 0.6931472),              # e^{-t} - 1/2
+    ([(acb(fmpq(-1, 10), 3), 2, [1, fmpq(1, 3)]), (0, 1, [fmpq(1, 5)])], 0.0, 30.0, 0.55339),
+    ([(acb(0, 1), 2, [1]), (0, 1, [3])], 0.0, 300.0, None),                    # 3 + 2 cos t: never
+    ([(1000, 1, [fmpq(9, 10), -1])], 0.0, 2.0, None),                           # e^{1000 t} (9/10 - t)
+])
+def test_float_crossing_without_numpy_matches_numpy(monkeypatch, terms, a, b, first):
+    """float_crossing's scalar path (small chunks: Python's complex arithmetic, so a small
+    system's first simulate does not import numpy) gives the estimate of its numpy path, the
+    first grid point past the crossing; a chunk whose floats overflow goes to numpy (inf and nan
+    as before: e^{1000 t} (9/10 - t) overflows from t = 0.71 and is -inf past 9/10, no estimate)."""
+    from lcs_exact.dynamics import guesses
+    f = Fn(terms).at(64)
+    monkeypatch.setattr(guesses, "SCALAR_TERM_POINTS", 0)                       # numpy for every chunk
+    ref = guesses.float_crossing(f, a, b)
+    assert ref is None if first is None else first < ref <= first + (b - a) / 64
+    numpy_chunks = []
+    numpy_chunk = guesses._numpy_chunk
+    monkeypatch.setattr(guesses, "_numpy_chunk", lambda *args: numpy_chunks.append(args) or numpy_chunk(*args))
+    monkeypatch.setattr(guesses, "SCALAR_TERM_POINTS", 10 ** 9)                 # Python for every chunk
+    assert guesses.float_crossing(f, a, b) == ref
+    assert bool(numpy_chunks) == (terms[0][0] == 1000)                          # numpy only after an overflow
