@@ -343,18 +343,12 @@ class _Linear(Real):
             return self._kca
         return super().known_ca()
 
-    def __getstate__(self):
-        # a formed Calcium number travels as its exact description (minimal polynomial and an
-        # isolating interval: sweeps send trajectories back from their workers)
+    def __getstate__(self):  # a formed Calcium number travels as its exact description (sweeps)
         state = super().__getstate__()
-        if state.get("_kca") is not None:
-            state["_kca"] = ca_state(state["_kca"])
-        return state
+        return {**state, "_kca": ca_state(state["_kca"])} if state.get("_kca") is not None else state
 
     def __setstate__(self, state):
-        self.__dict__.update(state)
-        if state.get("_kca") is not None:
-            self._kca = ca_from_state(state["_kca"])
+        self.__dict__.update(state, _kca=ca_from_state(state["_kca"]) if state.get("_kca") is not None else None)
 
     def _set_known_ca(self, parts: list, combine) -> None:
         """Record that the combination of ``parts`` is an exact algebraic number when one of them
