@@ -446,7 +446,8 @@ class _Run:
         from there as Definition 4.10 prescribes (item 2: the limit state, then selection)."""
         if isinstance(law, BounceWindow):  # no law: the window iterates the proven impact map on balls
             self.phases.append(PhaseRecord(t, law.time, mode.index_set, law))
-            self.accumulations.append(Accumulation(law.time, law.limit_state, 1, None, len(self.events) - 1, law))
+            period = len(law.proof.cycle.pattern) if isinstance(law, CollapseWindow) else 1  # impacts a cycle
+            self.accumulations.append(Accumulation(law.time, law.limit_state, period, None, len(self.events) - 1, law))
             self.durations.clear()
             return law.time, law.limit_state
         T_star, limit = law.time, law.limit
