@@ -167,19 +167,16 @@ PENDING = frozenset("""
 dynamics.accumulation.Accumulation dynamics.accumulation.Accumulation.event_time
 dynamics.accumulation.Accumulation.event_time_ball dynamics.trajectory.Branches dynamics.trajectory.Event
 dynamics.trajectory.Trajectory dynamics.trajectory.Trajectory.outputs dynamics.trajectory.Trajectory.plot
-dynamics.trajectory.Trajectory.sample dynamics.trajectory.Trajectory.state dynamics.trajectory.Trajectory.to_control
-dynamics.trajectory.Trajectory.to_csv dynamics.trajectory.Trajectory.to_fixture dynamics.trajectory.Trajectory.to_npz
+dynamics.trajectory.Trajectory.sample dynamics.trajectory.Trajectory.state
+dynamics.trajectory.Trajectory.to_control dynamics.trajectory.Trajectory.to_csv
+dynamics.trajectory.Trajectory.to_fixture dynamics.trajectory.Trajectory.to_npz
 dynamics.trajectory.Trajectory.to_numpy dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
 dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y numbers.reals.AlgebraicReal
 numbers.reals.RationalReal numbers.reals.Real numbers.reals.Real.ball numbers.reals.Real.decimal
-numbers.reals.as_real numbers.vectors.ComponentsVector numbers.vectors.ExactVector numbers.vectors.ExpVector
-numbers.vectors.ProjectedVector numbers.vectors.RationalVector numbers.vectors.ScaledVector
-numbers.vectors.algebraic_vector numbers.vectors.as_exact_vector numbers.vectors.as_state numbers.vectors.ca_matvec
-numbers.vectors.expm_action numbers.vectors.homogenized numbers.vectors.orbit_start system.sources.AppendedStates
-system.sources.Exosystem system.sources.Source system.sources.Source.value system.sources.as_source
-system.sources.constant system.sources.cosine system.sources.exosystem system.sources.exponential
-system.sources.parse_source system.sources.polynomial system.sources.sine system.sources.source_block
-system.sources.state_signals
+numbers.reals.as_real system.sources.AppendedStates system.sources.Exosystem system.sources.Source
+system.sources.Source.value system.sources.as_source system.sources.constant system.sources.cosine
+system.sources.exosystem system.sources.exponential system.sources.parse_source system.sources.polynomial
+system.sources.sine system.sources.source_block system.sources.state_signals
 """.split())
 
 

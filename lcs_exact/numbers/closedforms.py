@@ -32,7 +32,8 @@ from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
 from .forms import Closed, SympyOutOfTime, sympy_budget, sympy_proves_zero
 from ..algebra import matrix_to_sympy
 from .reals import radical_form
-from .vectors import RationalVector, orbit_start
+from .vectors import RationalVector
+from .expvectors import orbit_start
 from ..algebra import in_row_span
 
 __all__ = ["candidates", "prove_root", "prove_root_is", "prove_zero_at", "function_closed_form", "prove_touch",
