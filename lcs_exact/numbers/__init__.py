@@ -1,7 +1,9 @@
 """Exact and certified numbers: the precision policy and balls (``balls``), FLINT's Calcium
-through ctypes (``flintlib``, ``calcium``), balls with derivatives (``duals``), light closed forms (``forms``), e^{At} (``expm``),
-exact reals and vectors (``nodes``, ``reals``, ``vectors``, ``expvectors``), closed-form candidates and their
-proofs (``closedforms``) and Taylor models (``taylormodels``).  Imports ``algebra``.
+through ctypes (``flintlib``, ``calcium``), balls with derivatives (``duals``), light closed
+forms (``forms``), algebraic numbers pickled and in radicals (``algebraics``), e^{At}
+(``expm``), exact reals and vectors (``nodes``, ``reals``, ``vectors``, ``expvectors``),
+closed-form candidates and their proofs (``closedforms``) and Taylor models (``taylormodels``).
+Imports ``algebra``.
 
 This is the subpackage's door: other subpackages and users import what ``__all__`` names,
 from here; the modules behind it are its own.

@@ -26,7 +26,8 @@ from ..errors import ShapeError, UnresolvedSign
 from ..interfaces import SystemLike
 from .nodes import Node
 from ..algebra import as_list, format_form, is_zero, matrix_to_sympy, to_vector, vector_entries, zeros
-from .reals import ComponentReal, Real, ScaledReal, as_real, ca_from_state, ca_state, is_sympy, radical_form, rational_ca
+from .algebraics import ca_from_state, ca_state, radical_form, rational_ca
+from .reals import ComponentReal, Real, ScaledReal, as_real, is_sympy
 from ..algebra import RowSpan, kernel, pulled_back_forms, row_basis
 
 __all__ = ["ExactVector", "RationalVector", "ScaledVector", "ProjectedVector", "ComponentsVector", "AlgebraicVector",
