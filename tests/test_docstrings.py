@@ -171,11 +171,7 @@ dynamics.trajectory.Trajectory.sample dynamics.trajectory.Trajectory.state
 dynamics.trajectory.Trajectory.to_control dynamics.trajectory.Trajectory.to_csv
 dynamics.trajectory.Trajectory.to_fixture dynamics.trajectory.Trajectory.to_npz
 dynamics.trajectory.Trajectory.to_numpy dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
-dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y system.sources.AppendedStates
-system.sources.Exosystem system.sources.Source system.sources.Source.value system.sources.as_source
-system.sources.constant system.sources.cosine system.sources.exosystem system.sources.exponential
-system.sources.parse_source system.sources.polynomial system.sources.sine system.sources.source_block
-system.sources.state_signals
+dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y
 """.split())
 
 

@@ -39,7 +39,7 @@ LAYERS = {
                 "taylormodels"],
     "modes": ["mode", "ldcp", "rcpfamily", "selection"],
     "display": ["convergence", "mapplot", "figlabels", "canvas", "plotting"],
-    "system": ["modemap", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
+    "system": ["modemap", "signals", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
     "dynamics": ["guesses", "roots", "polyroots", "phase", "clock", "flow", "fixnumbers", "fixture", "timeline",
                  "trajectory", "symmetry", "accumulation", "cascade", "zeno", "bounces", "collapses", "schedule",
                  "options", "simulate", "sweep"],
