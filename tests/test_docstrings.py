@@ -164,13 +164,12 @@ PUBLIC = public_callables()
 #: callables not yet documented (issue 29 item 6, in progress): their gaps are tolerated, the list only
 #: shrinks (an entry whose callable is now fully documented fails test_pending_is_current)
 PENDING = frozenset("""
-dynamics.accumulation.Accumulation dynamics.accumulation.Accumulation.event_time
-dynamics.accumulation.Accumulation.event_time_ball dynamics.trajectory.Branches dynamics.trajectory.Event
-dynamics.trajectory.Trajectory dynamics.trajectory.Trajectory.outputs dynamics.trajectory.Trajectory.plot
-dynamics.trajectory.Trajectory.sample dynamics.trajectory.Trajectory.state
-dynamics.trajectory.Trajectory.to_control dynamics.trajectory.Trajectory.to_csv
-dynamics.trajectory.Trajectory.to_fixture dynamics.trajectory.Trajectory.to_npz
-dynamics.trajectory.Trajectory.to_numpy dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
+dynamics.trajectory.Branches dynamics.trajectory.Event dynamics.trajectory.Trajectory
+dynamics.trajectory.Trajectory.outputs dynamics.trajectory.Trajectory.plot dynamics.trajectory.Trajectory.sample
+dynamics.trajectory.Trajectory.state dynamics.trajectory.Trajectory.to_control
+dynamics.trajectory.Trajectory.to_csv dynamics.trajectory.Trajectory.to_fixture
+dynamics.trajectory.Trajectory.to_npz dynamics.trajectory.Trajectory.to_numpy
+dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
 dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y
 """.split())
 
