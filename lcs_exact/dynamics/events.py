@@ -43,8 +43,10 @@ class Event:
         The re-initialization chain (4.9): the modes I_1, I_2, ... whose projections were applied.
     mode_after : frozenset
         The mode of the next continuous phase (the smallest admissible mode, Remark 4.8).
-    state_before, state_after : ExactVector
-        x(tau-) and x(tau+).
+    state_before : ExactVector
+        x(tau-).
+    state_after : ExactVector
+        x(tau+).
     multiplicity : int
         m(tau), the number of modes in ``modes``.
     impulse : dict
