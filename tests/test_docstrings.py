@@ -24,9 +24,10 @@ one entry: ``x, y : int``).  Exceptions and their spellings:
   section, which the constructor's parameters are (one description, not two);
 * a function without parameters needs no section.
 
-``PENDING`` lists the callables still to be documented (as python-control's skip lists): their
-gaps are tolerated while the work goes on, every other callable is held to the rule, and an entry
-whose callable is complete fails ``test_pending_is_current``, so the list only shrinks.
+``PENDING`` lists the callables still to be documented (as python-control's skip lists; empty
+since issue 29 item 6 was finished): their gaps are tolerated while the work goes on, every other
+callable is held to the rule, and an entry whose callable is complete fails
+``test_pending_is_current``, so the list only shrinks.
 
 The sections are read by the small parser below, not by ``numpydoc.docscrape``: the docs are
 rendered by Sphinx's napoleon (docs/conf.py), not by numpydoc, and the question asked here (which
@@ -161,26 +162,10 @@ def public_callables() -> dict[str, object]:
 
 PUBLIC = public_callables()
 
-#: callables not yet documented (issue 29 item 6, in progress): their gaps are tolerated, the list only
-#: shrinks (an entry whose callable is now fully documented fails test_pending_is_current)
-PENDING = frozenset("""
-dynamics.accumulation.Accumulation dynamics.accumulation.Accumulation.event_time
-dynamics.accumulation.Accumulation.event_time_ball dynamics.trajectory.Branches dynamics.trajectory.Event
-dynamics.trajectory.Trajectory dynamics.trajectory.Trajectory.outputs dynamics.trajectory.Trajectory.plot
-dynamics.trajectory.Trajectory.sample dynamics.trajectory.Trajectory.state dynamics.trajectory.Trajectory.to_control
-dynamics.trajectory.Trajectory.to_csv dynamics.trajectory.Trajectory.to_fixture dynamics.trajectory.Trajectory.to_npz
-dynamics.trajectory.Trajectory.to_numpy dynamics.trajectory.Trajectory.to_pandas dynamics.trajectory.Trajectory.u
-dynamics.trajectory.Trajectory.undetermined dynamics.trajectory.Trajectory.y numbers.reals.AlgebraicReal
-numbers.reals.RationalReal numbers.reals.Real numbers.reals.Real.ball numbers.reals.Real.decimal
-numbers.reals.as_real numbers.vectors.ComponentsVector numbers.vectors.ExactVector numbers.vectors.ExpVector
-numbers.vectors.ProjectedVector numbers.vectors.RationalVector numbers.vectors.ScaledVector
-numbers.vectors.algebraic_vector numbers.vectors.as_exact_vector numbers.vectors.as_state numbers.vectors.ca_matvec
-numbers.vectors.expm_action numbers.vectors.homogenized numbers.vectors.orbit_start system.sources.AppendedStates
-system.sources.Exosystem system.sources.Source system.sources.Source.value system.sources.as_source
-system.sources.constant system.sources.cosine system.sources.exosystem system.sources.exponential
-system.sources.parse_source system.sources.polynomial system.sources.sine system.sources.source_block
-system.sources.state_signals
-""".split())
+#: callables not yet documented: their gaps are tolerated, the list only shrinks (an entry whose
+#: callable is now fully documented fails test_pending_is_current).  Empty since issue 29 item 6
+#: was finished: every public callable is held to the rule.
+PENDING: frozenset[str] = frozenset()
 
 
 def test_the_public_callables_are_found():

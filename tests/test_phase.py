@@ -9,7 +9,8 @@ from flint import arb, ctx, fmpq_mat
 import lcs_exact as L
 from lcs_exact.numbers.balls import Policy, workprec
 from lcs_exact.dynamics.phase import EventState, Phase
-from lcs_exact.numbers.vectors import ExpVector, as_exact_vector, expm_action
+from lcs_exact.numbers.expvectors import ExpVector, expm_action
+from lcs_exact.numbers.vectors import as_exact_vector
 
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
 CARTS = L.LCS(A_CARTS, [[0], [0], [1], [0]], [[1, 0, 0, 0]], [[0]])

@@ -11,7 +11,8 @@ from flint import arb, fmpq, fmpq_mat
 
 import lcs_exact as L
 from lcs_exact.numbers.reals import RationalReal, SumReal, as_real, linear_terms
-from lcs_exact.numbers.vectors import RationalVector, ScaledVector, expm_action, homogenized
+from lcs_exact.numbers.expvectors import expm_action
+from lcs_exact.numbers.vectors import RationalVector, ScaledVector, homogenized
 
 A_CARTS = [[0, 0, 1, 0], [0, 0, 0, 1], [-2, 1, 0, 0], [1, -1, 0, 0]]
 

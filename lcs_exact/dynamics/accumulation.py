@@ -315,15 +315,28 @@ def _exponents_of(lcs, symmetry: dict, rho: fmpq, z1, z2):
 
 @dataclass(frozen=True)
 class Accumulation:
-    """A right-accumulation point crossed (Remark 4.11): the event times accumulate at ``time``,
-    the state tends to ``state`` (x(T*-)); ``events`` is the cycle length of the proven law,
-    ``ratio`` the scale factor of one cycle, ``first_event`` the index of the first event of the
-    law's reference cycle in ``traj.events``.  Without a law (:mod:`lcs_exact.dynamics.bounces`) ``ratio``
-    is None and ``time``, ``state``, the implied events are certified balls of any precision.
+    """A right-accumulation point crossed (Remark 4.11), made by the run (``traj.accumulations``).
+    Without a law (:mod:`lcs_exact.dynamics.bounces`) ``ratio`` is None and ``time``, ``state``,
+    the implied events are certified balls of any precision.
 
     The infinitely many events before ``time`` are not in ``traj.events`` (which ends with the
     last event computed one by one, at :attr:`start`); :meth:`event_time` gives the k-th of them
     exactly, from the law: cycle m repeats the reference cycle's events scaled by rho^(m+1).
+
+    Attributes
+    ----------
+    time : Real
+        T*, where the event times accumulate.
+    state : ExactVector
+        x(T*-), the limit of the state.
+    events : int
+        The number of events in a cycle of the proven law (1 without a geometric law).
+    ratio : fmpq or None
+        rho, the scale factor of one cycle (0 < rho < 1); None without a geometric law.
+    first_event : int
+        The index in ``traj.events`` of the first event of the law's reference cycle.
+    cycle : ScaledCycle, BounceWindow or None
+        The window of implied events (the phase of the run on [:attr:`start`, T*)), or None.
     """
 
     time: Real
@@ -365,6 +378,13 @@ class Accumulation:
     def event_time(self, k: int) -> Real:
         """The k-th event (k = 0, 1, ...) implied by the law after :attr:`start`, exactly.
 
+        Parameters
+        ----------
+        k : int
+            0, 1, ...: the events after :attr:`start`, in order.
+
+        Examples
+        --------
         >>> import lcs_exact as L
         >>> ball = L.examples.bouncing_ball(g=10, e="1/2")     # dropped from 5: impacts 1, 2, 2.5, ...
         >>> acc = L.simulate(ball, ball.embed([5, 0]), 4).accumulations[0]
@@ -374,7 +394,14 @@ class Accumulation:
         return self._implied(k).event_time(k)
 
     def event_time_ball(self, k: int, prec: int = 128) -> arb:
-        """:meth:`event_time` as a certified ball at ``prec`` bits, cheaply (balls only)."""
+        """:meth:`event_time` as a certified ball at ``prec`` bits, cheaply (balls only).
+
+        Parameters
+        ----------
+        k : int
+            As for :meth:`event_time`.
+        prec : int, optional
+            The working precision in bits (default 128)."""
         return self._implied(k).event_time_ball(k, prec)
 
     def _implied(self, k: int):

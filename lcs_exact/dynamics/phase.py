@@ -318,7 +318,7 @@ RADIUS_PREC = 64
 
 class EventState(ExpVector):
     """x(theta-) = e^{A_I theta} z where theta = theta(z) is the root of a constraint g e^{A_I t} z
-    that ends the phase: an :class:`~lcs_exact.vectors.ExpVector` whose ball is computed by the
+    that ends the phase: an :class:`~lcs_exact.numbers.expvectors.ExpVector` whose ball is computed by the
     mean-value (centered) form
 
         x(z) in x(z_c) + J(Z) (Z - z_c),   J = (I - A_I x g / (g A_I x)) e^{A_I theta},

@@ -1,4 +1,6 @@
-"""Results of a simulation: :class:`Event`, :class:`PhaseRecord` and :class:`Trajectory`.
+"""Results of a simulation: :class:`Trajectory` (and :class:`Branches`, the solutions of a
+non-unique problem), which holds the run's records (:class:`Event`, :class:`PhaseRecord`,
+:class:`Status`: :mod:`lcs_exact.dynamics.events`).
 
 Every number is an exact real (:mod:`lcs_exact.reals`): ``.closed_form`` where proven (derived on
 first access), ``.ball(digits)`` / ``.decimal(digits)`` certified to any number of digits, under
@@ -8,25 +10,25 @@ and says why in ``stop_reason``.  Indices are 0-based.
 """
 from __future__ import annotations
 
-
-import enum
-from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 from flint import arb, fmpq, fmpq_mat
 
 from ..numbers import DEFAULT_POLICY, Policy, accuracy_bits, check_digits, digits_to_bits, workprec
-from ..errors import InvalidArgument, LCSError, Undetermined
+from ..errors import InvalidArgument, LCSError
 from ..interfaces import AccumulationWindow
 from .fixture import fixture_dict
+from .events import Event, PhaseRecord, Status
 from .timeline import Timeline
+from .undetermined import PartlyUndetermined
+from .exports import array, data_frame, write_csv, write_npz
 from ..modes import format_mode, latex_mode
 from ..display import derived_outputs
 from ..display import plot_trajectory
-from ..algebra import as_list, to_fmpq
+from ..algebra import to_fmpq
 from ..numbers import Real, as_real
 from ..system import source_block
-from ..system import signal_names, time_response
+from ..system import time_response
 from ..numbers import ComponentsVector, ExactVector, ProjectedVector
 
 __all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA", "Branches"]
@@ -34,81 +36,41 @@ __all__ = ["Event", "PhaseRecord", "Trajectory", "Status", "SCHEMA", "Branches"]
 SCHEMA = "lcs-exact/trajectory/1"
 
 
-class Status(str, enum.Enum):
-    """How a run ended (diffrax's ``RESULTS``): only ``COMPLETE`` covers [0, t_end]."""
-
-    COMPLETE = "complete"
-    EVENT_LIMIT = "event limit"
-    TIME_LIMIT = "time limit"
-    HORIZON_LIMIT = "horizon limit"
-    DEADLOCK = "deadlock"
-    ZENO = "accumulation of events"
-    UNRESOLVED = "unresolved sign"
-    ILL_POSED = "ill-posed"
-    INTERRUPTED = "interrupted"
-    FAILED = "failed"
-
-
-@dataclass(frozen=True)
-class Event:
-    """An event (section 4.5): a phase ends or the state jumps.
-
-    ``modes`` is the re-initialization chain (4.9): the modes I_1, I_2, ... whose projections
-    were applied, ``multiplicity`` their number m(tau); ``mode_after`` is the mode of the next
-    continuous phase (the smallest admissible mode, Remark 4.8); ``mode_before`` is None at
-    t = 0.  ``impulse`` maps i to u^{-i} (the coefficient of delta^{(i)}) of the first jump.
-    ``triggers`` names the constraints whose sign change ended the phase (``"y_0"``, ``"u_1"``).
-    """
-
-    time: Real
-    mode_before: frozenset | None
-    modes: tuple
-    mode_after: frozenset
-    state_before: ExactVector
-    state_after: ExactVector
-    multiplicity: int
-    impulse: dict = field(default_factory=dict)
-    triggers: tuple = ()
-
-    def __repr__(self):
-        mb = "—" if self.mode_before is None else format_mode(self.mode_before)
-        chain = " -> ".join(format_mode(m) for m in self.modes) or \
-            ("reset (schedule)" if "schedule" in self.triggers and self.state_before is not self.state_after else "no jump")
-        return (f"Event(t={self.time.label()}, {mb} => {format_mode(self.mode_after)}, jumps: {chain}, "
-                f"x- = {self.state_before!r}, x+ = {self.state_after!r})")
-
-    def _repr_latex_(self):
-        cf = self.time.closed_form
-        if cf is not None:
-            import sympy
-            t = sympy.latex(cf)
-        else:
-            t = self.time.decimal(15).replace(" +/- ", r" \pm ")
-        return rf"$t = {t}:\ {latex_mode(self.mode_before or frozenset())} \to {latex_mode(self.mode_after)}$"
-
-
-@dataclass(frozen=True)
-class PhaseRecord:
-    """A continuous phase on [t0, t1] in ``mode`` (``phase`` evaluates x(t - t0)).
-    ``undetermined``: the inputs u_j that the state does not determine on it (a floating
-    network, docs/extensions.md); they are reported as undetermined, never chosen."""
-
-    t0: Real
-    t1: Real
-    mode: frozenset
-    phase: Any
-    undetermined: frozenset = frozenset()
-
-
 class Trajectory:
-    """The solution of an LCS on [0, t_end] produced by Algorithm 7.1 (immutable).
+    """The solution of an LCS on [0, t_end] produced by Algorithm 7.1 (immutable), made by
+    :func:`~lcs_exact.simulate`: each parameter below is the attribute of the same name (sequences
+    as tuples).  ``partial`` is True unless the run covered [0, t_end].  A trajectory with
+    ``choices`` (``simulate(..., branches="all")``) is *a* solution, not *the* solution (``unique``
+    is False), and it is ``certified`` like any other when no sign was assumed: every digit it
+    reports is right for the solution it follows.
 
-    ``events``, ``phases``, ``accumulations``, ``assumptions`` are tuples; ``status`` a
-    :class:`Status`; ``partial`` is True unless the run covered [0, t_end].  ``choices`` lists
-    (time, mode) for every point where S(z) left a choice between different initial solutions
-    (``simulate(..., branches="all")``): such a trajectory is *a* solution, not *the* solution
-    (``unique`` is False), and it is ``certified`` like any other when no sign was assumed: every
-    digit it reports is right for the solution it follows.
+    Parameters
+    ----------
+    lcs : LCS
+        The system (or the scheduled system, :mod:`lcs_exact.dynamics.schedule`).
+    x0 : ExactVector
+        The initial state.
+    t_end : Real
+        The horizon asked for.
+    digits : int
+        The run's certified digits (the default of :meth:`to_fixture`).
+    events : sequence of Event, optional
+    phases : sequence of PhaseRecord, optional
+        The continuous phases in order (a proven accumulation's window of implied events is one).
+    status : Status, optional
+        How the run ended (default ``Status.COMPLETE``).
+    stop_reason : str, optional
+        Why a partial run stopped.
+    assumptions : sequence of str, optional
+        The unresolved zeros decided as 0 (``allow_unresolved=True``).
+    accumulations : sequence of Accumulation, optional
+        The right-accumulation points crossed.
+    elapsed : float, optional
+        Seconds the run took.
+    policy : Policy, optional
+        The run's precision policy, which later queries follow (its ``time_limit`` too).
+    choices : sequence of (Real, frozenset), optional
+        (time, mode) for each point where S(z) left a choice between different initial solutions.
     """
 
     __slots__ = ("lcs", "x0", "t_end", "digits", "events", "phases", "status", "stop_reason", "choices",
@@ -206,7 +168,13 @@ class Trajectory:
         return self.phases[i]
 
     def state(self, t: Any) -> ExactVector:
-        """x(t), exact (t rational or an exact real); at an event time, the state after it."""
+        """x(t), exact (t rational or an exact real); at an event time, the state after it.
+
+        Parameters
+        ----------
+        t : rational-like or Real
+            A time in [0, ``t_last``]: a rational (int, ``"p/q"``, Fraction, a float read as its
+            shortest decimal) or an exact real (an event's ``time``)."""
         t = as_real(t, self.policy)
         if not self.phases and (t - self.t_last).sign() == 0:  # stopped before its first phase
             return self.events[-1].state_after if self.events else self.x0
@@ -220,11 +188,17 @@ class Trajectory:
 
     def u(self, t: Any) -> ExactVector:
         """u(t) on a continuous phase (u_I = F_I x, zero off I); at an event time the value after
-        it, u(t+), as :meth:`state` gives x(t+) (the impulse at the event is in
-        ``Event.impulse``).  An input that the state does
-        not determine there (:meth:`undetermined`) is reported as such: its component is an
-        :class:`UndeterminedReal` (printed ``undetermined``; asking it for digits raises
-        :class:`~lcs_exact.errors.Undetermined`)."""
+        it, u(t+), as :meth:`state` gives x(t+) (the impulse at the event is in ``Event.impulse``).
+        An input that the state does not determine there (:meth:`undetermined`) is reported as
+        such: its component is an :class:`~lcs_exact.dynamics.undetermined.UndeterminedReal`
+        (printed ``undetermined``; asking it for digits raises
+        :class:`~lcs_exact.errors.Undetermined`).
+
+        Parameters
+        ----------
+        t : rational-like or Real
+            A time in [0, ``t_last``]: a rational (int, ``"p/q"``, Fraction, a float read as its
+            shortest decimal) or an exact real (an event's ``time``)."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
         if isinstance(rec.phase, AccumulationWindow):
@@ -234,7 +208,12 @@ class Trajectory:
 
     def y(self, t: Any) -> ExactVector:
         """y(t) = C x + D u on a continuous phase, y(t+) at an event time (components that depend
-        on an undetermined input are undetermined, as for :meth:`u`)."""
+        on an undetermined input are undetermined, as for :meth:`u`).
+
+        Parameters
+        ----------
+        t : rational-like or Real
+            As for :meth:`state`."""
         t = as_real(t, self.policy)
         rec = self._phase_at(t)
         if isinstance(rec.phase, AccumulationWindow):
@@ -257,6 +236,13 @@ class Trajectory:
         names are :attr:`output_names`.  An output that depends on an undetermined input is
         undetermined.
 
+        Parameters
+        ----------
+        t : rational-like or Real
+            As for :meth:`state`.
+
+        Examples
+        --------
         >>> from lcs_exact.models import relay
         >>> from lcs_exact import simulate
         >>> lcs = relay([[0]], [[-1]], [[1]])        # x' = -w, w in Sgn(x)
@@ -293,6 +279,13 @@ class Trajectory:
         """The inputs u_j that the state does not determine at t (empty unless the mode there
         is not autonomous but the state is unique: a floating diode bridge).
 
+        Parameters
+        ----------
+        t : rational-like or Real
+            As for :meth:`state` (at an event time, the phase after it).
+
+        Examples
+        --------
         >>> from lcs_exact.models import two_carts
         >>> from lcs_exact import simulate
         >>> simulate(two_carts(), [0, 1, -1, 0], 1).undetermined(1)
@@ -327,7 +320,14 @@ class Trajectory:
     def sample(self, ts: Sequence[Any], digits: int = 17) -> list[list[arb]]:
         """Certified balls of x(t) for every t in ``ts`` (rationals), each component to ``digits``
         digits (absolute 10^-digits for components below that).  One exponential per eigenvalue
-        and point, from the phase's modal data: thousands of points in well under a second."""
+        and point, from the phase's modal data: thousands of points in well under a second.
+
+        Parameters
+        ----------
+        ts : sequence of rational-like
+            Times in [0, ``t_last``] (floats read as their shortest decimal); increasing is fastest.
+        digits : int, optional
+            Significant digits, 1 to ``MAX_DIGITS`` (default 17: the digits of a float64)."""
         digits = check_digits(digits)
         with self.policy.deadline.query():  # bounded by the run's time_limit, as the run was
             return self._sample(ts, digits)
@@ -390,67 +390,75 @@ class Trajectory:
     # --- export -------------------------------------------------------------------------------
     def to_fixture(self, digits: int | None = None, sample=None, closed_forms: bool = True,
                    provenance: dict | None = None) -> dict:
-        """A dict in the fixture schema ``lcs-exact/trajectory/1`` (see lcs_exact.fixture);
-        ``closed_forms=False`` writes only the closed forms already derived (a quick write);
-        ``provenance`` (a JSON-ready dict: builder, parameters, version, ...) is written as the
-        fixture's ``provenance`` and covered by its digest."""
+        """A dict in the fixture schema ``lcs-exact/trajectory/1`` (docs/fixtures.md;
+        :func:`~lcs_exact.dynamics.fixture.build_fixture`).
+
+        Parameters
+        ----------
+        digits : int, optional
+            Significant digits of every number (default: the run's ``digits``).
+        sample : rational-like, optional
+            A step h: adds the states at t = 0, h, 2h, ... (``samples``).
+        closed_forms : bool, optional
+            False writes only the closed forms already derived (a quick write); default True.
+        provenance : dict, optional
+            JSON-ready (builder, parameters, version, ...): the fixture's ``provenance``, covered
+            by its digest."""
         return fixture_dict(self, digits, sample, closed_forms, provenance)
 
     def plot(self, **kw):
         """States and u/y (or the declared outputs w) against t, events and jumps marked.
+        Returns the matplotlib Figure.
 
-        Keywords (:func:`lcs_exact.plotting.plot_trajectory`): ``states`` and ``constraints``
-        (indices or names to draw), ``panels`` (a subset of ``("x", "w", "u", "y")``; ``"w"``:
-        the outputs a builder declared, :meth:`outputs`, drawn instead of u and y by default),
-        ``points`` (about 800 certified sample times in total), ``label_events`` (at most how
-        many events get a label), ``figsize``, ``title``, ``sources`` (draw the states the
-        builder appended for its sources, hidden by default).  Returns the matplotlib Figure."""
+        Parameters
+        ----------
+        **kw
+            The keywords of :func:`lcs_exact.plotting.plot_trajectory`: ``states`` and
+            ``constraints`` (indices or names to draw), ``panels`` (a subset of ``("x", "w", "u",
+            "y")``; ``"w"``: the outputs a builder declared, :meth:`outputs`, drawn instead of u
+            and y by default), ``points`` (about 800 certified sample times in total),
+            ``label_events`` (at most how many events get a label), ``figsize``, ``title``,
+            ``sources`` (draw the states the builder appended for its sources, hidden by default)."""
         return plot_trajectory(self, **kw)
 
-    # --- arrays and data frames ---------------------------------------------------------------
-    def _columns(self, t: Any, u: bool, y: bool, w: bool = False) -> tuple[list, list[str], list[list[float]]]:
-        """(times as fmpq, column names, rows of floats): the states at t (right limits), then
-        u and y when asked (an undetermined input is NaN), then the declared outputs (``w``)."""
-        if hasattr(t, "tolist"):
-            t = as_list(t)
-        if isinstance(t, (str, bytes)) or not hasattr(t, "__iter__"):
-            t = [t]
-        ts = [to_fmpq(v, "t") for v in t]
-        names = list(self.lcs.state_names)
-        rows = [[float(b.mid()) for b in row] for row in self.sample(ts, 17)]
-        for kind, wanted in (("u", u), ("y", y)):
-            if not wanted:
-                continue
-            names += signal_names(self.lcs)[1 if kind == "u" else 2]
-            for row, tq in zip(rows, ts):
-                vec = getattr(self, kind)(tq)
-                row += [float(c) for c in vec]
-        if w:
-            names += list(self.output_names)
-            for row, tq in zip(rows, ts):
-                row += [float(c) for c in self.outputs(tq)]
-        return ts, names, rows
-
+    # --- arrays, data frames and files (lcs_exact.dynamics.exports) -----------------------------
     def to_numpy(self, t: Any, *, u: bool = False, y: bool = False):
         """A float64 array of shape (len(t), n) (plus k columns for u and k for y when asked):
-        the certified states at the times t (rationals, or floats read as their shortest decimal;
-        at an event time the state after it), rounded to float.
+        the certified states at the times t (at an event time the state after it), rounded to
+        float.
 
+        Parameters
+        ----------
+        t : rational-like or sequence of rational-like
+            The times, in [0, ``t_last``]: rationals, or floats read as their shortest decimal.
+        u, y : bool, optional
+            Add the k columns of u(t), then the k of y(t) (an undetermined input is NaN); default
+            False.
+
+        Examples
+        --------
         >>> from lcs_exact.examples import two_carts
         >>> from lcs_exact import simulate
         >>> simulate(two_carts(), [0, 1, -1, 0], 1).to_numpy([0, 0.5]).round(6).tolist()
         [[0.0, 1.0, 0.0, 0.0], [0.117359, 0.880101, 0.439551, -0.459615]]
         """
-        import numpy as np
-        _, _, rows = self._columns(t, u, y)
-        return np.array(rows, dtype=np.float64)
+        return array(self, t, u, y)
 
     def to_pandas(self, t: Any, *, u: bool = False, y: bool = False, outputs: bool | None = None):
         """A pandas DataFrame indexed by t (name ``t``) with the state names as columns (then u
         and y when asked, named as in plots: the builder's words, ``u_0``, or ``u (stop)``;
         :func:`~lcs_exact.statespace.signal_names`), then the outputs the builder declared, e.g. a
-        relay's ``w_0`` (by default when there are any): :meth:`to_numpy` with labels.
+        relay's ``w_0``: :meth:`to_numpy` with labels.
 
+        Parameters
+        ----------
+        t, u, y
+            As for :meth:`to_numpy`.
+        outputs : bool, optional
+            Add the columns of the declared outputs (:meth:`outputs`); default: when there are any.
+
+        Examples
+        --------
         >>> from lcs_exact.models import relay
         >>> from lcs_exact import simulate
         >>> lcs = relay([[0]], [[-1]], [[1]])        # x' = -w, w in Sgn(x)
@@ -458,14 +466,7 @@ class Trajectory:
         >>> list(df.columns), df["w_0"].tolist(), df["x_0"].tolist()
         (['x_0', 'c', 'w_0'], [1.0, 1.0, 0.0], [1.0, 0.5, 0.0])
         """
-        try:
-            import pandas as pd
-        except ImportError:
-            raise InvalidArgument("to_pandas needs pandas: pip install pandas (or lcs_exact[data])") from None
-        if outputs is None:
-            outputs = bool(self.output_names)
-        ts, names, rows = self._columns(t, u, y, outputs)
-        return pd.DataFrame(rows, index=pd.Index([float(v) for v in ts], name="t"), columns=names)
+        return data_frame(self, t, u, y, outputs)
 
     def to_control(self, t: Any):
         """The run at the times ``t`` as a python-control ``TimeResponseData`` (needs the extra
@@ -474,6 +475,13 @@ class Trajectory:
         named as :meth:`LCS.to_statespace <lcs_exact.LCS.to_statespace>` names them; ``success``
         is False for a partial run.  See :func:`lcs_exact.statespace.time_response`.
 
+        Parameters
+        ----------
+        t : sequence of rational-like
+            The times, as for :meth:`to_numpy`.
+
+        Examples
+        --------
         >>> from lcs_exact.examples import two_carts
         >>> from lcs_exact import simulate
         >>> r = simulate(two_carts(), [0, 1, -1, 0], 1).to_control([0, 0.5, 1])
@@ -484,21 +492,26 @@ class Trajectory:
 
     def to_csv(self, path: Any, t: Any, *, u: bool = False, y: bool = False) -> None:
         """Write t and the states (u, y) at the times t as CSV (the format ``lcs-exact compare``
-        reads: a header line, then t, x1, ..., xn); floats written to 17 significant digits."""
-        import csv
-        ts, names, rows = self._columns(t, u, y)
-        with open(path, "w", newline="", encoding="utf-8") as fh:
-            w = csv.writer(fh)
-            w.writerow(["t"] + names)
-            for tq, row in zip(ts, rows):
-                w.writerow([repr(float(tq))] + [repr(v) for v in row])
+        reads: a header line, then t, x1, ..., xn); floats written to 17 significant digits.
+
+        Parameters
+        ----------
+        path : str or path-like
+            The file (overwritten).
+        t, u, y
+            As for :meth:`to_numpy`."""
+        write_csv(self, path, t, u, y)
 
     def to_npz(self, path: Any, t: Any, *, u: bool = False, y: bool = False) -> None:
-        """Write ``t`` (float64), ``x`` (len(t) x columns) and ``names`` to a NumPy .npz file."""
-        import numpy as np
-        ts, names, rows = self._columns(t, u, y)
-        np.savez(path, t=np.array([float(v) for v in ts]), x=np.array(rows, dtype=np.float64),
-                 names=np.array(names))
+        """Write ``t`` (float64), ``x`` (len(t) x columns) and ``names`` to a NumPy .npz file.
+
+        Parameters
+        ----------
+        path : str or path-like
+            The file (``numpy.savez`` adds ``.npz`` when the name lacks it).
+        t, u, y
+            As for :meth:`to_numpy`."""
+        write_npz(self, path, t, u, y)
 
     # --- display ------------------------------------------------------------------------------
     def __str__(self):
@@ -540,76 +553,6 @@ class Trajectory:
         return r"$\begin{array}{llll} t & I^- & I^+ & m \\ \hline " + body + r"\end{array}$"
 
 
-class UndeterminedReal(Real):
-    """A component the solution does not determine (an input left free by the state, or an
-    output depending on one): it has no value to give.  Its ball is the whole real line (it
-    contains every admissible value); digits, signs and closed forms raise
-    :class:`~lcs_exact.errors.Undetermined`."""
-
-    def __init__(self, name: str, policy: Policy | None = None):
-        super().__init__(policy)
-        self.name = name
-
-    def _compute(self, prec):
-        return arb(0, "inf")
-
-    def _refuse(self, *args, **kw):
-        raise Undetermined(f"{self.name} is not determined by the state here: any value that keeps the "
-                           "complementarity conditions solves the LCS (a free input of a mode that is not "
-                           "autonomous, e.g. the potential of a floating node)")
-
-    ball = decimal = sign = _refuse
-
-    def __float__(self):
-        return float("nan")
-
-    def label(self) -> str:
-        return "undetermined"
-
-    def __repr__(self):
-        return "undetermined"
-
-    def _closed_form(self):
-        return None
-
-
-class PartlyUndetermined(ExactVector):
-    """u(t) or y(t) with some components undetermined (:class:`UndeterminedReal`); the others
-    are those of ``v``.  Its ball has infinite radius in the undetermined components."""
-
-    def __init__(self, v: ExactVector, undetermined: frozenset, kind: str):
-        super().__init__(v.n, None, v.policy)
-        self.v, self.free, self.kind = v, frozenset(undetermined), kind
-
-    def _deps(self):
-        return (self.v,)
-
-    def _compute(self, prec):
-        from flint import arb_mat
-        b = self.v.arb(prec)
-        return arb_mat([[arb(0, "inf") if i in self.free else b[i, 0]] for i in range(self.n)])
-
-    def _structural_sign(self, form):
-        if any(form[0, j] != 0 for j in self.free):
-            UndeterminedReal(f"a form in {self.kind}").sign()
-        return self.v.sign_of_form(form)
-
-    def known_rational(self):
-        return None
-
-    def __getitem__(self, i: int) -> Real:
-        if not -self.n <= i < self.n:
-            raise IndexError(f"component {i} of a vector of length {self.n}")
-        i %= self.n
-        return UndeterminedReal(f"{self.kind}_{i}", self.policy) if i in self.free else self.v[i]
-
-    def __iter__(self):
-        return (self[i] for i in range(self.n))
-
-    def __repr__(self):
-        return "(" + ", ".join(c.label() for c in self) + ")"
-
-
 def _components(v: ExactVector):
     """p -> the components of v as balls at p bits."""
     def at(prec: int) -> list[arb]:
@@ -645,6 +588,11 @@ class Branches:
     *a* solution, and each is ``certified`` when no sign was assumed on it: its digits are right
     for that solution.  ``certified`` is True when every branch is.  A branch stopped early (a
     limit, an unresolved sign) keeps its partial trajectory and status.
+
+    Parameters
+    ----------
+    trajectories : sequence of Trajectory
+        One per branch (the attribute ``trajectories``, a tuple; also the items of the Branches).
     """
 
     __slots__ = ("trajectories",)

@@ -1,7 +1,9 @@
 """Exact and certified numbers: the precision policy and balls (``balls``), FLINT's Calcium
-through ctypes (``flintlib``, ``calcium``), balls with derivatives (``duals``), light closed forms (``forms``), e^{At} (``expm``),
-exact reals and vectors (``nodes``, ``reals``, ``vectors``), closed-form candidates and their
-proofs (``closedforms``) and Taylor models (``taylormodels``).  Imports ``algebra``.
+through ctypes (``flintlib``, ``calcium``), balls with derivatives (``duals``), light closed
+forms (``forms``), algebraic numbers pickled and in radicals (``algebraics``), e^{At}
+(``expm``), exact reals and vectors (``nodes``, ``reals``, ``vectors``, ``expvectors``),
+closed-form candidates and their proofs (``closedforms``) and Taylor models (``taylormodels``).
+Imports ``algebra``.
 
 This is the subpackage's door: other subpackages and users import what ``__all__`` names,
 from here; the modules behind it are its own.
@@ -14,10 +16,11 @@ from .duals import Dual, norm2_bound, vector_norm2_bound
 from . import calcium
 from .forms import Closed, sympy_proves_zero
 from .expm import Spectrum, spectrum_of
-from .reals import AlgebraicReal, as_real, ca_from_state, ca_state, RationalReal, Real
+from .algebraics import ca_from_state, ca_state
+from .reals import AlgebraicReal, as_real, RationalReal, Real
 from .vectors import (algebraic_vector, as_exact_vector, as_state, ca_matvec, ComponentsVector, ExactVector,
-                      expm_action, ExpVector, homogenized, orbit_start, ProjectedVector, RationalVector,
-                      ScaledVector)
+                      homogenized, ProjectedVector, RationalVector, ScaledVector)
+from .expvectors import expm_action, ExpVector, orbit_start
 from .closedforms import (candidates, prove_root, prove_root_is, prove_touch, prove_zero_at,
                           symbolic_candidates)
 from .taylormodels import (Box, interval, ipow, Model, NoProof, positive_on, series_root, shift, Space, terms,

@@ -31,8 +31,9 @@ from ..errors import InvalidArgument, LCSError, UnresolvedSign
 from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
 from .forms import Closed, SympyOutOfTime, sympy_budget, sympy_proves_zero
 from ..algebra import matrix_to_sympy
-from .reals import radical_form
-from .vectors import RationalVector, orbit_start
+from .algebraics import radical_form
+from .vectors import RationalVector
+from .expvectors import orbit_start
 from ..algebra import in_row_span
 
 __all__ = ["candidates", "prove_root", "prove_root_is", "prove_zero_at", "function_closed_form", "prove_touch",
@@ -260,7 +261,7 @@ def function_closed_form(spectrum: Spectrum, g: fmpq_mat, v: Any):
 
 def _radical_start(v: Any):
     """v as a SymPy column of radicals when every component is a real algebraic number of degree
-    <= 4 (each proven equal by Calcium, :func:`~lcs_exact.reals.radical_form`), else None.  The
+    <= 4 (each proven equal by Calcium, :func:`~lcs_exact.numbers.algebraics.radical_form`), else None.  The
     state after an impact at t1 = 2 pi - 2 atan(sqrt(3)/2) is algebraic, but its symbolic form is
     a tangle of cos(2 atan(..)) in which the next phase's zero (an atan of a radical) is not
     found; in radicals it is."""

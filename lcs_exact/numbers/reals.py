@@ -23,17 +23,27 @@ from flint import arb, fmpq, fmpq_mat
 from . import calcium
 from .balls import (DEFAULT_POLICY, MAX_DIGITS, Policy, check_digits, accuracy_bits, closed_form_arb, decide_sign, decimal_of_ball,
                     decimal_of_fmpq, digits_to_bits, dyadic_lower, dyadic_upper, workprec)
-from ..errors import LCSError, NotRational, UnresolvedSign
+from ..errors import NotRational, UnresolvedSign
+from .algebraics import ca_from_state, ca_state, radical_form, rational_ca
 from .forms import Closed, ca_of_sympy
 from .nodes import Node, closed_ready, in_dependency_order
 from ..algebra import to_fmpq
 
 __all__ = ["Real", "RationalReal", "SumReal", "ScaledReal", "ClosedFormReal", "ComponentReal",
-           "AlgebraicReal", "radical_form", "as_real", "is_sympy", "ca_state", "ca_from_state", "rational_ca"]
+           "AlgebraicReal", "as_real", "is_sympy"]
 
 
 class Real(Node):
-    """An exact real number: evaluates to an arb ball of any precision (true value inside)."""
+    """An exact real number: evaluates to an arb ball of any precision (true value inside).
+
+    The base of the exact reals (the classes below say what the number is; made by
+    :func:`as_real`, by arithmetic on reals and by the engine).
+
+    Parameters
+    ----------
+    policy : Policy, optional
+        The precision policy of its evaluations and sign decisions (default ``DEFAULT_POLICY``).
+    """
 
     _cf_done = False
     _cf = None
@@ -137,7 +147,12 @@ class Real(Node):
     def ball(self, digits: int = 30) -> arb:
         """An arb ball containing the value with relative radius < 10^-digits (absolute for a
         value that is zero or below 10^-digits).  Bounded by the run's ``time_limit`` (a
-        :class:`~lcs_exact.errors.LimitExceeded` instead of a hang)."""
+        :class:`~lcs_exact.errors.LimitExceeded` instead of a hang).
+
+        Parameters
+        ----------
+        digits : int, optional
+            Significant decimal digits, 1 to ``MAX_DIGITS`` (default 30)."""
         digits = check_digits(digits)
         with self.policy.deadline.query():
             return self._refined(digits)
@@ -168,7 +183,12 @@ class Real(Node):
 
     def decimal(self, digits: int = 30) -> str:
         """The value to ``digits`` significant digits, followed by an error bound ``+/- e``
-        unless it is exact."""
+        unless it is exact.
+
+        Parameters
+        ----------
+        digits : int, optional
+            Significant decimal digits, 1 to ``MAX_DIGITS`` (default 30)."""
         digits = check_digits(digits)
         q = self.known_rational()
         if q is None and self._cf_done and self._cf is not None and self._cf.is_rational:
@@ -275,7 +295,15 @@ class Real(Node):
 
 
 class RationalReal(Real):
-    """A rational number."""
+    """A rational number.
+
+    Parameters
+    ----------
+    q : rational-like
+        The value: int, ``"p/q"``, Fraction, fmpq, a float read as its shortest decimal.
+    policy : Policy, optional
+        The precision policy (default ``DEFAULT_POLICY``).
+    """
 
     def __init__(self, q: Any, policy: Policy | None = None):
         super().__init__(policy)
@@ -555,54 +583,6 @@ class ComponentReal(Real):
         return None if v is None else v[self.i]
 
 
-def ca_state(c) -> tuple:
-    """A picklable exact description of an algebraic Calcium number: (minimal polynomial, an
-    isolating rational interval as ((p, q), (p, q))), rebuilt by :func:`ca_from_state`."""
-    coeffs = c.minimal_polynomial()
-    if coeffs is None:
-        raise LCSError("internal inconsistency: an algebraic number without a minimal polynomial")
-    with workprec(256):
-        r = c.enclosure(256).real
-        a, b = dyadic_lower(r), dyadic_upper(r)
-    return (tuple(coeffs), ((int(a.p), int(a.q)), (int(b.p), int(b.q))))
-
-
-def ca_from_state(state: tuple):
-    coeffs, ((ap, aq), (bp, bq)) = state
-    with workprec(256):
-        ball = arb(fmpq(ap, aq)).union(arb(fmpq(bp, bq)))
-    return calcium.Ca.algebraic(list(coeffs), ball)
-
-
-def radical_form(c):
-    """A SymPy closed form of the real algebraic number c (a Calcium number), proven equal to it
-    by Calcium: the rational itself, or a root of its minimal polynomial in radicals (degree <= 4)
-    selected by c's enclosure; None otherwise."""
-    import sympy
-    q = c.to_fmpq()
-    if q is not None:
-        return sympy.Rational(int(q.p), int(q.q))
-    coeffs = c.minimal_polynomial()
-    if coeffs is None or len(coeffs) - 1 > 4:
-        return None
-    x = sympy.Symbol("x")
-    poly = sympy.Poly(list(reversed(coeffs)), x)
-    with workprec(128):
-        target = c.enclosure(128).real
-        for r in sympy.roots(poly, multiple=True):
-            if not r.is_real:
-                continue
-            try:
-                if not closed_form_arb(r).overlaps(target):
-                    continue
-            except Exception:  # noqa: BLE001 - an expression the ball evaluator cannot read
-                continue
-            rc = ca_of_sympy(r)
-            if rc is not None and (rc - c).is_zero() is True:
-                return sympy.radsimp(r) if len(str(r)) > 40 else r
-    return None
-
-
 class AlgebraicReal(Real):
     """An exact real algebraic number, held as a Calcium number (a root of a polynomial phase,
     the event time of a free fall, sqrt(2 h / g)): signs and equalities are decided exactly,
@@ -610,6 +590,15 @@ class AlgebraicReal(Real):
     where the degree allows (proven).  ``lo`` / ``hi`` are dyadic bounds (rational brackets, as
     for a root found by isolation).
 
+    Parameters
+    ----------
+    ca : Ca
+        The number (:class:`~lcs_exact.numbers.calcium.Ca`), real algebraic; kept compacted.
+    policy : Policy, optional
+        The precision policy (default ``DEFAULT_POLICY``).
+
+    Examples
+    --------
     >>> from lcs_exact.calcium import Ca
     >>> r = AlgebraicReal(Ca(2).sqrt())
     >>> r.sign(), r.closed_form, r.decimal(20)
@@ -677,16 +666,24 @@ class AlgebraicReal(Real):
         self.ca = ca_from_state(state["ca"]) if state["ca"] is not None else rational_ca(self._q)
 
 
-def rational_ca(q):
-    return calcium.Ca(q)
-
-
 def is_sympy(x: Any) -> bool:
     return type(x).__module__.startswith("sympy")
 
 
 def as_real(x: Any, policy: Policy | None = None) -> Real:
-    """An exact real from a Real, a rational-like value or a SymPy expression."""
+    """An exact real from a Real, a rational-like value or a SymPy expression.
+
+    Parameters
+    ----------
+    x : Real, rational-like or SymPy expression
+        A Real is returned as it is; a rational (int, ``"p/q"``, Fraction, fmpq, a float read as
+        its shortest decimal, a SymPy Rational) gives a :class:`RationalReal`; another SymPy
+        expression a :class:`ClosedFormReal` (rationals, pi, E, +, *, rational powers, exp, log,
+        trigonometric and hyperbolic functions and their inverses; else
+        :class:`~lcs_exact.errors.NotRational`).
+    policy : Policy, optional
+        The precision policy of a number made here (default ``DEFAULT_POLICY``).
+    """
     if isinstance(x, Real):
         return x
     if is_sympy(x):

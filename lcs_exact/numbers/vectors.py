@@ -1,4 +1,5 @@
-"""Exact vectors (docs/numerics.md): e^{Mt} v, P v, c q, components, algebraic vectors.
+"""Exact vectors (docs/numerics.md): rational vectors, c q, P v, components, algebraic vectors;
+e^{Mt} v is in :mod:`lcs_exact.numbers.expvectors`.
 
 An exact vector (:class:`ExactVector`) is an immutable exact definition (a node,
 :mod:`lcs_exact.nodes`) that evaluates to an n x 1 ``arb_mat`` ball of any precision with the
@@ -15,30 +16,37 @@ refinement up to the policy's ceiling; otherwise an *unresolved zero*
 """
 from __future__ import annotations
 
-from typing import Any, Callable, Iterator
+from typing import Any, Iterator
 
-from flint import arb, arb_mat, fmpq, fmpq_mat
+from flint import arb, arb_mat, fmpq_mat
 
 from . import calcium
 from .balls import Policy, check_digits, decide_sign
 from ..errors import ShapeError, UnresolvedSign
-from .expm import Spectrum, spectrum_of, symbolic_expm, t_symbol
 from ..interfaces import SystemLike
-from .nodes import Node, closed_ready, derive_closed, in_dependency_order
-from ..algebra import as_list, format_form, is_zero, matrix_to_sympy, to_matrix, to_vector, vector_entries, zeros
-from .reals import ComponentReal, Real, ScaledReal, as_real, ca_from_state, ca_state, is_sympy, radical_form, rational_ca
-from ..algebra import RowSpan, invariant_forms, kernel, orbit_zero_forms, pulled_back_forms, row_basis
+from .nodes import Node
+from ..algebra import as_list, format_form, is_zero, matrix_to_sympy, to_vector, vector_entries, zeros
+from .algebraics import ca_from_state, ca_state, radical_form, rational_ca
+from .reals import ComponentReal, Real, ScaledReal, as_real, is_sympy
+from ..algebra import RowSpan, kernel, pulled_back_forms, row_basis
 
-__all__ = ["ExactVector", "RationalVector", "ScaledVector", "ExpVector", "ProjectedVector", "ComponentsVector",
-           "AlgebraicVector", "algebraic_vector", "ca_matvec", "as_exact_vector", "as_state", "expm_action", "homogenized",
-           "orbit_start"]
+__all__ = ["ExactVector", "RationalVector", "ScaledVector", "ProjectedVector", "ComponentsVector", "AlgebraicVector",
+           "algebraic_vector", "ca_matvec", "as_exact_vector", "as_state", "homogenized"]
 
 
 class ExactVector(Node):
-    """An exact vector in R^n: evaluates to an n x 1 ``arb_mat`` ball of any precision.
+    """An exact vector in R^n: evaluates to an n x 1 ``arb_mat`` ball of any precision (the base of
+    the classes below, which say what the vector is; vectors are immutable).
 
-    ``zero_forms`` (an m x n ``fmpq_mat``, a row basis) are linear forms proven to vanish on the
-    vector; they are fixed at construction (vectors are immutable).
+    Parameters
+    ----------
+    n : int
+        The length.
+    zero_forms : fmpq_mat, optional
+        m x n: linear forms (rows) proven to vanish on the vector, kept as a row basis in
+        ``zero_forms`` and fixed at construction.  Default: none.
+    policy : Policy, optional
+        The precision policy of its evaluations and sign decisions (default ``DEFAULT_POLICY``).
     """
 
     n: int
@@ -222,7 +230,15 @@ class ExactVector(Node):
 
 
 class RationalVector(ExactVector):
-    """A rational vector (n x 1 ``fmpq_mat``)."""
+    """A rational vector.
+
+    Parameters
+    ----------
+    q : fmpq_mat
+        Its entries, an n x 1 column.
+    policy : Policy, optional
+        The precision policy (default ``DEFAULT_POLICY``).
+    """
 
     def __init__(self, q: fmpq_mat, policy: Policy | None = None):
         super().__init__(q.nrows(), None, policy)
@@ -248,7 +264,16 @@ class RationalVector(ExactVector):
 
 class ScaledVector(ExactVector):
     """c v with c an exact real proven positive and v an exact vector (homogeneity: the LCS is
-    linear, so phases from c v have the event times of v and c times its states)."""
+    linear, so phases from c v have the event times of v and c times its states).
+
+    Parameters
+    ----------
+    c : Real
+        The factor; the caller has proven c > 0 (signs of forms at c v are taken from v).
+    v : ExactVector
+    policy : Policy, optional
+        Default: v's.
+    """
 
     def __init__(self, c: Real, v: ExactVector, policy: Policy | None = None):
         super().__init__(v.n, v.zero_forms, policy or v.policy)
@@ -298,7 +323,18 @@ class ScaledVector(ExactVector):
 
 class ProjectedVector(ExactVector):
     """P v for a rational matrix P (a projection P_I, an impulse map, a feedback); the forms r
-    with r P in the span of v's zero forms vanish on it."""
+    with r P in the span of v's zero forms vanish on it.
+
+    Parameters
+    ----------
+    P : fmpq_mat
+        m x n, with n the length of v.
+    v : ExactVector
+    policy : Policy, optional
+        Default: v's.
+    zero_forms : fmpq_mat, optional
+        Further forms (rows, m columns) known to vanish on P v, added to those pulled back from v.
+    """
 
     def __init__(self, P: fmpq_mat, v: ExactVector, policy: Policy | None = None,
                  zero_forms: fmpq_mat | None = None):
@@ -340,7 +376,7 @@ class ProjectedVector(ExactVector):
         cf = self.v.closed_form(derive)
         if cf is None:
             return None
-        return (matrix_to_sympy(self.P) * cf).applyfunc(_tidy)
+        return (matrix_to_sympy(self.P) * cf).applyfunc(tidy)
 
     def _to_ca(self):
         xs = self.v.to_ca()
@@ -356,126 +392,16 @@ class ProjectedVector(ExactVector):
         return out
 
 
-class ExpVector(ExactVector):
-    """e^{M t} v: M rational (through its :class:`~lcs_exact.expm.Spectrum`), t an exact real, v
-    an exact vector.  ``modal(prec)``, when given, supplies the per-eigenvalue vectors of v at
-    ``prec`` (a phase computes them once for all its functions)."""
-
-    def __init__(self, spectrum: Spectrum, t: Real, v: ExactVector, zero_forms: fmpq_mat | None = None,
-                 policy: Policy | None = None, modal: Callable[[int], list] | None = None):
-        super().__init__(spectrum.n, zero_forms, policy or v.policy)
-        self.spectrum, self.t, self.v = spectrum, t, v
-        self._modal = modal
-
-    @property
-    def M(self) -> fmpq_mat:
-        return self.spectrum.M
-
-    def _deps(self):
-        return (self.t, self.v)
-
-    def _compute(self, prec):
-        t = self.t.arb(prec)
-        modal = self._modal(prec) if self._modal is not None else None
-        return self.spectrum.apply(t, self.v.arb(prec), prec, modal)
-
-    def known_rational(self):
-        if self._twin is not None:
-            return self._twin.known_rational()
-        tq = self.t.known_rational()
-        if tq == 0:
-            return self.v.known_rational()
-        if tq is not None and self.spectrum.nilpotent_only:
-            q = self.v.known_rational()
-            if q is not None:  # a nilpotent M: every q is in its generalized kernel
-                out = _exp_rational_time(self.spectrum.M, q, tq)
-                self._twin = RationalVector(out, policy=self.policy)
-                return out
-        return None
-
-    def _exact_rational(self, depth):
-        inner, s = orbit_start(self.v, self.spectrum.M)  # e^{Mt} e^{Ms} w = e^{M(t+s)} w
-        q = inner.exact_rational(depth)
-        if q is None:
-            return None
-        tc = self.t.closed
-        if tc is not None and s is not None:
-            sc = s.closed
-            tc = None if sc is None else tc + sc
-        if tc is None:
-            return None
-        if tc.is_zero:
-            return q
-        if all(q[i, 0] == 0 for i in range(self.n)):
-            return q
-        tq = tc.to_fmpq()
-        if tq is not None:
-            return _exp_rational_time(self.spectrum.M, q, tq)
-        if not calcium.available():
-            return None
-        try:  # e^{M t*} q exactly (Calcium), rational when every component is
-            tca = tc.to_ca()
-            if tca is None:
-                return None
-            xs = self.spectrum.ca_apply(tca, [calcium.Ca(q[i, 0]) for i in range(self.n)], calcium)
-            qs = None if xs is None else [x.to_fmpq() for x in xs]
-        except (ValueError, ZeroDivisionError, UnresolvedSign):
-            return None
-        return None if qs is None or any(x is None for x in qs) else fmpq_mat(self.n, 1, qs)
-
-    def _closed_ready(self) -> bool:
-        return "_sym" in self.__dict__ or self._twin is not None
-
-    def _derive_closed(self) -> None:
-        self.closed_form(True)
-
-    def closed_form(self, derive: bool = True):
-        if self._twin is not None:
-            return self._twin.closed_form(derive)
-        if not derive:
-            return None
-        q = self.exact_rational()
-        if q is not None:
-            return self._twin.closed_form()
-        if "_sym" not in self.__dict__:
-            # the closed forms of the times and states before it first, in a loop (no deep recursion)
-            in_dependency_order(self, derive_closed, closed_ready)
-            self._sym = None
-            tc = self.t.closed_form
-            vc = self.v.closed_form(derive) if tc is not None else None
-            if vc is not None:
-                E = symbolic_expm(self.spectrum)
-                if E is not None:
-                    self._sym = (E.subs(t_symbol(), tc) * vc).applyfunc(_tidy)
-        return self._sym
-
-    def _to_ca(self):
-        tc = self.t.to_ca()
-        if tc is None:
-            return None
-        xs = self.v.to_ca()
-        if xs is None:
-            return None
-        return self.spectrum.ca_apply(tc, xs, calcium)
-
-
-def _exp_rational_time(M: fmpq_mat, q: fmpq_mat, t: fmpq) -> fmpq_mat | None:
-    """e^{M t} q for a rational t != 0 when it is rational, else None, decided without Calcium.
-    e^{Mt} q = sum_lambda e^{lambda t} K_lambda e^{Nt} q; by Lindemann-Weierstrass the e^{lambda t}
-    (distinct algebraic exponents) are linearly independent over the algebraic numbers, so every
-    component is rational only if K_lambda q = 0 for every lambda != 0: q lies in the generalized
-    kernel of M (M^n q = 0), and then e^{Mt} q = sum_j t^j M^j q / j!, a finite rational sum.
-    (Calcium took minutes on e^{3 M} q for a 10 x 10 chain of carts to find out the same.)"""
-    out, v, j = zeros(M.nrows(), 1), q, 0
-    while not is_zero(v):
-        if j >= M.nrows():
-            return None  # not in the generalized kernel: irrational
-        out, v, j = out + v, M * v * t / (j + 1), j + 1
-    return out
-
-
 class ComponentsVector(ExactVector):
-    """A vector of exact reals (e.g. an initial state with closed-form entries)."""
+    """A vector of exact reals (e.g. an initial state with closed-form entries).
+
+    Parameters
+    ----------
+    comps : list of Real
+        The components; those known to be rational 0 give its zero forms (coordinate forms).
+    policy : Policy, optional
+        The precision policy (default ``DEFAULT_POLICY``).
+    """
 
     def __init__(self, comps: list[Real], policy: Policy | None = None):
         zf = [j for j, c in enumerate(comps) if c.known_rational() == 0]
@@ -512,7 +438,19 @@ class ComponentsVector(ExactVector):
 
 
 def ca_matvec(P: fmpq_mat, xs: list | None) -> list | None:
-    """P x for a rational matrix P and a vector of Calcium numbers (None stays None)."""
+    """P x for a rational matrix P and a vector of Calcium numbers (None stays None).
+
+    Parameters
+    ----------
+    P : fmpq_mat
+        m x n.
+    xs : list of n Ca, or None
+        The components of x (:class:`~lcs_exact.numbers.calcium.Ca`).
+
+    Returns
+    -------
+    list of m Ca, or None
+    """
     if xs is None:
         return None
     out = []
@@ -596,7 +534,17 @@ class AlgebraicVector(ExactVector):
 
 
 def algebraic_vector(xs: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None) -> ExactVector:
-    """A RationalVector when every Calcium number of xs is rational, else an AlgebraicVector."""
+    """A RationalVector when every Calcium number of xs is rational, else an AlgebraicVector.
+
+    Parameters
+    ----------
+    xs : list of Ca
+        The components: real algebraic numbers (:class:`~lcs_exact.numbers.calcium.Ca`).
+    zero_forms : fmpq_mat, optional
+        Forms proven to vanish on the vector (kept by an AlgebraicVector, see :class:`ExactVector`).
+    policy : Policy, optional
+        The precision policy (default ``DEFAULT_POLICY``).
+    """
     cs = [c.compact() for c in xs]
     qs = [c.to_fmpq() for c in cs]
     if all(q is not None for q in qs):
@@ -604,7 +552,7 @@ def algebraic_vector(xs: list, zero_forms: fmpq_mat | None = None, policy: Polic
     return AlgebraicVector(cs, zero_forms, policy, rationals=qs)
 
 
-def _tidy(e):
+def tidy(e):
     """Light SymPy clean-up of a closed-form entry (no simplify: it costs seconds)."""
     import sympy
     return sympy.nsimplify(e, rational=False) if e.is_number and e.is_Float else sympy.expand(e)
@@ -612,7 +560,22 @@ def _tidy(e):
 
 def as_exact_vector(x: Any, n: int | None = None, name: str = "x0", policy: Policy | None = None) -> ExactVector:
     """An ExactVector from an ExactVector, an ``fmpq_mat`` column or any vector input (entries
-    rational-like, or SymPy closed forms)."""
+    rational-like, or SymPy closed forms).
+
+    Parameters
+    ----------
+    x : ExactVector, fmpq_mat or sequence
+        An exact vector (returned as it is), an ``fmpq_mat`` (a column, or a row), or a sequence
+        (or array) of entries: rationals in any form :class:`~lcs_exact.LCS` accepts (int,
+        ``"p/q"``, Fraction, a float read as its shortest decimal), exact reals
+        (:class:`~lcs_exact.Real`) or SymPy closed forms (then a :class:`ComponentsVector`).
+    n : int, optional
+        The length x must have (:class:`~lcs_exact.errors.ShapeError` otherwise); None: any.
+    name : str, optional
+        The name of x in error messages (default ``"x0"``).
+    policy : Policy, optional
+        The precision policy of a vector made here (default ``DEFAULT_POLICY``).
+    """
     if isinstance(x, ExactVector):
         if n is not None and x.n != n:
             raise ShapeError(f"{name} has length {x.n}, expected {n}")
@@ -633,24 +596,27 @@ def as_state(lcs: SystemLike, x0: Any) -> ExactVector:
     """The state as every layer from here up holds it: one exact vector of length n (a
     :class:`RationalVector` for rational input; an exact vector as it is, length checked).  Its
     ``sign_of_form`` is the one decision mode selection asks of it, ``known_rational()`` the
-    rational fast path (section 5: every test is a sign of a linear form in x0)."""
+    rational fast path (section 5: every test is a sign of a linear form in x0).
+
+    Parameters
+    ----------
+    lcs : LCS (SystemLike)
+        The system; x0 must have its length n.
+    x0 : ExactVector or vector input
+        The state, in any form :func:`as_exact_vector` accepts.
+    """
     return as_exact_vector(x0, lcs.n, "x0")
-
-
-def orbit_start(v: ExactVector, M: fmpq_mat) -> tuple[ExactVector, Real | None]:
-    """(w, s) with v = e^{M s} w and w not itself of that form (s None when v is not e^{M s} w):
-    a phase from v follows the orbit of w, so forms vanishing on the orbit of w vanish on it."""
-    s = None
-    while isinstance(v, ExpVector) and (v.spectrum.M is M or v.spectrum.M == M):
-        s = v.t if s is None else s + v.t
-        v = v.v
-    return v, s
 
 
 def homogenized(x: ExactVector) -> ExactVector:
     """x itself, or c q (c > 0 certified, q rational) when the forms proven to vanish on x leave
     a single direction q (rank n - 1): then every sign at x is the sign at q, exactly; the
-    rational 0 when they leave none (rank n: a velocity reset to rest, x = P_I x- with P_I = 0)."""
+    rational 0 when they leave none (rank n: a velocity reset to rest, x = P_I x- with P_I = 0).
+
+    Parameters
+    ----------
+    x : ExactVector
+    """
     if x.known_rational() is None and x.zero_forms.nrows() and x.zero_span.dim == x.n:
         return RationalVector(zeros(x.n, 1), x.policy)
     if x.known_rational() is not None or isinstance(x, (ScaledVector, AlgebraicVector)) or \
@@ -667,34 +633,3 @@ def homogenized(x: ExactVector) -> ExactVector:
     return ScaledVector(c, RationalVector(q, x.policy), x.policy)
 
 
-def expm_action(M: Any, t: Any, v: Any, *, policy: Policy | None = None) -> ExactVector:
-    """e^{M t} v as an exact vector (M, v: any matrix/vector input LCS accepts; t exact).
-
-    Composes structurally: expm_action(M, a, expm_action(M, b, v)) = e^{M(a+b)} v, and is v
-    itself (rational again) when a + b is proven 0.
-
-    >>> x0 = expm_action([[0, 1], [-1, 0]], -1, [1, 0])
-    >>> expm_action([[0, 1], [-1, 0]], 1, x0).known_rational().transpose()
-    [1, 0]
-    """
-    if isinstance(M, Spectrum):
-        sp = M
-    else:
-        Mq = to_matrix(M, "M")
-        if Mq.nrows() != Mq.ncols():
-            raise ShapeError(f"M must be square, got {Mq.nrows()}x{Mq.ncols()}")
-        sp = spectrum_of(Mq)
-    t = as_real(t, policy)
-    v = as_exact_vector(v, sp.n, "v", policy)
-    if isinstance(v, ExpVector) and v.spectrum.M == sp.M:
-        t, v = t + v.t, v.v
-    if t.known_rational() == 0:
-        return v
-    q = v.known_rational()
-    if q is not None and is_zero(sp.M * q):  # an equilibrium: e^{Mt} v = v
-        return v
-    if q is not None:  # forms vanishing on the whole orbit e^{Ms} q (e.g. coordinates M leaves at 0)
-        zf = orbit_zero_forms(sp.M, q)
-    else:
-        zf = invariant_forms(v.zero_forms, sp.M) if v.zero_forms.nrows() else None
-    return ExpVector(sp, t, v, zf, policy)
