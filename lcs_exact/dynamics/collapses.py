@@ -54,7 +54,7 @@ from .bounces import MAX_CYCLES, BounceWindow
 __all__ = ["CollapseCycle", "CollapseProof", "CollapseWindow", "collapse_cycle", "prove_collapse", "collapse_window"]
 
 #: periods a proof may track the shape map before it gives up (work, not time: the same on every machine;
-#: about 2 s; TwoBouncingBalls needs 1024 from its 686th impact)
+#: about 2 s; TwoBouncingBalls needs 1024 from its 713th impact)
 MAX_PERIODS = 4096
 #: the longest pattern of contacts looked for
 MAX_PATTERN = 8
