@@ -14,7 +14,7 @@ import pytest
 from flint import fmpq, fmpq_mat
 
 import lcs_exact as L
-from lcs_exact.dynamics import bounces, collapses
+from lcs_exact.dynamics import bounces, collapsecycles, collapses
 
 from helpers import num as mid
 
@@ -133,11 +133,11 @@ def test_the_proof_needs_constant_gap_accelerations(fast):
     so no collapse cycle (the run would go on event by event); a pattern the events do not repeat
     is none either."""
     lcs, tr, _ = fast
-    assert collapses.collapse_cycle(lcs, tr.events) is not None
+    assert collapsecycles.collapse_cycle(lcs, tr.events) is not None
     sprung = L.models.mechanical([[1, 0], [0, 2]], [[1, -1], [-1, 1]], [[1, 0], [-1, 1]], force=[-10, -20],
                                  gap=[0, -1], restitution="1/2")
-    assert collapses.collapse_cycle(sprung, tr.events) is None
-    assert collapses.collapse_cycle(lcs, tr.events[:2]) is None
+    assert collapsecycles.collapse_cycle(sprung, tr.events) is None
+    assert collapsecycles.collapse_cycle(lcs, tr.events[:2]) is None
     assert bounces.bounce_cycle(lcs, tr.events) is None
 
 

@@ -42,7 +42,7 @@ LAYERS = {
     "system": ["modemap", "signals", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
     "dynamics": ["guesses", "roots", "polyroots", "eventstep", "phase", "clock", "flow", "fixnumbers", "fixture",
                  "events", "timeline", "undetermined", "exports", "trajectory", "symmetry", "accumulation", "cascade",
-                 "zeno", "bounces", "collapses", "schedule", "options", "simulate", "sweep"],
+                 "zeno", "bounces", "collapsecycles", "collapses", "schedule", "options", "simulate", "sweep"],
     "builders": ["exosystems", "mechanics", "circuits", "relays", "examples"],
     "io": ["fixturereader", "modelfile"],
     "verify": ["solverevents", "compare", "testing", "zoo"],

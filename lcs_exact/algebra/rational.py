@@ -23,7 +23,7 @@ from numbers import Integral, Rational
 from typing import Any, Iterable, Sequence, Union
 
 import flint
-from flint import fmpq, fmpq_mat, fmpq_poly, fmpz
+from flint import fmpq, fmpq_mat, fmpz
 
 from ..errors import InvalidArgument, NotRational, ShapeError, Unsupported
 

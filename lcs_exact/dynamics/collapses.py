@@ -39,135 +39,23 @@ Every decision is a certified sign of a ball; a check that fails makes the proof
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Sequence
 
 import mpmath
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from ..algebra import RowSpan, hstack, identity, image, is_zero, kernel, norm_inf, submatrix, vstack
+from ..algebra import RowSpan, hstack, identity, is_zero, kernel, norm_inf
 from ..errors import LimitExceeded, UnresolvedSign
 from ..numbers import (Dual, ExactVector, ProjectedVector, RationalVector, Real, dyadic_upper, expm_action, norm2_bound,
                        spectrum_of, vector_norm2_bound, workprec)
-from .accumulation import event_signature
 from .bounces import MAX_CYCLES, BounceWindow
+from .collapsecycles import CollapseCycle, collapse_cycle, row
 
-__all__ = ["CollapseCycle", "CollapseProof", "CollapseWindow", "collapse_cycle", "prove_collapse", "collapse_window"]
+__all__ = ["CollapseProof", "CollapseWindow", "prove_collapse", "collapse_window"]
 
 #: periods a proof may track the shape map before it gives up (work, not time: the same on every machine;
 #: about 2 s; TwoBouncingBalls needs 1024 from its 713th impact)
 MAX_PERIODS = 4096
-#: the longest pattern of contacts looked for
-MAX_PATTERN = 8
-
-
-def _row(M: fmpq_mat, i: int) -> fmpq_mat:
-    return submatrix(M, [i], None)
-
-
-@dataclass(frozen=True)
-class CollapseCycle:
-    """The exact data of a pattern of impacts at contacts ``P`` (the module docstring)."""
-
-    lcs: Any
-    J: frozenset  # the contacts resting between impacts
-    pattern: tuple  # positions in P of the contacts hit over one period; pattern[-1] hit last
-    P: tuple  # the contacts taking turns
-    e: tuple  # their restitution coefficients
-    G: fmpq_mat  # 2|P| x n: the gaps c_i, then the speeds c_i A
-    E: fmpq_mat  # n x 2|P|: G E = I, x = (I - E G) x + E G x
-    W: fmpq_mat  # |P| x |P|: W[i, j] = c_i A r_j, the speed of gap i an impact of j adds per unit
-    acc: fmpq_mat  # |P| x n: c_i A^2 (the gaps' accelerations, acc x = acc x_bg)
-    monitors: tuple  # rows that must stay positive: resting forces F_J, far gaps
-    Abg: fmpq_mat  # (I - E G) A: x_bg' = Abg x_bg on the flights (0 on V_J: a background at rest)
-    moving: bool  # Abg is not 0 on V_J (a body falling beside the collapse)
-
-    @property
-    def background(self) -> fmpq_mat:
-        """I - E G: x -> x_bg, the part of the state the impacts keep and the flights move alone."""
-        return identity(self.lcs.n) - self.E * self.G
-
-
-def _pattern(events: Sequence) -> tuple | None:
-    """(J, contacts hit in order over one period) when the last events are single Newton impacts
-    in one mode J of resting contacts repeating with a period of 2..MAX_PATTERN and at least two
-    contacts, else None."""
-    hits = []
-    for ev in reversed(events[-4 * MAX_PATTERN:]):
-        J, chain, after, triggers = event_signature(ev)
-        J = frozenset(J or ())
-        if after != J or len(chain) != 1 or len(chain[0] - J) != 1:
-            break
-        b = next(iter(chain[0] - J))
-        if triggers != (f"y_{b}",) or (hits and hits[-1][0] != J):
-            break
-        hits.append((J, b))
-    seq = [b for _, b in reversed(hits)]
-    for p in range(2, MAX_PATTERN + 1):  # the last 3p impacts repeat with period p
-        if len(seq) >= 3 * p and len(set(seq[-p:])) > 1 and all(seq[-j] == seq[-j - p] for j in range(1, 2 * p + 1)):
-            return hits[0][0], tuple(seq[-p:])
-    return None
-
-
-def collapse_cycle(lcs, events: Sequence) -> CollapseCycle | None:
-    """The exact data of the pattern the last events repeat (the module docstring), or None when
-    they repeat none or a condition fails: 0 < e_b < 1, D = 0 on the contacts involved, Theorem
-    6.3, W_CC^-1 e_b >= 0, S = span{r_b, A r_b} of dimension 2|P| with G invertible on it and A S
-    in S, constant accelerations (c_i A^2 E = 0, c_i A^2 Abg = 0).
-
-    Parameters
-    ----------
-    lcs : LCS
-        The system, with Newton's restitution.
-    events : sequence of Event
-        The run's events so far.
-    """
-    rest = getattr(lcs, "restitution", None)
-    found = _pattern(events) if rest is not None and len(events) >= 6 else None
-    if found is None:
-        return None
-    J, seq = found
-    P = tuple(sorted(set(seq)))
-    if any(not 0 < rest[b] < 1 for b in P) or any(lcs.D[i, j] != 0 for i in list(J) + list(P) for j in range(lcs.k)):
-        return None
-    if not lcs.well_posedness():
-        return None
-    mode = lcs.mode(J)
-    A = mode.closed_loop() if J else lcs.A
-    K = mode.consistent_subspace() if J else identity(lcs.n)
-    rs = [_push(lcs, J, b) for b in P]
-    if any(r is None for r in rs):
-        return None
-    G = vstack(*[_row(lcs.C, b) for b in P], *[_row(lcs.C, b) * A for b in P])
-    S = image(hstack(*rs, *[A * r for r in rs], nrows=lcs.n))
-    if S.ncols() != 2 * len(P) or (G * S).det() == 0:
-        return None
-    E = S * (G * S).inv()
-    bg = identity(lcs.n) - E * G
-    acc = vstack(*[_row(lcs.C, b) * A * A for b in P])
-    Abg = bg * A
-    if not (is_zero(bg * A * E) and is_zero(acc * E) and is_zero(acc * Abg * K)):
-        return None  # the fast part feeds the background, or the accelerations vary (a spring)
-    W = fmpq_mat([[(_row(lcs.C, i) * lcs.A * r)[0, 0] for r in rs] for i in P])
-    F, I = (mode.feedback(), list(mode.I)) if J else (None, [])
-    monitors = tuple(_row(F, k) for k in range(len(I))) + tuple(
-        _row(lcs.C, i) + submatrix(lcs.D, [i], I) * F if I else _row(lcs.C, i)
-        for i in range(lcs.k) if i not in P and i not in J)
-    return CollapseCycle(lcs, J, tuple(P.index(b) for b in seq), P, tuple(rest[b] for b in P), G, E, W, acc,
-                         monitors, Abg, not is_zero(Abg * K))
-
-
-def _push(lcs, J: frozenset, b: int) -> fmpq_mat | None:
-    """r_b = B_C W_CC^-1 e_b (C = J + {b}, every closed contact: the impact's LCP) when W_CC^-1 e_b
-    >= 0 with its b-th entry > 0 (the resting contacts pushed or untouched, their speeds kept at 0),
-    else None."""
-    closed = sorted(J | {b})
-    W = submatrix(lcs.C * lcs.A * lcs.B, closed, closed)
-    if W.det() == 0:
-        return None
-    z = W.inv() * fmpq_mat([[int(i == b)] for i in closed])
-    if any(z[i, 0] < 0 for i in range(len(closed))) or z[closed.index(b), 0] <= 0:
-        return None
-    return submatrix(lcs.B, None, closed) * z
 
 
 def _val(x) -> arb:  # the value of a ball or of a Dual
@@ -203,7 +91,7 @@ class _Steps:
 
     def __init__(self, cyc: CollapseCycle, x: ExactVector, prec: int, theta: fmpq | None = None):
         self.cyc, self.prec = cyc, prec
-        signs = [x.sign_of_form(_row(cyc.acc, i)) for i in range(len(cyc.P))]
+        signs = [x.sign_of_form(row(cyc.acc, i)) for i in range(len(cyc.P))]
         xb = x.arb(prec)
         with workprec(prec):
             a = arb_mat(cyc.acc) * xb
@@ -275,10 +163,10 @@ class _Steps:
         gaps = [abs(_val(y)) + abs(_val(v)) * S + abs(a) * S * S / 2 for y, v, a in zip(Y, V, self.a)]
         speeds = [abs(_val(v)) + abs(a) * S for v, a in zip(V, self.a)]
         n = len(Y)
-        for m, row in zip(self.mon, self.monE):
+        for m, weights in zip(self.mon, self.monE):
             if m is None:
                 continue  # a moving background on a first pass (prove_collapse): the window's length not yet known
-            bound = sum((row[j] * gaps[j] * sigma * sigma + row[n + j] * speeds[j] * sigma for j in range(n)), arb(0))
+            bound = sum((weights[j] * gaps[j] * sigma * sigma + weights[n + j] * speeds[j] * sigma for j in range(n)), arb(0))
             _positive(m - bound)
 
 
@@ -436,7 +324,7 @@ def prove_collapse(cyc: CollapseCycle, events: Sequence, prec: int = 128) -> Col
         Bits of the balls (raised when a ball is too wide to decide a check).
     """
     x = events[-1].state_after
-    if x.sign_of_form(_row(cyc.lcs.C, cyc.P[cyc.pattern[-1]])) != 0:
+    if x.sign_of_form(row(cyc.lcs.C, cyc.P[cyc.pattern[-1]])) != 0:
         return None
     first = _attempts(cyc, x, len(events) - 1, prec, None)
     if first is None or not cyc.moving:
@@ -506,7 +394,7 @@ def _invariant_disc(steps: _Steps, cyc: CollapseCycle, ph: list, J: arb_mat, T: 
                     tracker: _Tracker) -> tuple | None:
     """(kappa, D, L, r) of an invariant disc around the fixed point p^ that holds the tracked shapes
     (the module docstring), or None."""
-    d, n, Ta, Ti = len(ph), len(cyc.P), tracker.Ta, tracker.Ti
+    n, Ta, Ti = len(cyc.P), tracker.Ta, tracker.Ti
     try:
         out = _pack(_period(steps, _unpack(ph, tracker.last, n), cyc.pattern, None)[0])
         delta = tracker.dist(out, ph)
@@ -666,7 +554,7 @@ class CollapseWindow(BounceWindow):
         if self.origin is not None:
             keep = kernel(hstack(lcs.A, lcs.B, nrows=lcs.n).transpose()).transpose()
             span = RowSpan(keep) if keep.nrows() else None
-            if span is not None and all(_row(bg, i) in span for i in range(lcs.n)):
+            if span is not None and all(row(bg, i) in span for i in range(lcs.n)):
                 q = self.origin.known_rational()
                 return RationalVector(bg * q) if q is not None else ProjectedVector(bg, self.origin)
         return ProjectedVector(bg, self.z)

@@ -31,7 +31,8 @@ from ..errors import (Deadlock, HorizonExceeded, IllPosed, LCSError, LimitExceed
                      UnresolvedSign, ZenoDetected)
 from .accumulation import Accumulation, ReferenceStates, ScaledCycle, geometric_law, symmetry_exponents
 from .bounces import BOUNCE_PATIENCE, BounceWindow, bounce_cycle, bounce_window
-from .collapses import CollapseWindow, collapse_cycle, prove_collapse
+from .collapsecycles import collapse_cycle, turns_suspected
+from .collapses import CollapseWindow, prove_collapse
 from .cascade import cascade_bound
 from .clock import SourceClock
 from .eventstep import ExactStates, apply_forms, event_step
@@ -536,13 +537,14 @@ class _Run:
 
     def check_accumulation(self, t_now) -> None:
         """Stop at a suspected accumulation (:mod:`lcs_exact.zeno`), unless the run repeats Newton
-        impacts of one contact: their proof (:meth:`bounce_law`) waits for flights short beside the
-        background's motion, up to BOUNCE_PATIENCE shrinking phases."""
+        impacts of one contact or of a few taking turns: their proofs (:meth:`bounce_law`) wait for
+        flights short beside the background's motion, or for the pattern to repeat, up to
+        BOUNCE_PATIENCE shrinking phases."""
         try:
             check_accumulation(self.durations, t_now, self.T)
         except ZenoDetected:
             if len(self.durations) >= BOUNCE_PATIENCE or (bounce_cycle(self.lcs, self.events) is None
-                                                          and collapse_cycle(self.lcs, self.events) is None):
+                                                          and not turns_suspected(self.events)):
                 raise
 
     def cascade_suspected(self) -> bool:
