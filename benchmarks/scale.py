@@ -565,11 +565,11 @@ def first_call_section(out, repeat, summary):
 #: under lcs_exact/, function names or None for all of the file)
 PROFILE_GROUPS = [
     ("spectral data per mode", [("numbers/expm.py", None), ("modes/mode.py", {"spectrum"})]),
-    ("root search", [("dynamics/roots.py", None), ("dynamics/polyroots.py", None),
-                     ("dynamics/guesses.py", None), ("dynamics/flow.py", None)]),
+    ("root search", [("phases/roots.py", None), ("phases/polyroots.py", None),
+                     ("phases/guesses.py", None), ("phases/flow.py", None)]),
     ("anchoring / state evaluation", [("numbers/nodes.py", None), ("numbers/reals.py", None),
                                       ("numbers/vectors.py", None), ("numbers/taylormodels.py", None),
-                                      ("dynamics/phase.py", {"_compute", "state", "ball_state", "event_state",
+                                      ("phases/phase.py", {"_compute", "state", "ball_state", "event_state",
                                                              "_exact_state", "_jacobian_over"}),
                                       ("dynamics/simulate.py", {"anchor"})]),
     ("mode selection / LDCP (and re-initialization)",

@@ -45,10 +45,10 @@ _MOVED = {
     "convergence": "display.convergence",
     "modelformat": "system.modelformat", "statespace": "system.statespace", "wellposedness": "system.wellposedness",
     "impacts": "system.impacts", "modemap": "system.modemap",
-    "guesses": "dynamics.guesses", "roots": "dynamics.roots", "polyroots": "dynamics.polyroots",
-    "phase": "dynamics.phase", "clock": "dynamics.clock", "flow": "dynamics.flow", "fixnumbers": "dynamics.fixnumbers",
-    "fixture": "dynamics.fixture", "trajectory": "dynamics.trajectory", "accumulation": "dynamics.accumulation",
-    "cascade": "dynamics.cascade", "zeno": "dynamics.zeno", "schedule": "dynamics.schedule",
+    "guesses": "phases.guesses", "roots": "phases.roots", "polyroots": "phases.polyroots",
+    "phase": "phases.phase", "clock": "phases.clock", "flow": "phases.flow", "fixnumbers": "phases.fixnumbers",
+    "fixture": "phases.fixture", "trajectory": "phases.trajectory", "accumulation": "accumulations.accumulation",
+    "cascade": "accumulations.cascade", "zeno": "accumulations.zeno", "schedule": "dynamics.schedule",
     "simulate": "dynamics.simulate", "sweep": "dynamics.sweep",
     "exosystems": "builders.exosystems", "mechanics": "builders.mechanics", "circuits": "builders.circuits",
     "relays": "builders.relays", "fixturereader": "io.fixturereader", "solverevents": "verify.solverevents",
@@ -57,4 +57,11 @@ _MOVED = {
 for _old, _new in _MOVED.items():
     _sys.modules[f"{__name__}.{_old}"] = _import_module(f"{__name__}.{_new}")
     globals().setdefault(_old, _sys.modules[f"{__name__}.{_old}"])   # the functions simulate, sweep stay
+# the modules that left ``dynamics`` when it was divided (phases below it, accumulations between), at
+# their earlier paths too: ``lcs_exact.dynamics.bounces is lcs_exact.accumulations.bounces``
+for _old in ("guesses", "roots", "polyroots", "eventstep", "phase", "clock", "flow", "fixnumbers", "fixture", "events",
+             "timeline", "undetermined", "exports", "trajectory"):
+    _sys.modules[f"{__name__}.dynamics.{_old}"] = _import_module(f"{__name__}.phases.{_old}")
+for _old in ("symmetry", "accumulation", "cascade", "zeno", "bounces", "collapsecycles", "collapses"):
+    _sys.modules[f"{__name__}.dynamics.{_old}"] = _import_module(f"{__name__}.accumulations.{_old}")
 del _old, _new

@@ -7,7 +7,7 @@ It is a static description (``typing.Protocol``), never checked at run time.
 
 :class:`AccumulationWindow` is the other way round: a base class checked at run time.  The
 motion on [t_k, T*) of a proven accumulation is kept among a trajectory's phases but is not a
-:class:`~lcs_exact.dynamics.phase.Phase`; the trajectory, the driver and the drawing code tell
+:class:`~lcs_exact.phases.phase.Phase`; the trajectory, the driver and the drawing code tell
 the two apart by ``isinstance(phase, AccumulationWindow)``.  The windows live in ``dynamics``,
 which the drawing code (``display``) sits below, so the class that names them lives here, below
 both.
@@ -46,8 +46,8 @@ class SystemLike(Protocol):
 
 class AccumulationWindow:
     """The motion on [t_k, T*) of a proven accumulation of infinitely many events, kept as a
-    phase: a geometric law's scaled cycles (``dynamics.accumulation.ScaledCycle``) or a bounce
-    accumulation's iterated cycle map (``dynamics.bounces.BounceWindow``).  Unlike a continuous
+    phase: a geometric law's scaled cycles (``accumulations.accumulation.ScaledCycle``) or a bounce
+    accumulation's iterated cycle map (``accumulations.bounces.BounceWindow``).  Unlike a continuous
     phase it has no spectrum and no mode of its own over the window: it gives its states and
     inputs itself (``state(dt)``, ``output(dt, kind)``, ``ball_state(dt, prec)``), its implied
     event times (``offsets``, ``event_times``), and it has no value at T* itself."""

@@ -1,4 +1,4 @@
-"""Right-accumulations proven by a scaling symmetry (lcs_exact.dynamics.accumulation): the symmetry of the
+"""Right-accumulations proven by a scaling symmetry (lcs_exact.accumulations.accumulation): the symmetry of the
 LCS data, the geometric law of the relay spiral (4.12) derived by hand, the scaled cycles."""
 from __future__ import annotations
 
@@ -10,10 +10,10 @@ import mpmath as mp
 import pytest
 
 import lcs_exact as L
-from lcs_exact.dynamics.accumulation import ScaledCycle, geometric_law, symmetry_exponents
+from lcs_exact.accumulations.accumulation import ScaledCycle, geometric_law, symmetry_exponents
 from lcs_exact.numbers.reals import RationalReal
 from lcs_exact.numbers.vectors import RationalVector
-from lcs_exact.dynamics.trajectory import Event
+from lcs_exact.phases.trajectory import Event
 
 
 def relay_lcs(B, C):
@@ -155,7 +155,7 @@ def _damped_ball_t_star(g, c, e, q0):
 def test_a_damped_ball_crosses_its_accumulation_without_a_law():
     """A damped ball (q'' = -10 - q'/10 + u, e = 1/2) dropped from 1: damping breaks the symmetry, so
     no exact law; the impacts are proven to accumulate by the contraction of the impact map
-    (lcs_exact.dynamics.bounces) and the ball rests on the floor after T*, which agrees to 40 digits with the
+    (lcs_exact.accumulations.bounces) and the ball rests on the floor after T*, which agrees to 40 digits with the
     hand derivation, as do the implied impacts (traj.accumulations[0].event_time(k))."""
     from lcs_exact import models, sources
     lcs = models.mechanical([[1]], [[0]], [[1]], damping=[["1/10"]], force=[sources.constant(-10)], restitution="1/2")

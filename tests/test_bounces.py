@@ -1,4 +1,4 @@
-"""Accumulations of Newton impacts that no symmetry explains (lcs_exact.dynamics.bounces), crossed: each scene
+"""Accumulations of Newton impacts that no symmetry explains (lcs_exact.accumulations.bounces), crossed: each scene
 is checked against a derivation written here (flights of a mass on a spring between impacts have
 closed forms: the return speed equals the launch speed, so v' = e v and the flight lasts
 (2/w) atan(v w / g))."""

@@ -20,9 +20,9 @@ import pytest
 from flint import fmpq
 
 import lcs_exact as L
-from lcs_exact.dynamics.cascade import cascade_bound
+from lcs_exact.accumulations.cascade import cascade_bound
 from lcs_exact.models import mechanical
-from lcs_exact.dynamics.trajectory import Status
+from lcs_exact.phases.trajectory import Status
 
 STOPS = [[1, 0, 0], [-1, 1, 0], [0, -1, 1]]  # q0 >= 0 (a wall), q1 - q0 >= 0, q2 - q1 >= 0
 

@@ -1,4 +1,4 @@
-"""Event times in absolute time through the sources' clock (lcs_exact.dynamics.clock).
+"""Event times in absolute time through the sources' clock (lcs_exact.phases.clock).
 
 Hand solutions derived here, independently of the engine:
 
@@ -22,7 +22,7 @@ import sympy
 from flint import fmpq_mat
 
 from lcs_exact import LimitExceeded, simulate
-from lcs_exact.dynamics.clock import SourceClock, autonomous_block
+from lcs_exact.phases.clock import SourceClock, autonomous_block
 from lcs_exact.examples import sine_rectifier
 from lcs_exact.models import circuit
 

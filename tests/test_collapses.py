@@ -1,5 +1,5 @@
 """Inelastic collapse: two balls on a floor whose impacts ball-floor, ball-ball, ... accumulate
-(lcs_exact.dynamics.collapses), crossed.  Each scene is checked against an event-driven run written
+(lcs_exact.accumulations.collapses), crossed.  Each scene is checked against an event-driven run written
 here in mpmath: both balls fall with g, so the floor gap is h0 + v t - g t^2 / 2 and the balls' gap
 h1 + w t (w their relative speed); a floor impact sets v -> -e v, a ball-ball impact w -> -e w with
 the impulse P = -(1 + e) w / (1/m1 + 1/m2) taken from ball 1's speed."""

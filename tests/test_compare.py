@@ -492,7 +492,7 @@ def test_float_grid_overshoot_and_the_plants_columns():
 
 
 def test_an_older_fixture_without_sources_and_laws_still_reads():
-    from lcs_exact.dynamics.fixture import content_digest
+    from lcs_exact.phases.fixture import content_digest
     fx = _ball_half().to_fixture(20)
     assert fx["sources"]["expressions"] == ["1"] and "law" in fx["accumulations"][0]
     old = {k: v for k, v in fx.items() if k not in ("sources", "digest")}

@@ -22,7 +22,7 @@ import pytest
 from flint import fmpq, fmpq_mat
 
 from lcs_exact.algebra import hstack, image, rank
-from lcs_exact.dynamics.eventstep import (SELECTION_CASES, ExactStates, FamilyState, FamilyStates, event_step,
+from lcs_exact.phases.eventstep import (SELECTION_CASES, ExactStates, FamilyState, FamilyStates, event_step,
                                           in_consistent_subspace, selection_verdict)
 from lcs_exact.examples import bouncing_ball
 from lcs_exact.models import mechanical, two_carts

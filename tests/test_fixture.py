@@ -18,7 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import lcs_exact as L
-from lcs_exact.dynamics.fixture import (ball_number, fixture_dict, number_ball, number_exact, number_rational,
+from lcs_exact.phases.fixture import (ball_number, fixture_dict, number_ball, number_exact, number_rational,
                                rational_number, sample_grid, schema, validate_fixture)
 
 _mp = mpmath_digits(60)

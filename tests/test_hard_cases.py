@@ -228,7 +228,7 @@ def test_a_forced_impact_oscillator_grazing_on_a_nested_radical_critical_point_e
 def test_an_accumulation_without_a_law_is_proven_and_crossed():
     """A damped ball q'' = -q' - 10 dropped from q = 1 onto q >= 0 with e = 1/2: damping breaks
     the scaling symmetry, so no geometric law; the impacts are proven to accumulate by the
-    contraction of the impact map (lcs_exact.dynamics.bounces) and the ball rests after T*.  Per phase
+    contraction of the impact map (lcs_exact.accumulations.bounces) and the ball rests after T*.  Per phase
     q = (v+ + 10)(1 - e^{-s}) - 10 s from q = 0 (the first from q = 1 - 10 t + 10 (1 - e^{-t})),
     v- = (v+ + 10) e^{-s} - 10, v+ = -v-/2 (derived here), summed until the flights are below
     1e-40: the impacts, T* (was an unproven estimate 1.16656 and a stop) and the implied impacts."""

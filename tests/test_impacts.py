@@ -165,7 +165,7 @@ def test_bouncing_ball_dropped_from_rest_crosses_its_accumulation_exactly():
 
 def test_a_ball_with_a_radius_rests_on_the_floor_after_its_accumulation():
     """y = q - 1/10 (a ball of radius 1/10, a gap): the symmetry holds in the coordinates
-    q - 1/10 (lcs_exact.dynamics.accumulation moves the constant offset onto the state).  Dropped from
+    q - 1/10 (lcs_exact.accumulations.accumulation moves the constant offset onto the state).  Dropped from
     q = 3/10 under g = 10: 3/10 - 1/10 = 5 t1^2, t1 = 1/5, impacts at t1 (1 + 2e + ...), with
     e = 1/2 the accumulation is at t1 (1 + e)/(1 - e) = 3/5, where the ball rests at q = 1/10."""
     ball = mechanical([[1]], [[0]], [[1]], force=[-10], gap=["-1/10"], restitution="1/2")

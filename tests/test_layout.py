@@ -19,7 +19,7 @@ PKG = pathlib.Path(lcs_exact.__file__).parent
 
 
 def _name(path: pathlib.Path) -> str:
-    """The dotted name of a module under lcs_exact: ``dynamics.flow``; a door is its package's
+    """The dotted name of a module under lcs_exact: ``phases.flow``; a door is its package's
     name (``dynamics``), the package's own ``__init__`` is ``__init__``."""
     parts = path.relative_to(PKG).with_suffix("").parts
     if parts[-1] == "__init__" and len(parts) > 1:
@@ -30,7 +30,8 @@ def _name(path: pathlib.Path) -> str:
 MODULES = {_name(p): p for p in PKG.rglob("*.py") if p.name != "__main__.py"}
 
 #: the subpackages, bottom up: each imports only the doors of those before it
-SUBPACKAGES = ["algebra", "numbers", "modes", "display", "system", "dynamics", "builders", "io", "verify"]
+SUBPACKAGES = ["algebra", "numbers", "modes", "display", "system", "phases", "accumulations", "dynamics", "builders", "io",
+               "verify"]
 
 #: each subpackage's modules, bottom up: each imports only modules before it (and lower doors)
 LAYERS = {
@@ -40,9 +41,10 @@ LAYERS = {
     "modes": ["mode", "ldcp", "rcpfamily", "selection"],
     "display": ["convergence", "mapplot", "figlabels", "canvas", "plotting"],
     "system": ["modemap", "signals", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
-    "dynamics": ["guesses", "roots", "polyroots", "eventstep", "phase", "clock", "flow", "fixnumbers", "fixture",
-                 "events", "timeline", "undetermined", "exports", "trajectory", "symmetry", "accumulation", "cascade",
-                 "zeno", "bounces", "collapsecycles", "collapses", "schedule", "options", "simulate", "sweep"],
+    "phases": ["guesses", "roots", "polyroots", "eventstep", "phase", "clock", "flow", "fixnumbers", "fixture", "events",
+               "timeline", "undetermined", "exports", "trajectory"],
+    "accumulations": ["symmetry", "accumulation", "cascade", "zeno", "bounces", "collapsecycles", "collapses"],
+    "dynamics": ["schedule", "options", "simulate", "sweep"],
     "builders": ["exosystems", "mechanics", "circuits", "relays", "examples"],
     "io": ["fixturereader", "modelfile"],
     "verify": ["solverevents", "compare", "testing", "zoo"],

@@ -1,4 +1,4 @@
-"""The continuous phase and the next event (lcs_exact.dynamics.phase, lcs_exact.dynamics.flow): Lemma 5.1 at the
+"""The continuous phase and the next event (lcs_exact.phases.phase, lcs_exact.phases.flow): Lemma 5.1 at the
 start, the centered form of event states, simultaneous roots."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from flint import arb, ctx, fmpq_mat
 
 import lcs_exact as L
 from lcs_exact.numbers.balls import Policy, workprec
-from lcs_exact.dynamics.phase import EventState, Phase
+from lcs_exact.phases.phase import EventState, Phase
 from lcs_exact.numbers.expvectors import ExpVector, expm_action
 from lcs_exact.numbers.vectors import as_exact_vector
 

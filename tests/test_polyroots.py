@@ -1,4 +1,4 @@
-"""Exact first crossings of polynomial phases (lcs_exact.dynamics.polyroots) and the runs they make exact.
+"""Exact first crossings of polynomial phases (lcs_exact.phases.polyroots) and the runs they make exact.
 
 Each root is derived here: by hand (1/2, 1, 2, sqrt 2, (sqrt 2 + sqrt 6)/2) or, for the cubic,
 by mpmath's polynomial solver at 50 digits."""
@@ -10,7 +10,7 @@ from flint import fmpq, fmpq_mat
 from lcs_exact import LCS, simulate
 from lcs_exact.numbers.calcium import Ca
 from lcs_exact.models import relay
-from lcs_exact.dynamics.polyroots import exact_first_crossing
+from lcs_exact.phases.polyroots import exact_first_crossing
 
 
 def q(*cs):

@@ -1,4 +1,4 @@
-"""Certified roots of exponential sums (lcs_exact.dynamics.roots): enclosures, the first-crossing search and
+"""Certified roots of exponential sums (lcs_exact.phases.roots): enclosures, the first-crossing search and
 root refinement, on functions whose roots are derived by hand or by mpmath in the test."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from flint import acb, arb, ctx, fmpq
 
 from lcs_exact.numbers.balls import Policy, workprec
 from lcs_exact.errors import UnresolvedSign
-from lcs_exact.dynamics.roots import Bracket, ExpSum, RootReal, first_crossing
+from lcs_exact.phases.roots import Bracket, ExpSum, RootReal, first_crossing
 
 
 class Fn:
@@ -178,11 +178,11 @@ def test_root_near_a_double_root_refined_past_the_float_guess():
 
 
 def test_float_guess_of_a_root():
-    """The float guess the refinement starts from (lcs_exact.dynamics.guesses.float_root): log 2 for
+    """The float guess the refinement starts from (lcs_exact.phases.guesses.float_root): log 2 for
     e^{-t} - 1/2 on (0, 5) and pi/2 for cos t on (1/2, 3), to float accuracy; on (0, 40) Newton's
     first step from the middle leaves the bracket (f'(20) = -2e-9: a step of 2.4e8) and bisection
     takes over."""
-    from lcs_exact.dynamics.guesses import float_root
+    from lcs_exact.phases.guesses import float_root
     f = Fn([(-1, 1, [1]), (0, 1, [fmpq(-1, 2)])]).at(64)
     assert abs(float_root(f, 0.0, 5.0) - 0.6931471805599453) < 1e-15
     cos = Fn([(acb(0, 1), 2, [fmpq(1, 2)])]).at(64)

@@ -73,7 +73,7 @@ def test_a_long_column_run_leaves_the_growing_field_for_certified_numerics():
     phases are searched numerically (certified) instead of costing seconds per sign test.  Bead 1
     then bounces to rest on bead 0 while bead 2 flies: each flight 2v/g, v' = e v, so from the last
     listed impact (time t_k, bead 1 leaving at v_k) T* = t_k + 2 v_k / (g (1 - e)); the accumulation
-    is proven (lcs_exact.dynamics.bounces: it used to stop the run), crossed, and beads 0 and 1 rest
+    is proven (lcs_exact.accumulations.bounces: it used to stop the run), crossed, and beads 0 and 1 rest
     (q = 1/10, 3/10; the floor carries 2 m g, the beads' contact m g) while bead 2 bounces on them."""
     col = ball_column(3, g="981/100", e="9/10", radius="1/10")
     tr = simulate(col, col.embed(["1/10", "1/2", 1, 0, 0, 0]), 3, max_events=300, time_limit=60)

@@ -7,8 +7,8 @@ import sympy as sp
 from helpers import A_CARTS, carts, close, modes, num
 
 import lcs_exact as L
-from lcs_exact.dynamics.flow import theta
-from lcs_exact.dynamics.trajectory import Status
+from lcs_exact.phases.flow import theta
+from lcs_exact.phases.trajectory import Status
 
 mp.mp.dps = 60
 
@@ -195,7 +195,7 @@ def test_unprovable_touch_is_reported_not_guessed():
 def test_accumulation_detector_on_geometric_phases():
     # Remark 4.11: phases 2^-i starting at t = 0 accumulate at t = 2 (< t_end = 3)
     from lcs_exact.numbers.reals import RationalReal
-    from lcs_exact.dynamics.zeno import check_accumulation as _check_accumulation
+    from lcs_exact.accumulations.zeno import check_accumulation as _check_accumulation
     durations, t = [], RationalReal(0)
     with pytest.raises(L.ZenoDetected, match="accumulate"):
         for i in range(40):

@@ -1,4 +1,4 @@
-"""Trajectory and Event (lcs_exact.dynamics.trajectory): immutable results with a status, x(t+) at event
+"""Trajectory and Event (lcs_exact.phases.trajectory): immutable results with a status, x(t+) at event
 times, certified samples, the computed extent of a partial run."""
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import mpmath as mp
 import pytest
 
 import lcs_exact as L
-from lcs_exact.dynamics.trajectory import Status
+from lcs_exact.phases.trajectory import Status
 
 OSC = L.LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]])  # x'' = -x + u, a stop at 0
 

@@ -27,7 +27,7 @@ from typing import Any, Iterator, Sequence
 
 from flint import fmpq, fmpq_mat
 
-from .clock import autonomous_block
+from ..phases import autonomous_block
 from ..errors import InvalidArgument, ShapeError, Unsupported
 from ..algebra import hstack, identity, to_fmpq, to_matrix, vstack, zeros
 from ..system import LCS, WellPosedness

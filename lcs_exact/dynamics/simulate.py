@@ -29,25 +29,19 @@ from flint import arb, fmpq, fmpq_mat
 from ..numbers import (ACCURACY_HEADROOM, Policy, accuracy_bits, digits_to_bits, dyadic_lower, dyadic_upper, workprec)
 from ..errors import (Deadlock, HorizonExceeded, IllPosed, LCSError, LimitExceeded, TimeLimitExceeded,
                      UnresolvedSign, ZenoDetected)
-from .accumulation import Accumulation, ReferenceStates, ScaledCycle, geometric_law, symmetry_exponents
-from .bounces import BOUNCE_PATIENCE, BounceWindow, bounce_cycle, bounce_window
-from .collapsecycles import collapse_cycle, turns_suspected
-from .collapses import CollapseWindow, prove_collapse
-from .cascade import cascade_bound
-from .clock import SourceClock
-from .eventstep import ExactStates, apply_forms, event_step
-from .flow import next_event
+from ..accumulations import (BOUNCE_PATIENCE, Accumulation, BounceWindow, CollapseWindow, ReferenceStates, ScaledCycle,
+                             bounce_cycle, bounce_window, cascade_bound, check_accumulation, collapse_cycle,
+                             geometric_law, prove_collapse, shrinking_cycles, symmetry_exponents, turns_suspected)
+from ..phases import (Branches, Event, ExactStates, Phase, PhaseFunction, PhaseRecord, SourceClock, Status, Trajectory,
+                      apply_forms, event_step, next_event, phase_horizon)
 from .schedule import shares_clock
-from .phase import Phase, PhaseFunction, phase_horizon
 from ..algebra import vstack
 from ..numbers import RationalReal
 from ..numbers import ExactVector, as_exact_vector, homogenized
 from ..modes import (format_mode, initial_solution, initial_solution_groups, mode_order, state_groups,
                      undetermined_inputs)
 from ..interfaces import AccumulationWindow
-from .trajectory import Branches, Event, PhaseRecord, Status, Trajectory
 from .options import progress_bar, run_options
-from .zeno import check_accumulation, shrinking_cycles
 
 __all__ = ["simulate", "simulate_branches"]
 
@@ -384,8 +378,8 @@ class _Run:
 
     def bounce_law(self, t, mode):
         """The window of a proven accumulation of Newton impacts that no symmetry explains - one
-        contact bouncing (:mod:`lcs_exact.dynamics.bounces`) or several taking turns
-        (:mod:`lcs_exact.dynamics.collapses`) - when it ends before t_end, else None; tried every
+        contact bouncing (:mod:`lcs_exact.accumulations.bounces`) or several taking turns
+        (:mod:`lcs_exact.accumulations.collapses`) - when it ends before t_end, else None; tried every
         third event (a proof costs milliseconds, a failed one less)."""
         d = self.durations
         if len(d) < 6 or len(d) % 3:
@@ -493,7 +487,7 @@ class _Run:
         return prec
 
     def select_and_reinitialize(self, z: ExactVector, t):
-        """Steps one to three (:func:`~lcs_exact.dynamics.eventstep.event_step` on exact states,
+        """Steps one to three (:func:`~lcs_exact.phases.eventstep.event_step` on exact states,
         step one's choice by :meth:`choose`); returns (mode, chain of jump modes, state after,
         impulse)."""
         arith = ExactStates(self.lcs, lambda S, x: self.choose(S, x, t), t)
@@ -588,7 +582,7 @@ class _Run:
         certified enclosure of the accumulation time when the cascade is proven
         (:meth:`stop_at_cascade`); otherwise, when the decision fails right after events closer
         and closer together (each gap less than half the previous over the last three, or cycles
-        of events shrinking: :func:`~lcs_exact.dynamics.zeno.shrinking_cycles`), stop with
+        of events shrinking: :func:`~lcs_exact.accumulations.zeno.shrinking_cycles`), stop with
         ZenoDetected whose ``lower`` is the last event time (certified) and ``upper`` None
         (nothing proven bounds it but t_end); any other failure is raised as it is."""
         if isinstance(err, (ZenoDetected, LimitExceeded, Deadlock)) or len(self.durations) < 3:

@@ -5,7 +5,7 @@ A :class:`Dual` carries a value v and its partial derivatives d = (dv/dz_1, ...,
 Evaluated on balls z (an interval box), its parts enclose the values and the Jacobian of the
 function over the whole box: the mean value theorem then bounds |F(p) - F(c)| by the Jacobian's
 norm over the box times |p - c| (Moore, Kearfott and Cloud, *Introduction to Interval Analysis*,
-2009, section 6.1).  Used by the proofs of :mod:`lcs_exact.dynamics.collapses`.
+2009, section 6.1).  Used by the proofs of :mod:`lcs_exact.accumulations.collapses`.
 
 >>> from flint import arb
 >>> x = Dual(arb(2), [arb(1)])

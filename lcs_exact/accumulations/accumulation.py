@@ -39,11 +39,11 @@ from ..errors import InvalidArgument, LCSError
 from ..algebra import submatrix
 from ..interfaces import AccumulationWindow
 from ..numbers import Real, as_real
-from .trajectory import full_feedback
-from .symmetry import symmetry_exponents  # re-exported: the driver and the tests take it from here
+from ..phases import full_feedback
+from .symmetry import symmetry_exponents
 from ..numbers import ExactVector, ProjectedVector, RationalVector, algebraic_vector, ca_matvec
 
-__all__ = ["Accumulation", "symmetry_exponents", "geometric_law", "ScaledCycle", "ReferenceStates", "event_signature"]
+__all__ = ["Accumulation", "geometric_law", "ScaledCycle", "ReferenceStates", "event_signature"]
 
 
 def _power(rho: fmpq, e: int) -> fmpq:
@@ -316,7 +316,7 @@ def _exponents_of(lcs, symmetry: dict, rho: fmpq, z1, z2):
 @dataclass(frozen=True)
 class Accumulation:
     """A right-accumulation point crossed (Remark 4.11), made by the run (``traj.accumulations``).
-    Without a law (:mod:`lcs_exact.dynamics.bounces`) ``ratio`` is None and ``time``, ``state``,
+    Without a law (:mod:`lcs_exact.accumulations.bounces`) ``ratio`` is None and ``time``, ``state``,
     the implied events are certified balls of any precision.
 
     The infinitely many events before ``time`` are not in ``traj.events`` (which ends with the

@@ -1,6 +1,6 @@
 """What a run records (section 4.5): how it ended (:class:`Status`), its events
 (:class:`Event`) and its continuous phases (:class:`PhaseRecord`); a :class:`~lcs_exact.Trajectory`
-holds them (:mod:`lcs_exact.dynamics.trajectory`, which exports these names too).
+holds them (:mod:`lcs_exact.phases.trajectory`, which exports these names too).
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Results of a simulation: :class:`Trajectory` (and :class:`Branches`, the solutions of a
 non-unique problem), which holds the run's records (:class:`Event`, :class:`PhaseRecord`,
-:class:`Status`: :mod:`lcs_exact.dynamics.events`).
+:class:`Status`: :mod:`lcs_exact.phases.events`).
 
 Every number is an exact real (:mod:`lcs_exact.reals`): ``.closed_form`` where proven (derived on
 first access), ``.ball(digits)`` / ``.decimal(digits)`` certified to any number of digits, under
@@ -190,7 +190,7 @@ class Trajectory:
         """u(t) on a continuous phase (u_I = F_I x, zero off I); at an event time the value after
         it, u(t+), as :meth:`state` gives x(t+) (the impulse at the event is in ``Event.impulse``).
         An input that the state does not determine there (:meth:`undetermined`) is reported as
-        such: its component is an :class:`~lcs_exact.dynamics.undetermined.UndeterminedReal`
+        such: its component is an :class:`~lcs_exact.phases.undetermined.UndeterminedReal`
         (printed ``undetermined``; asking it for digits raises
         :class:`~lcs_exact.errors.Undetermined`).
 
@@ -391,7 +391,7 @@ class Trajectory:
     def to_fixture(self, digits: int | None = None, sample=None, closed_forms: bool = True,
                    provenance: dict | None = None) -> dict:
         """A dict in the fixture schema ``lcs-exact/trajectory/1`` (docs/fixtures.md;
-        :func:`~lcs_exact.dynamics.fixture.build_fixture`).
+        :func:`~lcs_exact.phases.fixture.build_fixture`).
 
         Parameters
         ----------
@@ -421,7 +421,7 @@ class Trajectory:
             ``sources`` (draw the states the builder appended for its sources, hidden by default)."""
         return plot_trajectory(self, **kw)
 
-    # --- arrays, data frames and files (lcs_exact.dynamics.exports) -----------------------------
+    # --- arrays, data frames and files (lcs_exact.phases.exports) -----------------------------
     def to_numpy(self, t: Any, *, u: bool = False, y: bool = False):
         """A float64 array of shape (len(t), n) (plus k columns for u and k for y when asked):
         the certified states at the times t (at an event time the state after it), rounded to

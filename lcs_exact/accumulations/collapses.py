@@ -2,15 +2,15 @@
 
 Two balls dropped on a floor (Siconos' TwoBouncingBalls) end in impacts ball-floor, ball-ball,
 ball-floor, ... ever closer in time, converging to rest.  No single contact bounces
-(:mod:`lcs_exact.dynamics.bounces`) and the cycles are not similar to one another (no geometric law,
-:mod:`lcs_exact.dynamics.accumulation`): their shape converges to one.  Such an accumulation is
+(:mod:`lcs_exact.accumulations.bounces`) and the cycles are not similar to one another (no geometric law,
+:mod:`lcs_exact.accumulations.accumulation`): their shape converges to one.  Such an accumulation is
 proven here, with certified balls only, when the flights have constant gap accelerations (gravity,
 with or without contacts resting under the bouncing ones).
 
 * The cycle.  Contacts P take turns in a pattern b_1, ..., b_p that the last events repeat; each
   event is a Newton impact of one contact b (restitution 0 < e_b < 1) that also pushes the contacts
   J resting between impacts (the jump -(1 + e_b) (c_b A x) r_b, r_b = B_C W_CC^-1 e_b, C = J + {b},
-  W_CC^-1 e_b > 0, as in :mod:`~lcs_exact.dynamics.bounces`); the flights are in mode J, A its
+  W_CC^-1 e_b > 0, as in :mod:`~lcs_exact.accumulations.bounces`); the flights are in mode J, A its
   closed loop, V_J its consistent subspace.
 * The family.  G stacks the gaps c_i and speeds c_i A of P.  When S = A V_J + span{r_b} has
   dimension 2|P| and G is invertible on it, every state of the run is x = x_bg + E xi with

@@ -26,8 +26,8 @@ symmetry, so no geometric law.  It is proven here by induction over a family of 
   function is t^r eps^m sigma^k (P(tau) + O(eps)) with P > 0 on the box, certified by interval
   evaluation (or P > 0 up to tau_a, f' < 0 after it and f(t*) > 0: a force that vanishes with
   the gaps).  The re-initialization is Algorithm 7.1's own event step
-  (:func:`~lcs_exact.dynamics.eventstep.event_step`) in the arithmetic of families
-  (:class:`~lcs_exact.dynamics.eventstep.FamilyStates`): each mode of the run's chain certified
+  (:func:`~lcs_exact.phases.eventstep.event_step`) in the arithmetic of families
+  (:class:`~lcs_exact.phases.eventstep.FamilyStates`): each mode of the run's chain certified
   selected (the RCP admissibility rows lexicographically nonnegative, the rows of u_I strictly
   positive: by Theorem 6.3 the smallest admissible mode), the state outside V_I before each
   jump, inside V of the mode after at the end.  Exact zeros are structural only: a form
@@ -49,7 +49,7 @@ from typing import Sequence
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from .eventstep import FamilyState, FamilyStates, event_step, vanishes
+from ..phases import FamilyState, FamilyStates, event_step, vanishes
 from .accumulation import event_signature
 from ..numbers import dyadic_lower, dyadic_upper, workprec
 from ..algebra import hstack, submatrix, vstack

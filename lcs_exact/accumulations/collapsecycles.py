@@ -2,7 +2,7 @@
 
 The last events of a run are Newton impacts of single contacts b from a set P, in one mode J of
 resting contacts, repeating a pattern b_1 ... b_p (:func:`pattern_of`).  :func:`collapse_cycle`
-derives the exact data the proof of :mod:`lcs_exact.dynamics.collapses` needs: the impulse
+derives the exact data the proof of :mod:`lcs_exact.accumulations.collapses` needs: the impulse
 directions r_b = B_C W_CC^-1 e_b (C = J + {b}, Newton's law pushing the resting contacts, section
 8's impact LCP), the gaps and speeds G of P, the basis E of S = span{r_b, A r_b} with G E = I (so
 x = x_bg + E G x), the background's generator (I - E G) A, the constant accelerations c_i A^2 and

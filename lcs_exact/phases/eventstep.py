@@ -13,7 +13,7 @@ decided, is the arithmetic's (an object with the methods of :class:`StepArithmet
   an exact vector; every sign is exact or certified (else UnresolvedSign); step one is S(z)
   computed by the LCPs of section 5 and its smallest mode taken (Remark 4.8, the run's choice
   outside Theorem 6.3); the impulse of the first jump is kept for the event.
-* :class:`FamilyStates`, an impact cascade's cycle (:mod:`~lcs_exact.dynamics.cascade`): a state
+* :class:`FamilyStates`, an impact cascade's cycle (:mod:`~lcs_exact.accumulations.cascade`): a state
   is a family of states (Taylor models on a box of parameters, :class:`FamilyState`); a sign is
   certified on the whole box or undecided (None), an exact zero only a structural one (a form
   vanishing on an exact subspace that holds every member); step one certifies that the mode the

@@ -1,7 +1,7 @@
 """A trajectory's certified samples as floats, for other tools: an array (NumPy), a data frame
 (pandas), a CSV file (the format ``lcs-exact compare`` reads) and a NumPy ``.npz`` file; the
 methods :meth:`Trajectory.to_numpy <lcs_exact.Trajectory.to_numpy>`, ``to_pandas``, ``to_csv``
-and ``to_npz`` are these.  The fixture format is written by :mod:`lcs_exact.dynamics.fixture`,
+and ``to_npz`` are these.  The fixture format is written by :mod:`lcs_exact.phases.fixture`,
 python-control's ``TimeResponseData`` by :func:`lcs_exact.statespace.time_response`.
 
 Each reads the trajectory through its public interface only (``lcs``, ``sample``, ``u``, ``y``,

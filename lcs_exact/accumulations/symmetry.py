@@ -1,5 +1,5 @@
 """The scaling symmetries of an LCS, the first half of the proof of an accumulation
-(:mod:`lcs_exact.dynamics.accumulation`, whose docstring states the symmetry and the law).
+(:mod:`lcs_exact.accumulations.accumulation`, whose docstring states the symmetry and the law).
 
 An LCS is invariant under t -> rho t, x_i -> rho^{e_i} x_i, u_j -> rho^{a_j} u_j,
 y_i -> rho^{b_i} y_i (rho > 0) when every nonzero entry of A, B, C, D is balanced:
