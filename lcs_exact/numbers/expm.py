@@ -86,10 +86,11 @@ class Spectrum:
     certified, else other C, C' are drawn): if K = X Y^T with Y^T X = I, then
     R G^{-1} L = X (Y^T C) (Y^T C)^{-1} (C'^T X)^{-1} (C'^T X) Y^T = K.  The columns
     K_lambda c = q_lambda(S) c / r'(lambda) of all eigenvalues at once come from the d Krylov
-    (Horner) vectors b_i(S) c, b_0 = 1, b_i(s) = s b_{i-1}(s) + r_{d-i}, times the matrix of
-    lambda^{d-1-i} / r'(lambda).  That basis is ill-conditioned (tens of bits at n = 64), but it
-    sees only the exact integer vectors C, never a state: a state's ball is carried through the
-    factors, whose size is that of the projector itself.
+    (Horner) vectors b_i(S) c, b_0 = 1, b_i(s) = s b_{i-1}(s) + r_{d-i} (exact, in integers:
+    :mod:`.krylov`), times the matrix of lambda^{d-1-i} / r'(lambda); multiple eigenvalues from
+    the exact primary projector of their factor f of r and the Horner vectors of f.  That product
+    is ill-conditioned (about 300 bits at n = 128), but it sees only the exact integer vectors C,
+    never a state: a state's ball is carried through the factors, of the projector's size.
 
     Parameters
     ----------
@@ -196,7 +197,7 @@ class Spectrum:
         Vandermonde matrix.  With ``row`` (1 x n integers), a simple eigenvalue's column is divided
         by row K_lambda(T) c instead of r'(lambda) (a polynomial of exact coefficients at lambda);
         a divisor not certified nonzero raises ZeroDivisionError."""
-        key = (row is None, tuple(c.entries()))  # exact: kept for a recomputation at more bits
+        key = (tuple(c.entries()), None if row is None else tuple(row.entries()))  # kept: exact
         cache = self.__dict__.setdefault("_horner", {})
         if key not in cache:
             us, D, cd = horner_vectors(T, c, self.r, check)
