@@ -6,11 +6,11 @@ from __future__ import annotations
 import math
 
 import flint
-from flint import fmpq, fmpq_mat, fmpq_poly
+from flint import fmpq, fmpq_mat, fmpq_poly, fmpz, fmpz_mat
 
 from .rational import identity, zeros
 
-__all__ = ["adjugate_coefficients", "eigenvalue_moduli", "norm_inf", "poly_at_matrix"]
+__all__ = ["adjugate_coefficients", "eigenvalue_moduli", "norm_inf", "poly_at_matrix", "polys_at_matrix"]
 
 
 def eigenvalue_moduli(A: fmpq_mat, chi: fmpq_poly | None = None):
@@ -87,20 +87,46 @@ def poly_at_matrix(p: fmpq_poly, S: fmpq_mat) -> fmpq_mat:
     >>> poly_at_matrix(fmpq_poly([1, 0, 1]), fmpq_mat([[0, 1], [-1, 0]])).entries()  # I + S^2 = 0
     [0, 0, 0, 0]
     """
+    return polys_at_matrix([p], S)[0]
+
+
+def polys_at_matrix(ps: list[fmpq_poly], S: fmpq_mat) -> list[fmpq_mat]:
+    """[p(S) for p in ps] exactly, as :func:`poly_at_matrix`, sharing the powers of S.
+
+    In integers: S = S_z / D and p(S) = P(S_z) / (e D^deg) with P = sum_k e p_k D^(deg-k) s^k (e the
+    common denominator of the p_k): fmpz_mat products and scalings, no gcd per entry and step.
+
+    Parameters
+    ----------
+    ps : list of fmpq_poly
+    S : fmpq_mat, square
+
+    >>> [m.entries() for m in polys_at_matrix([fmpq_poly([0, 1]), fmpq_poly([1, 0, 1])], fmpq_mat([[0, 1], [-1, 0]]))]
+    [[0, 1, -1, 0], [0, 0, 0, 0]]
+    """
     n = S.nrows()
-    cs = p.coeffs()
-    if not cs:
-        return zeros(n, n)
-    b = max(1, math.isqrt(len(cs) - 1))
-    powers = [identity(n)]
+    Sz, D = S.numer_denom()
+    b = max(1, math.isqrt(max([len(p.coeffs()) - 1 for p in ps] + [1])))
+    powers = [fmpz_mat(n, n, [int(i == j) for i in range(n) for j in range(n)])]
     for _ in range(b):
-        powers.append(powers[-1] * S)
-    step = powers[b]
-    out = zeros(n, n)
-    for start in range(((len(cs) - 1) // b) * b, -1, -b):
-        block = zeros(n, n)
-        for j, c in enumerate(cs[start:start + b]):
-            if c:
-                block += powers[j] * c
-        out = out * step + block
-    return out
+        powers.append(powers[-1] * Sz)
+    outs = []
+    for p in ps:
+        cs = p.coeffs()
+        if not cs:
+            outs.append(zeros(n, n))
+            continue
+        deg = len(cs) - 1
+        e = fmpz(1)
+        for c in cs:
+            e = e * c.q // e.gcd(c.q)
+        ints = [c.p * (e // c.q) * D ** (deg - k) for k, c in enumerate(cs)]
+        out = fmpz_mat(n, n)
+        for start in range((deg // b) * b, -1, -b):
+            block = fmpz_mat(n, n)
+            for j, c in enumerate(ints[start:start + b]):
+                if c:
+                    block += powers[j] * c
+            out = out * powers[b] + block
+        outs.append(fmpq_mat(out) / (e * D ** deg))
+    return outs

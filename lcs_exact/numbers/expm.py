@@ -24,12 +24,13 @@ from __future__ import annotations
 import math
 from typing import Any, Callable
 
-from flint import acb, acb_mat, acb_poly, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly
+from flint import acb, acb_mat, acb_poly, arb, arb_mat, fmpq, fmpq_mat, fmpq_poly, fmpz_mat
 
 from .balls import closed_form_arb, workprec
+from .krylov import evaluate_columns, exact_poly, factor_accuracy, horner_vectors, primary_basis, vandermonde
 from ..errors import LCSError, UnresolvedSign
 from ..algebra import resolvent
-from ..algebra import adjugate_coefficients, identity, is_zero, poly_at_matrix, zeros
+from ..algebra import adjugate_coefficients, identity, is_zero, polys_at_matrix, zeros
 
 __all__ = ["Spectrum", "jordan_chevalley", "spectrum_of", "symbolic_expm", "laplace_closed_form", "t_symbol"]
 
@@ -51,10 +52,15 @@ def jordan_chevalley(M: fmpq_mat, r: fmpq_poly | None = None) -> tuple[fmpq_mat,
     dr = r.derivative()
     S = M
     for _ in range(M.nrows() + 1):
-        rS = poly_at_matrix(r, S)
+        rS, drS = polys_at_matrix([r, dr], S)
         if is_zero(rS):
             break
-        S = S - rS * poly_at_matrix(dr, S).inv()
+        X = drS.solve(rS)  # r'(S)^{-1} r(S) (they commute)
+        S = S - X
+        # X = E U with E = S - (semisimple part), U invertible, all commuting: X^2 = 0 means E^2 = 0,
+        # and then one Newton step is exact (no r(S) = 0 check, a whole polynomial evaluation)
+        if is_zero(X * X):
+            break
     N = M - S
     m, P = 1, N
     while not is_zero(P):
@@ -80,10 +86,11 @@ class Spectrum:
     certified, else other C, C' are drawn): if K = X Y^T with Y^T X = I, then
     R G^{-1} L = X (Y^T C) (Y^T C)^{-1} (C'^T X)^{-1} (C'^T X) Y^T = K.  The columns
     K_lambda c = q_lambda(S) c / r'(lambda) of all eigenvalues at once come from the d Krylov
-    (Horner) vectors b_i(S) c, b_0 = 1, b_i(s) = s b_{i-1}(s) + r_{d-i}, times the matrix of
-    lambda^{d-1-i} / r'(lambda).  That basis is ill-conditioned (tens of bits at n = 64), but it
-    sees only the exact integer vectors C, never a state: a state's ball is carried through the
-    factors, whose size is that of the projector itself.
+    (Horner) vectors b_i(S) c, b_0 = 1, b_i(s) = s b_{i-1}(s) + r_{d-i} (exact, in integers:
+    :mod:`.krylov`), times the matrix of lambda^{d-1-i} / r'(lambda); multiple eigenvalues from
+    the exact primary projector of their factor f of r and the Horner vectors of f.  That product
+    is ill-conditioned (about 300 bits at n = 128), but it sees only the exact integer vectors C,
+    never a state: a state's ball is carried through the factors, of the projector's size.
 
     Parameters
     ----------
@@ -170,52 +177,73 @@ class Spectrum:
                 # factoring over Q costs a few percent of that
                 self._irreducible = [(fmpq_poly(p), k) for p, k in self.chi.factor()[1]] if self.n else []
             with workprec(prec + 16):
-                out = []
-                for p, mult in self._irreducible:
+                out, self._root_factor = [], []
+                for idx, (p, mult) in enumerate(self._irreducible):
                     for lam, _ in p.complex_roots():
                         if lam.imag.is_zero():
                             out.append((acb(lam.real), 1, mult))
                         elif lam.imag > 0:
                             out.append((lam, 2, mult))
+                        else:
+                            continue
+                        self._root_factor.append(idx)
             self._roots = (prec, out)
         return self._roots[1]
 
-    def _krylov_columns(self, T: fmpq_mat, Cm: fmpq_mat, eig: list, work: int,
-                        check: Callable[[], None] | None = None) -> list[acb_mat]:
-        """[K_lambda(T) C_lambda for each eigenvalue], C_lambda the first m_lambda columns of Cm
-        (n x m_lambda balls), K_lambda(T) = q_lambda(T) / r'(lambda), T = S or S^T.  The first
-        column for every eigenvalue at once is one product (Horner vectors) x (Vandermonde);
-        the further columns, needed by the few multiple eigenvalues only, are sums of the
-        Horner blocks."""
-        c = self.r.coeffs()
-        d = len(c) - 1
-        n, e = self.n, len(eig)
-        dr = self.r.derivative()
+    def _krylov_columns(self, T: fmpq_mat, c: fmpq_mat, eig: list, work: int,
+                        check: Callable[[], None] | None = None, row: fmpz_mat | None = None) -> acb_mat:
+        """The columns K_lambda(T) c of every eigenvalue at once (n x e balls; T = S or S^T, c an
+        integer n x 1 probe): one product of the exact integer Horner vectors (:mod:`.krylov`) by a
+        Vandermonde matrix.  With ``row`` (1 x n integers), a simple eigenvalue's column is divided
+        by row K_lambda(T) c instead of r'(lambda) (a polynomial of exact coefficients at lambda);
+        a divisor not certified nonzero raises ZeroDivisionError."""
+        key = (tuple(c.entries()), None if row is None else tuple(row.entries()))  # kept: exact
+        cache = self.__dict__.setdefault("_horner", {})
+        if key not in cache:
+            us, D, cd = horner_vectors(T, c, self.r, check)
+            cache[key] = (us, D, cd, None if row is None else exact_poly(us, row, D, cd))
+        us, D, cd, wpoly = cache[key]
+        lams = [lam for lam, _, _ in eig]
         with workprec(work):
-            Lv = acb_mat(d, e)  # lambda^{d-1-i} / r'(lambda)
-            drp = acb_poly(dr)  # r' evaluated in C (rectangular splitting), not by Python Horner
-            for k, (lam, _, _) in enumerate(eig):
-                p = acb(1) / drp(lam)
-                for i in range(d - 1, -1, -1):
-                    Lv[i, k] = p
-                    p = p * lam
-            Tb, Y = arb_mat(T), arb_mat(Cm)
-            vs = [Y]
-            for i in range(1, d):
-                if check is not None and i % 16 == 0:
-                    check()  # n products of n x n balls: seconds at n = 300
-                vs.append(Tb * vs[-1] + Y * arb(c[d - i]))
-            first = acb_mat([[v[row, 0] for v in vs] for row in range(n)]) * Lv
-            out = []
-            for k, (_, _, m) in enumerate(eig):
-                if m == 1:
-                    out.append(acb_mat([[first[row, k]] for row in range(n)]))
-                    continue
-                block = acb_mat(n, Cm.ncols())
-                for i, v in enumerate(vs):
-                    block += acb_mat(v) * Lv[i, k]
-                out.append(acb_mat([[block[row, j] for j in range(m)] for row in range(n)]))
-            return out
+            drp = acb_poly(self.r.derivative())  # r' evaluated in C (rectangular splitting)
+            tops = [drp(lam) for lam in lams]
+            if row is not None:
+                wp = acb_poly(wpoly)
+                tops = [wp(lam) if m == 1 else top for (lam, _, m), top in zip(eig, tops)]
+            if any(top.contains(0) for top in tops):
+                raise ZeroDivisionError("a projector's divisor is not certified nonzero")
+        return evaluate_columns(us, 1, vandermonde(lams, tops, len(us), D, cd, work), work)
+
+    def _multiple_columns(self, eig: list, C: fmpq_mat, Cl: fmpq_mat, work: int) -> dict:
+        """{k: (K_lambda C_m, K_lambda^T Cl_m)} (n x m balls) for the eigenvalues of multiplicity
+        m > 1, C_m the first m columns: K_lambda = f_lambda(S) P_f / f'(lambda) with the exact
+        primary projector P_f of the irreducible factor f of lambda (:func:`.krylov.primary_basis`),
+        so that P_f C_m is exact and the Horner vectors are those of f (degree 1 or 2 for the
+        many-fold eigenvalues of mechanics), not of r with m columns."""
+        groups: dict = {}
+        for k, (_, _, m) in enumerate(eig):
+            if m > 1:
+                groups.setdefault(self._root_factor[k], []).append(k)
+        primary = self.__dict__.setdefault("_primary", {})
+        out: dict = {}
+        for idx, ks in groups.items():
+            f, m = self._irreducible[idx]
+            f = f / f.coeffs()[-1]
+            if idx not in primary:
+                primary[idx] = primary_basis(self.S, f)
+            Z, W, WZ = primary[idx]
+            lams = [eig[k][0] for k in ks]
+            with workprec(work):
+                dfp = acb_poly(f.derivative())
+                tops = [dfp(lam) for lam in lams]
+            for side, (T, X) in enumerate(((self.S, Z * WZ.solve(W.transpose() * _columns(C, m))),
+                                           (self.S.transpose(), W * WZ.transpose().solve(Z.transpose() * _columns(Cl, m))))):
+                us, D, cd = horner_vectors(T, X, f)
+                block = evaluate_columns(us, m, vandermonde(lams, tops, len(us), D, cd, work), work)
+                for col, k in enumerate(ks):
+                    out.setdefault(k, [None, None])[side] = acb_mat([[block[i * m + j, col] for j in range(m)]
+                                                                     for i in range(self.n)])
+        return out
 
     def factors(self, prec: int, check: Callable[[], None] | None = None) -> list[tuple[acb, int, acb_mat, acb_mat]]:
         """[(lambda, weight, R_lambda, H_lambda)] with K_lambda = R_lambda H_lambda (n x m and
@@ -231,15 +259,12 @@ class Spectrum:
         """
         if self._factors[0] >= prec:
             return self._factors[1]
-        # the cost is mostly fixed, not per bit, and the precision asked of a phase grows by
-        # doubling (sign decisions and root isolation escalate so), plus a root's guard bits:
-        # compute well ahead of it.  Two doublings and their guard (4 p + FACTOR_HEADROOM): a
-        # request at 4 p + 32 (a root refined at a state's 4 p bits) recomputed every mode of
-        # the 64 x 64 chain at twice that, an eighth of its run
-        if not self._factors[0]:
-            prec = 4 * prec + FACTOR_HEADROOM
-        else:
-            prec = max(2 * prec, 2 * self._factors[0]) + FACTOR_HEADROOM
+        # the precision asked of a phase grows by doubling (sign decisions, root isolation), plus
+        # a root's guard bits: first 4 p + FACTOR_HEADROOM (a request at 4 p + 32, a root refined
+        # at a state's 4 p bits, recomputed every mode of the 64 x 64 chain at 2x); a later request
+        # at its own precision plus the headroom, the exact parts kept (the 64 x 64 chain asks each
+        # mode once more, at 1288 bits: doubling ahead computed 2640 for nothing)
+        prec = (4 * prec if not self._factors[0] else prec) + FACTOR_HEADROOM
         n = self.n
         if not self._factors[0]:
             self._guard = self._initial_guard()
@@ -248,23 +273,34 @@ class Spectrum:
             eig = self._eigen(work)
             mmax = max(m for _, _, m in eig)
             C, Cl = _probe(n, mmax, 2 * attempt), _probe(n, mmax, 2 * attempt + 1)
-            right = self._krylov_columns(self.S, C, eig, work, check)
-            left = self._krylov_columns(self.S.transpose(), Cl, eig, work, check)
-            out = []
-            with workprec(work):
-                try:
+            try:
+                # simple eigenvalues: R = K c, H = (c'^T K) / (c'^T K c) (G is 1 x 1, its inverse
+                # folded into the left columns); multiple ones: G = L C_m solved
+                right = self._krylov_columns(self.S, _columns(C, 1), eig, work, check)
+                c0 = fmpz_mat(1, n, [int(C[i, 0]) for i in range(n)])
+                left = self._krylov_columns(self.S.transpose(), _columns(Cl, 1), eig, work, check, c0)
+                more = self._multiple_columns(eig, C, Cl, work) if mmax > 1 else {}
+                with workprec(work):
+                    out = []
                     for k, (lam, w, m) in enumerate(eig):
-                        R, L = right[k], left[k].transpose()
+                        if m == 1:
+                            out.append((lam, w, acb_mat([[right[i, k]] for i in range(n)]),
+                                        acb_mat([[left[i, k] for i in range(n)]])))
+                            continue
+                        R, L = more[k][0], more[k][1].transpose()
                         G = L * acb_mat(_columns(C, m))
                         out.append((lam, w, R, G.solve(L)))
-                except ZeroDivisionError:  # G not certified invertible: other probes
-                    continue
-            acc = min(min(_factor_accuracy(R, work, prec + 8), _factor_accuracy(H, work, prec + 8))
+            except ZeroDivisionError:  # G not certified invertible: other probes
+                continue
+            acc = min(min(factor_accuracy(R, work, prec + 8), factor_accuracy(H, work, prec + 8))
                       for _, _, R, H in out)
             if acc >= prec + 8:
                 self._factors = (prec, out)
                 self.__dict__.pop("_stacked_low", None)
-                with workprec(work):  # [R_lambda ...] and [H_lambda; ...] for the propagator
+                if mmax == 1:  # [R_lambda ...] and [H_lambda; ...] for the propagator
+                    self._stacked = (right, left.transpose())
+                    return out
+                with workprec(work):
                     self._stacked = (acb_mat([[R[i, j] for _, _, R, _ in out for j in range(R.ncols())]
                                               for i in range(n)]),
                                      acb_mat([[H[i, j] for j in range(n)] for _, _, _, H in out
@@ -489,43 +525,6 @@ def _probe(n: int, m: int, seed: int) -> fmpq_mat:
 def _columns(C: fmpq_mat, m: int) -> fmpq_mat:
     """The first m columns of C."""
     return fmpq_mat(C.nrows(), m, [C[i, j] for i in range(C.nrows()) for j in range(m)])
-
-
-def _accuracy(entries: list, prec: int) -> int:
-    """Relative accuracy in bits of a list of (complex) balls taken as a whole: their largest
-    radius against their largest midpoint (entries that are genuinely near zero do not count);
-    ``prec`` when they are exact."""
-    big, rad = arb(0), arb(0)
-    for x in entries:
-        for part in ((x.real, x.imag) if isinstance(x, acb) else (x,)):
-            m, r = abs(part.mid()), part.rad()  # exact: no rounding at the ambient precision
-            if m > big:
-                big = m
-            if r > rad:
-                rad = r
-    if rad == 0:
-        return prec
-    if big == 0:
-        return 0
-    with workprec(64):
-        return min(prec, max(0, int(float(((big.log() - rad.log()) / arb(2).log()).mid()))))
-
-
-def _factor_accuracy(W, work: int, want: int) -> int:
-    """The accuracy of a factor, from a sample of its rows; below ``want`` it is measured on every
-    entry before it counts: a sample can fall on coordinates where an eigenvector vanishes (a
-    symmetric chain of carts), whose balls hold only noise around 0."""
-    acc = _accuracy(_sample(W), work)
-    if acc < want:
-        acc = _accuracy([W[i, j] for i in range(W.nrows()) for j in range(W.ncols())], work)
-    return acc
-
-
-def _sample(W, rows: int = 4) -> list:
-    """Entries of a few rows of W spread over it (an accuracy estimate costs O(rows x cols))."""
-    n = W.nrows()
-    idx = sorted({(n - 1) * k // max(rows - 1, 1) for k in range(rows)}) if n else []
-    return [W[i, j] for i in idx for j in range(W.ncols())]
 
 
 def _ca_dot(P: fmpq_mat, i: int, v: list, calcium: Any):
