@@ -210,3 +210,22 @@ def test_a_collapse_beside_a_falling_ball(fast):
     landing = tr.events[len(two.events)]  # after T*, a sum with T*: certified digits, no closed form
     with mp.workdps(60):
         assert landing.triggers == ("y_2",) and abs(mid(landing.time, 40) - mp.sqrt(mp.mpf(53) / 25)) < mp.mpf(10) ** -38
+
+
+def test_a_collapse_forming_after_other_impacts_is_waited_for(fast):
+    """turns_suspected: the last 24 events single impacts of two to four contacts in one mode (the
+    run waits for their pattern instead of stopping at a suspected accumulation), whatever came
+    before them - in Siconos' column of beads the upper beads collide among themselves first."""
+    import dataclasses
+    _, tr, _ = fast
+    ev = tr.events[-1]
+
+    def impact(b):
+        return dataclasses.replace(ev, modes=(frozenset({b}),), triggers=(f"y_{b}",))
+
+    before = [impact(b) for b in (5, 7, 6, 8, 9, 6, 7)] * 4
+    turns = [impact(b) for b in (0, 1) * 12]
+    assert collapsecycles.turns_suspected(before + turns) is True
+    assert collapsecycles.turns_suspected(before + turns[:20]) is False  # the last 24 hold six contacts
+    assert collapsecycles.turns_suspected(turns[1:]) is False  # too few
+    assert collapsecycles.turns_suspected(before + [impact(b) for b in (0, 1, 2, 3, 4) * 5]) is False

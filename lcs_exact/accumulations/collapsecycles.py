@@ -88,15 +88,17 @@ def pattern_of(events: Sequence) -> tuple | None:
 
 
 def turns_suspected(events: Sequence) -> bool:
-    """The last 24 events or more are single Newton impacts of two to four contacts taking turns in
-    one mode of resting contacts: a collapse may be forming (its pattern not yet repeated).
+    """The last 24 events are single Newton impacts of two to four contacts taking turns in one
+    mode of resting contacts: a collapse may be forming (its pattern not yet repeated).  Only the
+    last 24 count: in a column of beads the beads above collide among themselves before the two
+    lowest start taking turns.
 
     Parameters
     ----------
     events : sequence of Event
     """
-    found = hits(events)
-    return len(found) >= 24 and 2 <= len({b for _, b in found}) <= 4
+    found = hits(events)[-24:]
+    return len(found) == 24 and 2 <= len({b for _, b in found}) <= 4
 
 
 def collapse_cycle(lcs, events: Sequence) -> CollapseCycle | None:
