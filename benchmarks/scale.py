@@ -115,8 +115,9 @@ WHERE_THE_TIME_GOES = (
     '64 bits). Small systems (the two carts, the long run) spend their time in Python overhead spread '
     'over root isolation (about 20 certified evaluations of an exponential sum per event), mode '
     'selection and re-initialization, no single item above a fifth. The remaining gaps to the SciPy '
-    'float baseline are the cost of certified ball arithmetic driven from Python: closing them needs '
-    'compiled kernels (the exponential-sum evaluation and the LCP stages), not a different algorithm.\n'
+    'float baseline are the cost of certified ball arithmetic driven from Python over per-mode spectral '
+    'data: issue 30 measured in a prototype that Taylor steps on ball states (J matrix-vector products '
+    'a step, no eigenvectors) close much of them without a compiler; that evaluator is not built yet.\n'
 )
 
 # one lcs_exact point in a fresh interpreter: warm-up, then the timed run; prints one JSON line
