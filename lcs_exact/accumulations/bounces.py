@@ -47,7 +47,7 @@ from ..interfaces import AccumulationWindow
 from ..numbers import ExactVector, ProjectedVector, RationalVector, Real, as_real, dyadic_lower, dyadic_upper, workprec
 from .accumulation import event_signature
 
-__all__ = ["BOUNCE_PATIENCE", "BounceCycle", "BounceProof", "BounceWindow", "bounce_cycle", "prove_bounces", "bounce_window"]
+__all__ = ["BOUNCE_PATIENCE", "flight_holding", "BounceCycle", "BounceProof", "BounceWindow", "bounce_cycle", "prove_bounces", "bounce_window"]
 
 #: shrinking phases a run of Newton impacts of one contact may go on before a suspected accumulation
 #: stops it unproven (the proof needs flights short beside the background's motion: a spring of
@@ -454,20 +454,34 @@ class _Iteration:
         return len(self.sig) - 1
 
     def until_time(self, t: arb) -> int | None:
-        """The m with t in (t_m, t_m+1) (the flight after impact m), iterating as needed; None when
-        t's ball touches an impact time or lies beyond T* - or cannot be told from it."""
-        with workprec(self.prec):
-            m = 0
-            while True:
-                while m + 1 >= len(self.t):
-                    if len(self.t) > MAX_CYCLES or not self.tail(len(self.sig) - 1).upper() > arb(2) ** -(self.prec - 8):
-                        return None
-                    self.step()
-                if t > self.t[m] and t < self.t[m + 1]:
-                    return m
-                if not t > self.t[m + 1]:
+        """The m with t in (t_m, t_m+1) (:func:`flight_holding`)."""
+        return flight_holding(self, t)
+
+
+def flight_holding(it, t: arb) -> int | None:
+    """The m with t in (t_m, t_m+1) (the flight after impact m) of an iteration ``it`` of a window
+    (its impact times ``t``, ``step()``, ``tail(m)``: None where no bound is known yet), iterating as
+    needed; None when t's ball touches an impact time or lies beyond T* - or cannot be told from it.
+
+    Parameters
+    ----------
+    it : _Iteration
+        The ball iteration of a bounce or collapse window.
+    t : arb
+    """
+    with workprec(it.prec):
+        m = 0
+        while True:
+            while m + 1 >= len(it.t):
+                tail = it.tail(len(it.t) - 1)
+                if len(it.t) > MAX_CYCLES or (tail is not None and not tail.upper() > arb(2) ** -(it.prec - 8)):
                     return None
-                m += 1
+                it.step()
+            if t > it.t[m] and t < it.t[m + 1]:
+                return m
+            if not t > it.t[m + 1]:
+                return None
+            m += 1
 
 
 class BounceWindow(AccumulationWindow):

@@ -48,7 +48,7 @@ from ..algebra import RowSpan, hstack, identity, is_zero, kernel, norm_inf
 from ..errors import LimitExceeded, UnresolvedSign
 from ..numbers import (Dual, ExactVector, ProjectedVector, RationalVector, Real, dyadic_upper, expm_action, norm2_bound,
                        spectrum_of, vector_norm2_bound, workprec)
-from .bounces import MAX_CYCLES, BounceWindow
+from .bounces import MAX_CYCLES, BounceWindow, flight_holding
 from .collapsecycles import CollapseCycle, collapse_cycle, row
 
 __all__ = ["CollapseProof", "CollapseWindow", "prove_collapse", "collapse_window"]
@@ -490,21 +490,8 @@ class _Iteration:
                 self.step()
 
     def until_time(self, t: arb) -> int | None:
-        """The m with t in (t_m, t_m+1), iterating as needed; None when t's ball touches an impact
-        time or lies beyond T* (or cannot be told from it)."""
-        with workprec(self.prec):
-            m = 0
-            while True:
-                while m + 1 >= len(self.t):
-                    tail = self.tail(len(self.t) - 1)
-                    if len(self.t) > MAX_CYCLES or (tail is not None and not tail.upper() > arb(2) ** -(self.prec - 8)):
-                        return None
-                    self.step()
-                if t > self.t[m] and t < self.t[m + 1]:
-                    return m
-                if not t > self.t[m + 1]:
-                    return None
-                m += 1
+        """The m with t in (t_m, t_m+1) (:func:`~lcs_exact.accumulations.bounces.flight_holding`)."""
+        return flight_holding(self, t)
 
     def state(self, m: int, t: arb) -> arb_mat:
         """x at time t in the flight after impact m: x_bg + E xi, xi the gaps sigma^2 g(s) and speeds
