@@ -36,12 +36,12 @@ SUBPACKAGES = ["algebra", "numbers", "modes", "display", "system", "phases", "ac
 #: each subpackage's modules, bottom up: each imports only modules before it (and lower doors)
 LAYERS = {
     "algebra": ["rational", "matrixfunctions", "ratfunc", "subspaces", "lcp", "polyhedra"],
-    "numbers": ["balls", "duals", "flintlib", "calcium", "forms", "algebraics", "krylov", "expm", "nodes", "reals", "vectors",
+    "numbers": ["balls", "duals", "flintlib", "calcium", "forms", "algebraics", "krylov", "expm", "taylorsteps", "nodes", "reals", "vectors",
                 "expvectors", "closedforms", "taylormodels"],
     "modes": ["mode", "ldcp", "rcpfamily", "selection"],
     "display": ["convergence", "mapplot", "figlabels", "canvas", "plotting"],
     "system": ["modemap", "signals", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
-    "phases": ["guesses", "roots", "polyroots", "eventstep", "phase", "clock", "flow", "fixnumbers", "fixture", "events",
+    "phases": ["guesses", "roots", "taylorsum", "polyroots", "eventstep", "phase", "clock", "flow", "fixnumbers", "fixture", "events",
                "timeline", "undetermined", "exports", "trajectory"],
     "accumulations": ["symmetry", "accumulation", "cascade", "zeno", "bounces", "collapsecycles", "collapses"],
     "dynamics": ["schedule", "options", "simulate", "sweep"],

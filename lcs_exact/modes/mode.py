@@ -32,7 +32,7 @@ from flint import fmpq_mat
 from ..errors import LCSError, NotAutonomous
 from ..numbers import Spectrum
 from ..interfaces import SystemLike
-from ..algebra import hstack, identity, matrix_to_sympy, submatrix, vstack, zeros
+from ..algebra import hstack, identity, matrix_to_sympy, norm_inf, submatrix, vstack, zeros
 from ..algebra import image, intersection, kernel, left_kernel, projection, rank, solve_any
 
 __all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
@@ -301,6 +301,17 @@ class Mode:
     @cached_property
     def _A_I(self) -> fmpq_mat:
         return self.lcs.A + self._L * self._F if self.I else self.lcs.A
+
+    @cached_property
+    def closed_loop_norm(self):
+        """||A_I||_inf exactly (an ``fmpq``): the rate bound of Taylor steps (computed once)."""
+        return norm_inf(self._A_I)
+
+    @cached_property
+    def closed_loop_nilpotent(self) -> bool:
+        """A_I nilpotent (its characteristic polynomial is s^n), decided exactly without the
+        spectral data."""
+        return all(c == 0 for c in self._A_I.charpoly().coeffs()[:-1])
 
     def spectrum(self) -> Spectrum:
         """The spectral data of e^{A_I t} (:class:`~lcs_exact.expm.Spectrum`), computed once."""

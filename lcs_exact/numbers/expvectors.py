@@ -28,8 +28,9 @@ class ExpVector(ExactVector):
 
     Parameters
     ----------
-    spectrum : Spectrum
-        The spectral data of the n x n rational matrix M (:func:`~lcs_exact.expm.spectrum_of`).
+    spectrum : Spectrum or callable
+        The spectral data of the n x n rational matrix M (:func:`~lcs_exact.expm.spectrum_of`),
+        or a function giving it, called on first use (then ``M`` is required).
     t : Real
         The time.
     v : ExactVector
@@ -42,23 +43,40 @@ class ExpVector(ExactVector):
     modal : callable, optional
         prec -> the per-eigenvalue vectors of v at ``prec`` bits (:meth:`Spectrum.modal
         <lcs_exact.expm.Spectrum.modal>`): a phase computes them once for all its functions.
+    M : fmpq_mat, optional
+        The matrix, when ``spectrum`` is a function (default: ``spectrum.M``).
+    propagate : callable, optional
+        (t ball, prec) -> a ball of e^{M t} v: the balls of a phase evaluated by Taylor steps
+        (:mod:`lcs_exact.numbers.taylorsteps`) instead of the spectral data.
     """
 
-    def __init__(self, spectrum: Spectrum, t: Real, v: ExactVector, zero_forms: fmpq_mat | None = None,
-                 policy: Policy | None = None, modal: Callable[[int], list] | None = None):
-        super().__init__(spectrum.n, zero_forms, policy or v.policy)
-        self.spectrum, self.t, self.v = spectrum, t, v
-        self._modal = modal
+    def __init__(self, spectrum: Spectrum | Callable[[], Spectrum], t: Real, v: ExactVector,
+                 zero_forms: fmpq_mat | None = None, policy: Policy | None = None,
+                 modal: Callable[[int], list] | None = None, *, M: fmpq_mat | None = None,
+                 propagate: Callable[[Any, int], Any] | None = None):
+        super().__init__(v.n, zero_forms, policy or v.policy)
+        self._spectrum, self.t, self.v = spectrum, t, v
+        self._M = M if M is not None else spectrum.M
+        self._modal, self._propagate = modal, propagate
+
+    @property
+    def spectrum(self) -> Spectrum:
+        """The spectral data of M (computed on first use when a function was given)."""
+        if not isinstance(self._spectrum, Spectrum):
+            self._spectrum = self._spectrum()
+        return self._spectrum
 
     @property
     def M(self) -> fmpq_mat:
-        return self.spectrum.M
+        return self._M
 
     def _deps(self):
         return (self.t, self.v)
 
     def _compute(self, prec):
         t = self.t.arb(prec)
+        if self._propagate is not None:
+            return self._propagate(t, prec)
         modal = self._modal(prec) if self._modal is not None else None
         return self.spectrum.apply(t, self.v.arb(prec), prec, modal)
 
@@ -71,13 +89,13 @@ class ExpVector(ExactVector):
         if tq is not None and self.spectrum.nilpotent_only:
             q = self.v.known_rational()
             if q is not None:  # a nilpotent M: every q is in its generalized kernel
-                out = _exp_rational_time(self.spectrum.M, q, tq)
+                out = _exp_rational_time(self.M, q, tq)
                 self._twin = RationalVector(out, policy=self.policy)
                 return out
         return None
 
     def _exact_rational(self, depth):
-        inner, s = orbit_start(self.v, self.spectrum.M)  # e^{Mt} e^{Ms} w = e^{M(t+s)} w
+        inner, s = orbit_start(self.v, self.M)  # e^{Mt} e^{Ms} w = e^{M(t+s)} w
         q = inner.exact_rational(depth)
         if q is None:
             return None
@@ -93,7 +111,7 @@ class ExpVector(ExactVector):
             return q
         tq = tc.to_fmpq()
         if tq is not None:
-            return _exp_rational_time(self.spectrum.M, q, tq)
+            return _exp_rational_time(self.M, q, tq)
         if not calcium.available():
             return None
         try:  # e^{M t*} q exactly (Calcium), rational when every component is
@@ -168,7 +186,7 @@ def orbit_start(v: ExactVector, M: fmpq_mat) -> tuple[ExactVector, Real | None]:
         The matrix of the orbit (an :class:`ExpVector` of another matrix is not unwound).
     """
     s = None
-    while isinstance(v, ExpVector) and (v.spectrum.M is M or v.spectrum.M == M):
+    while isinstance(v, ExpVector) and (v.M is M or v.M == M):
         s = v.t if s is None else s + v.t
         v = v.v
     return v, s
@@ -207,7 +225,7 @@ def expm_action(M: Any, t: Any, v: Any, *, policy: Policy | None = None) -> Exac
         sp = spectrum_of(Mq)
     t = as_real(t, policy)
     v = as_exact_vector(v, sp.n, "v", policy)
-    if isinstance(v, ExpVector) and v.spectrum.M == sp.M:
+    if isinstance(v, ExpVector) and v.M == sp.M:
         t, v = t + v.t, v.v
     if t.known_rational() == 0:
         return v

@@ -140,8 +140,10 @@ def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int
     while True:
         policy.check_deadline(lambda: f" while isolating the roots of {c.name} (at the phase start)")
         f = fn.at(prec)
-        # f^{(order)}(0) > 0 is proven (exactly, by start_order); its ball may not show it yet
-        eps = positive_step(f, fmpq(0), horizon, zero_below=order)
+        # f^{(order)}(0) > 0 is proven (exactly, by start_order); its ball may not show it yet.
+        # On Taylor steps the bounds are taken over the first step (not up to the horizon)
+        reach = min(horizon, f.steps.h) if phase.taylor else horizon
+        eps = positive_step(f, fmpq(0), reach, zero_below=order)
         if eps is not None:
             break
         if prec >= policy.max_prec:  # the sign was certified exactly: this needs more bits only
@@ -229,6 +231,7 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
     if phase.equilibrium and all(phase.start_order(c)[0] >= 0 for c in phase.constraints):
         return None
     hb = horizon_bound(H)
+    phase.use_spectral(hb)
     found: list = []
     limit = hb
     search = min(prec, SEARCH_PREC)
@@ -295,10 +298,13 @@ def _by_estimate(phase: Phase, horizon: fmpq, prec: int) -> list[tuple[float | N
     estimate first.  Only the order and the windows depend on floats; every decision stays
     certified.  The sums are those the search uses next (same precision)."""
     keyed = []
+    live = [i for i, c in enumerate(phase.constraints) if phase.start_order(c)[0] > 0]
+    taylor = phase.taylor_rows(prec).guess_crossings(0.0, _float(horizon), live) if phase.taylor else None
     for i, c in enumerate(phase.constraints):
         est = None
-        if phase.start_order(c)[0] > 0:
-            est = float_crossing(phase.function(c).at(prec), 0.0, _float(horizon))
+        if i in live:
+            est = taylor[i] if taylor is not None else \
+                float_crossing(phase.function(c).at(prec), 0.0, _float(horizon))
         keyed.append((math.inf if est is None else est, i, est, c))
     keyed.sort(key=lambda e: (e[0], e[1]))
     return [(est, c) for _, _, est, c in keyed]

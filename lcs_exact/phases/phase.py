@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import decimal
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
@@ -30,9 +31,19 @@ from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, alge
 from ..algebra import eliminate
 from ..algebra import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, submatrix, to_fmpq, zeros
 from .roots import ExpSum, RootReal, newton_ball
+from .taylorsum import TaylorRows, TaylorSum
+from ..numbers import TaylorSteps
 from ..algebra import RowSpan, invariant_forms, orbit_zero_forms, row_basis
 
-__all__ = ["Constraint", "Phase", "PhaseFunction", "EventState", "phase_horizon"]
+__all__ = ["Constraint", "Phase", "PhaseFunction", "EventState", "phase_horizon", "TAYLOR_MIN_N"]
+
+#: a mode's phases are evaluated by Taylor steps (:mod:`lcs_exact.numbers.taylorsteps`) from this
+#: state dimension on; below it the spectral data are cheap and kept (one computation per mode)
+TAYLOR_MIN_N = 16
+#: ... and only for ||A_I||_inf up to this (a stiff mode keeps the spectral path)
+TAYLOR_MAX_NORM = 2 ** 12
+#: the most units of ||A_I|| t a phase's search steps over (4 units a step)
+TAYLOR_MAX_SPAN = 4 * 4096
 
 
 @dataclass(frozen=True)
@@ -60,8 +71,11 @@ class PhaseFunction:
         self.policy = phase.policy
         self._sum: ExpSum | None = None
 
-    def at(self, prec: int) -> ExpSum:
+    def at(self, prec: int) -> ExpSum | TaylorSum:
         if self._sum is None or self._sum.prec < prec:
+            if self.phase.taylor:
+                self._sum = self.phase.taylor_sum(self.g, prec)
+                return self._sum
             modal = self.phase.modal(prec)
             with workprec(prec):
                 gc = acb_mat(self.g)
@@ -105,8 +119,11 @@ class Phase:
         self.mode = mode
         self.lcs = mode.lcs
         self.policy = policy
-        self.spectrum = mode.spectrum()
-        self.M = self.spectrum.M
+        self.M = mode.closed_loop()
+        # Taylor steps (no spectral data) for a mode of a large system that is neither nilpotent
+        # (its phases are polynomials, exactly) nor too fast for steps of ||A_I h|| <= 4
+        self.taylor = (self.M.nrows() >= TAYLOR_MIN_N and not mode.closed_loop_nilpotent
+                       and 0 < mode.closed_loop_norm <= TAYLOR_MAX_NORM)
         self.z = z
         if isinstance(z, ScaledVector):
             self.base, self.scale = z.v, z.c
@@ -129,10 +146,11 @@ class Phase:
             all(submatrix(self.M, [i], None) in self.zero_span for i in range(self.M.nrows()))
         # a polynomial phase (A_I nilpotent) from an exactly known start: exact roots and states
         self.exact_start = None
-        if self.spectrum.nilpotent_only:
+        if not self.taylor and self.spectrum.nilpotent_only:
             q = self.base.known_rational()
             self.exact_start = q if q is not None else self.base.known_ca()
         self._powers: dict = {}
+        self._rows: TaylorRows | None = None
         self._modal = None
         self._modal_prec = 0
         self._functions: dict = {}
@@ -170,7 +188,7 @@ class Phase:
         return out
 
     def __getstate__(self):
-        state = {**self.__dict__, "_modal": None, "_modal_prec": 0}  # ball caches, as above
+        state = {**self.__dict__, "_modal": None, "_modal_prec": 0, "_rows": None}  # ball caches, as above
         if isinstance(self.exact_start, list):  # Calcium numbers travel as exact descriptions (sweeps)
             state["exact_start"] = ("ca", [ca_state(c) for c in self.exact_start])
         return state
@@ -180,13 +198,60 @@ class Phase:
         if isinstance(self.exact_start, tuple):
             self.exact_start = [ca_from_state(c) for c in self.exact_start[1]]
 
+    @property
+    def spectrum(self):
+        """The spectral data of A_I (:class:`~lcs_exact.expm.Spectrum`; computed by the mode once,
+        on first use: a phase on Taylor steps may never need it)."""
+        return self.mode.spectrum()
+
+    def use_spectral(self, horizon: fmpq) -> None:
+        """Leave Taylor steps for the spectral path when the search would span more than
+        TAYLOR_MAX_SPAN units of ||A_I|| t (a long horizon without events: steps cost per unit
+        of time, the spectral data once per mode).  Called before any function is evaluated."""
+        if self.taylor and self._rows is None and horizon * self.mode.closed_loop_norm > TAYLOR_MAX_SPAN:
+            self.taylor = False
+            for f in self._functions.values():
+                f._sum = None
+
     # --- data per precision -------------------------------------------------------------------
-    def ball_state(self, dt: arb, prec: int) -> arb_mat:
-        """x(t) at a ball dt = t - t_s (relative to the phase start), at ``prec`` bits: one
-        exponential per eigenvalue from the modal data (sampling, plots)."""
+    def propagate(self, dt: arb, prec: int) -> arb_mat:
+        """e^{A_I dt} v at a ball dt (v the phase's start, or the base of a scaled start), at
+        ``prec`` bits: Taylor steps, or one exponential per eigenvalue from the modal data."""
+        if self.taylor:
+            return self.taylor_rows(prec).steps.state(dt)
         with workprec(prec):
-            x = self.spectrum.apply(dt, self.base.arb(prec), prec, self.modal(prec))
+            return self.spectrum.apply(dt, self.base.arb(prec), prec, self.modal(prec))
+
+    def ball_state(self, dt: arb, prec: int) -> arb_mat:
+        """x(t) at a ball dt = t - t_s (relative to the phase start), at ``prec`` bits (sampling,
+        plots)."""
+        x = self.propagate(dt, prec)
+        with workprec(prec):
             return x * self.scale.arb(prec) if self.scale is not None else x
+
+    def taylor_rows(self, prec: int) -> TaylorRows:
+        """The constraints' polynomials on Taylor steps from the start's ball at ``prec`` bits (or
+        more: cached at the highest precision asked; a higher one restarts from the exact start)."""
+        if self._rows is None or self._rows.prec < prec:
+            self.policy.check_deadline(lambda: f" while stepping mode {format_mode(self.mode.I)} at {prec} bits")
+            steps = TaylorSteps(self.M, self.mode.closed_loop_norm, self.base.arb(prec), prec,
+                                self.zero_coordinates())
+            self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms)
+        return self._rows
+
+    @cached_property
+    def row_norms(self) -> list[fmpq]:
+        """||g||_1 of each constraint's row (the tails of Taylor steps; once per phase)."""
+        return [sum((abs(e) for e in c.g.entries()), fmpq(0)) for c in self.constraints]
+
+    def taylor_sum(self, g: fmpq_mat, prec: int) -> TaylorSum:
+        """f = g x(t) on Taylor steps: a constraint's row from the phase's rows, another (a
+        derivative, a bound) on the same steps."""
+        rows = self.taylor_rows(prec)
+        for i, c in enumerate(self.constraints):
+            if c.g is g or c.g == g:
+                return rows.function(i)
+        return TaylorRows(rows.steps, [g]).function(0)
 
     def modal(self, prec: int) -> list:
         """Modal vectors of the phase's base start at ``prec`` bits (cached at the highest)."""
@@ -261,7 +326,8 @@ class Phase:
             return self.z
         x = self._exact_state(t, zf)
         if x is None:
-            x = ExpVector(self.spectrum, t, self.base, zf, self.policy, modal=self.modal)
+            x = ExpVector(self.mode.spectrum, t, self.base, zf, self.policy, modal=self.modal, M=self.M,
+                          propagate=self.propagate if self.taylor else None)
         return ScaledVector(self.scale, x, self.policy) if self.scale is not None else x
 
     def _exact_state(self, t, zero_forms) -> ExactVector | None:
@@ -330,11 +396,14 @@ class EventState(ExpVector):
     keep their accuracy.  The plain enclosure is intersected in (both are rigorous)."""
 
     def __init__(self, phase: "Phase", theta: RootReal, zero_forms: fmpq_mat | None):
-        super().__init__(phase.spectrum, theta, phase.base, zero_forms, phase.policy, modal=phase.modal)
+        super().__init__(phase.mode.spectrum, theta, phase.base, zero_forms, phase.policy, modal=phase.modal,
+                         M=phase.M, propagate=phase.propagate if phase.taylor else None)
         self.g = theta.function.g
 
     def _compute(self, prec):
         plain = super()._compute(prec)
+        if self._propagate is not None:
+            return plain  # Taylor steps: no propagator matrix here (the anchors carry accuracy)
         Z = self.v.arb(prec)
         n = self.n
         if all(Z[i, 0].rad() == 0 for i in range(n)):
@@ -402,6 +471,10 @@ def phase_horizon(phase: Phase, H):
     and H min{|lambda(A_I)| != 0} <= MAX_HORIZON_SLOW.  Applied to the phases evaluated (a mode
     can be faster than A: x' = u, y = x + u has A = 0 but A_I = -1 in mode {0}); a nilpotent A_I
     has no limit (its constraints are polynomials), nor has an equilibrium (x constant: no event)."""
+    if phase.taylor:  # |lambda| <= ||A_I||_inf: within both limits without the spectral data
+        with workprec(64):
+            if H.arb(64) * arb(phase.mode.closed_loop_norm) <= min(MAX_HORIZON_FAST, MAX_HORIZON_SLOW):
+                return H, None
     quick = phase.spectrum.modulus_bounds()  # bounds from chi's coefficients: no roots
     if quick is None or phase.equilibrium:
         return H, None

@@ -43,7 +43,7 @@ from .guesses import float_root
 from ..numbers import Real
 
 __all__ = ["ExpSum", "Bracket", "RootFunction", "first_crossing", "RootReal", "dyadic", "newton_ball",
-           "positive_step"]
+           "positive_step", "taylor_form", "TAYLOR_ORDER"]
 
 TAYLOR_ORDER = 4
 #: extra bits for the exponential sum when a root is refined to a given precision
@@ -173,28 +173,38 @@ class ExpSum:
         return self._shifted[d].enclose(lo, hi, 0, sign_only=True)
 
     def enclose(self, lo: fmpq, hi: fmpq, d: int = 0, sign_only: bool = False) -> arb:
-        """An enclosure of f^{(d)} on [lo, hi] (Taylor form of order TAYLOR_ORDER at the midpoint,
-        intersected with the natural interval evaluation).  ``sign_only``: the caller wants the
-        sign only, so a Taylor form that already excludes 0 is returned as it is."""
-        with workprec(self.prec):
-            X = arb(lo).union(arb(hi))  # contains [lo, hi] whatever the rounding
-            m, r = X.mid(), X.rad()  # exact: X = [m - r, m + r]
-            at_m = self.values(m, range(d, d + TAYLOR_ORDER))
-            rem = self.value(X, d + TAYLOR_ORDER)
-            out = at_m[0]
-            rp, fact = arb(1), 1
-            for j in range(1, TAYLOR_ORDER + 1):
-                rp, fact = rp * r, fact * j
-                coef = at_m[j] if j < TAYLOR_ORDER else rem
-                # [-r, r]^j / j!: [0, r^j] for even j, [-r^j, r^j] for odd j
-                box = arb(rp / 2, rp / 2) if j % 2 == 0 else arb(0, rp)
-                out += coef * box / fact
-            if sign_only and ball_sign(out):
-                return out
-            # the natural interval evaluation is rigorous too and far tighter on wide intervals
-            # where one exponential dominates (e^{-10^6 t} on [0, 1]): keep the intersection
-            direct = self.values(X, range(d, d + 1))[0]
-            return out.intersection(direct) if out.overlaps(direct) else direct
+        """An enclosure of f^{(d)} on [lo, hi] (:func:`taylor_form`)."""
+        return taylor_form(self, lo, hi, d, sign_only)
+
+    def guess_root(self, lo: float, hi: float) -> float | None:
+        """A float root in (lo, hi) where f decreases (:func:`~lcs_exact.guesses.float_root`)."""
+        return float_root(self, lo, hi)
+
+
+def taylor_form(f, lo: fmpq, hi: fmpq, d: int = 0, sign_only: bool = False) -> arb:
+    """An enclosure of f^{(d)} on [lo, hi] for a function with ``values(t, orders)`` at points and
+    balls and a ``prec``: the Taylor form of order TAYLOR_ORDER at the midpoint, intersected with
+    the natural interval evaluation.  ``sign_only``: the caller wants the sign only, so a Taylor
+    form that already excludes 0 is returned as it is."""
+    with workprec(f.prec):
+        X = arb(lo).union(arb(hi))  # contains [lo, hi] whatever the rounding
+        m, r = X.mid(), X.rad()  # exact: X = [m - r, m + r]
+        at_m = f.values(m, range(d, d + TAYLOR_ORDER))
+        rem = f.value(X, d + TAYLOR_ORDER)
+        out = at_m[0]
+        rp, fact = arb(1), 1
+        for j in range(1, TAYLOR_ORDER + 1):
+            rp, fact = rp * r, fact * j
+            coef = at_m[j] if j < TAYLOR_ORDER else rem
+            # [-r, r]^j / j!: [0, r^j] for even j, [-r^j, r^j] for odd j
+            box = arb(rp / 2, rp / 2) if j % 2 == 0 else arb(0, rp)
+            out += coef * box / fact
+        if sign_only and ball_sign(out):
+            return out
+        # the natural interval evaluation is rigorous too and far tighter on wide intervals
+        # where one exponential dominates (e^{-10^6 t} on [0, 1]): keep the intersection
+        direct = f.values(X, range(d, d + 1))[0]
+        return out.intersection(direct) if out.overlaps(direct) else direct
 
 
 class RootFunction(Protocol):
@@ -496,7 +506,7 @@ class RootReal(Real):
             ratio = scale / (hi - lo) if hi > lo else fmpq(2) ** prec  # (no float: it can be 2^3000)
             good = max(1, ratio.p.bit_length() - ratio.q.bit_length() - 1)
         else:
-            t = float_root(f, float(lo), float(hi))
+            t = f.guess_root(float(lo), float(hi))
             if t is None:
                 return False
             with workprec(64):

@@ -1,0 +1,232 @@
+"""The constraint functions of a phase on Taylor steps: f(t) = g e^{A_I t} z without spectral data.
+
+On step k of :class:`~lcs_exact.numbers.taylorsteps.TaylorSteps` a row g has the polynomial
+p_k(theta) = sum_j (g w_j) theta^j, and
+
+    f^{(d)}(t_k + theta h) in p_k^{(d)}(theta) / h^d + [-1, 1] ||g||_1 tail_k(d) / h^d,   |theta| <= 1
+
+(the tail bound of the steps times ||g||_1 >= |g v| / ||v||_inf).  :class:`TaylorRows` holds the
+polynomials of all the monitored rows of a phase (one product of the rows with each column w_j
+gives them all), :class:`TaylorSum` one row with the interface the certified root search uses
+(:class:`~lcs_exact.roots.ExpSum`'s: ``values``, ``value``, ``enclose``, ``sign_enclose``, float
+guesses).  Enclosures over an interval are taken piece by piece on the grid of steps.  Float
+guesses (the midpoints of the coefficients on a grid of theta) only order and window the searches
+(:mod:`lcs_exact.guesses`): no decision is taken on them.
+"""
+from __future__ import annotations
+
+import math
+
+from flint import arb, arb_mat, arb_poly, fmpq, fmpq_mat
+
+from ..numbers import dyadic_lower, dyadic_upper, workprec
+from ..numbers import TaylorSteps
+from ..algebra import norm_inf
+from .roots import taylor_form
+
+__all__ = ["TaylorRows", "TaylorSum"]
+
+#: float points a step at which a crossing is looked for (guesses only)
+GUESS_POINTS = 64
+
+
+class TaylorRows:
+    """The polynomials of rows g_0, ..., g_{m-1} on the steps of a phase (see the module docstring).
+
+    Parameters
+    ----------
+    steps : TaylorSteps
+    rows : list of fmpq_mat
+        1 x n rational rows.
+    norms : list of fmpq, optional
+        ||g||_1 of each row, exactly or an upper bound (computed when not given).
+    """
+
+    def __init__(self, steps: TaylorSteps, rows: list[fmpq_mat], norms: list | None = None):
+        self.steps, self.rows = steps, list(rows)
+        self.prec = steps.prec
+        if norms is None:
+            norms = [norm_inf(g.transpose()) for g in self.rows]
+        with workprec(self.prec):
+            self._G = arb_mat(_stack(self.rows)) if self.rows else None
+            self._g1 = [arb(q) for q in norms]  # ||g||_1
+        self._coeffs: list[list[list[arb]]] = []  # step -> row -> [c_0 .. c_{J-1}]
+        self._polys: dict = {}
+        self._floats: dict = {}
+
+    def function(self, i: int) -> "TaylorSum":
+        """Row i as a :class:`TaylorSum`."""
+        return TaylorSum(self, i)
+
+    def coefficients(self, k: int) -> list[list[arb]]:
+        """[[g_i w_j for j < J] for each row i] on step k."""
+        while len(self._coeffs) <= k:
+            ws = self.steps.columns(len(self._coeffs))
+            with workprec(self.prec):
+                cols = [(self._G * w).entries() for w in ws]
+            self._coeffs.append([[c[i] for c in cols] for i in range(len(self.rows))])
+        return self._coeffs[k]
+
+    def poly(self, i: int, k: int, d: int) -> arb_poly:
+        """p_k^{(d)} of row i (in theta)."""
+        key = (i, k, d)
+        if key not in self._polys:
+            with workprec(self.prec):
+                self._polys[key] = arb_poly(self.coefficients(k)[i]) if d == 0 else \
+                    self.poly(i, k, d - 1).derivative()
+        return self._polys[key]
+
+    def value(self, i: int, k: int, theta: arb, d: int) -> arb:
+        """f_i^{(d)}(t_k + theta h), |theta| <= 1."""
+        st = self.steps
+        with workprec(self.prec):
+            v = self.poly(i, k, d)(theta) + arb(0, (self._g1[i] * st.tail(k, d)).upper())
+            return v / arb(st.h) ** d if d else v
+
+    def float_coefficients(self, k: int) -> list[list[float]]:
+        """The midpoints of step k's coefficients (guesses only)."""
+        if k not in self._floats:
+            self._floats[k] = [[float(c.mid()) for c in row] for row in self.coefficients(k)]
+        return self._floats[k]
+
+    def _float_grid(self, k: int, pts: list[float]):
+        """The midpoint polynomials of step k's rows at the points theta (a rows x points array;
+        numpy: a system this large has imported it for its guesses anyway)."""
+        import numpy as np  # only for the guesses of large systems (`import lcs_exact` stays without)
+        C = np.array(self.float_coefficients(k))
+        V = np.vander(np.array(pts), C.shape[1], increasing=True)
+        with np.errstate(all="ignore"):
+            return C @ V.T
+
+    def guess_crossings(self, a: float, b: float, only: list[int] | None = None) -> list[float | None]:
+        """Float guesses of the first t in (a, b] where each row (of ``only``, default all) turns
+        negative (None: not seen), step by step from a; the scan stops at the end of the first step
+        where a row crosses (a later crossing of another row can only be an event if it is
+        certified before the first, which the certified search of the others up to that root
+        decides)."""
+        st = self.steps
+        out: list[float | None] = [None] * len(self.rows)
+        scan = set(range(len(self.rows)) if only is None else only)
+        h = float(st.h)
+        k = st.locate(fmpq(a) if isinstance(a, int) else _fmpq_of_float(a))
+        while float(st.start(k)) < b:
+            t0 = float(st.start(k))
+            ths = [(p + 1) / GUESS_POINTS for p in range(GUESS_POINTS)]
+            vals = self._float_grid(k, ths)
+            for i in scan:
+                if out[i] is not None:
+                    continue
+                for p, th in enumerate(ths):
+                    t = t0 + h * th
+                    if a < t <= b and vals[i, p] < 0:
+                        out[i] = t
+                        break
+            if any(o is not None for o in out):
+                return out
+            k += 1
+        return out
+
+
+class TaylorSum:
+    """One monitored row of a phase on Taylor steps, with the interface of
+    :class:`~lcs_exact.roots.ExpSum` (see the module docstring)."""
+
+    def __init__(self, rows: TaylorRows, i: int):
+        self.rows, self.i = rows, i
+        self.prec = rows.prec
+        self.steps = rows.steps
+
+    def values(self, t, orders: range) -> list[arb]:
+        """[f^{(d)}(t) for d in orders], t a rational, a point or a ball (an enclosure over it)."""
+        st = self.steps
+        if isinstance(t, fmpq):
+            k = st.locate(t)
+            with workprec(self.prec):
+                th = arb(t - st.start(k)) / arb(st.h)
+            return [self.rows.value(self.i, k, th, d) for d in orders]
+        lo, hi = dyadic_lower(t), dyadic_upper(t)
+        out = None
+        for k, a, b in st.pieces(lo, hi):
+            th = st.theta(k, arb(a).union(arb(b)) if (a, b) != (lo, hi) else t)
+            vs = [self.rows.value(self.i, k, th, d) for d in orders]
+            out = vs if out is None else [x.union(y) for x, y in zip(out, vs)]
+        return out
+
+    def value(self, t, d: int = 0) -> arb:
+        """f^{(d)}(t)."""
+        return self.values(t, range(d, d + 1))[0]
+
+    def enclose(self, lo: fmpq, hi: fmpq, d: int = 0, sign_only: bool = False) -> arb:
+        """An enclosure of f^{(d)} on [lo, hi]: the union of the Taylor forms
+        (:func:`~lcs_exact.roots.taylor_form`) of its pieces on the grid of steps."""
+        out = None
+        for _, a, b in self.steps.pieces(lo, hi):
+            v = taylor_form(self, a, b, d, sign_only)
+            out = v if out is None else out.union(v)
+            if sign_only and out.contains(0):
+                return out  # its sign is undecided already: more pieces cannot decide it
+        return out
+
+    def sign_enclose(self, lo: fmpq, hi: fmpq, d: int = 0) -> arb:
+        """An enclosure of f^{(d)} on [lo, hi], for its sign (no stiff terms to factor out: a
+        stiff mode keeps the spectral path)."""
+        return self.enclose(lo, hi, d, sign_only=True)
+
+    def guess_crossing(self, a: float, b: float) -> float | None:
+        """A float guess of the first crossing in (a, b] (None: none seen)."""
+        return TaylorRows(self.steps, [self.rows.rows[self.i]]).guess_crossings(a, b)[0]
+
+    def guess_root(self, lo: float, hi: float) -> float | None:
+        """A float root in (lo, hi) where f decreases: Newton's method on the midpoints of the
+        step's polynomial, safeguarded by bisection (a guess, checked before use)."""
+        st = self.steps
+        h = float(st.h)
+        a, b = lo, hi
+        t = (a + b) / 2
+        for _ in range(100):
+            k = st.locate(_fmpq_of_float(t))
+            row = self.rows.float_coefficients(k)[self.i]
+            th = (t - float(st.start(k))) / h
+            v, dv = _horner(row, th), _horner_derivative(row, th) / h
+            if not (math.isfinite(v) and math.isfinite(dv)):
+                return None
+            if v > 0:
+                a = t
+            elif v < 0:
+                b = t
+            else:
+                return t
+            step = v / dv if dv < 0 else math.inf
+            if abs(step) <= 4e-16 * max(1.0, abs(t)):
+                return t - step
+            nt = t - step
+            if not a < nt < b:
+                nt = (a + b) / 2
+                if not a < nt < b:
+                    return t
+            t = nt
+        return t
+
+
+def _stack(rows: list[fmpq_mat]) -> fmpq_mat:
+    n = rows[0].ncols()
+    return fmpq_mat(len(rows), n, [g[0, j] for g in rows for j in range(n)])
+
+
+def _horner(row: list[float], x: float) -> float:
+    v = 0.0
+    for c in reversed(row):
+        v = v * x + c
+    return v
+
+
+def _horner_derivative(row: list[float], x: float) -> float:
+    v = 0.0
+    for j in range(len(row) - 1, 0, -1):
+        v = v * x + j * row[j]
+    return v
+
+
+def _fmpq_of_float(x: float) -> fmpq:
+    n, d = float(x).as_integer_ratio()
+    return fmpq(n, d)

@@ -1,0 +1,141 @@
+"""Taylor steps of e^{Mt} x (lcs_exact.numbers.taylorsteps) and the constraint functions on them
+(lcs_exact.phases.taylorsum): enclosures checked against closed forms written here, and runs of
+large systems (Taylor steps) checked event by event against the spectral path."""
+from fractions import Fraction
+
+import pytest
+from flint import arb, arb_mat, fmpq, fmpq_mat
+
+import lcs_exact.phases.phase as phase_module
+from lcs_exact import simulate
+from lcs_exact.examples import cart_chain
+from lcs_exact.numbers import TaylorSteps, workprec
+from lcs_exact.phases.taylorsum import TaylorRows
+
+
+def _contains(ball, exact):
+    """ball holds the exact value, given as a ball at least as accurate (overlapping a wider
+    reference would prove nothing; the references here are far tighter: computed at 400 bits)."""
+    assert exact.rad() <= ball.rad() or exact.rad() < arb(2) ** -300
+    return ball.contains(exact)
+
+
+def test_rotation_over_several_steps_holds_cos_and_sin():
+    """M = [[0, 1], [-1, 0]], x0 = (1, 0): x(t) = (cos t, -sin t); ||M|| = 1, so h = 4 and t = 10
+    is in the third step."""
+    with workprec(200):
+        st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 200)
+        assert st.h == 4
+        for t in (fmpq(1, 3), fmpq(4), fmpq(10), fmpq(57, 7)):
+            x = st.state(arb(t))
+            with workprec(400):
+                assert _contains(x[0, 0], arb(t).cos()) and _contains(x[1, 0], -arb(t).sin())
+            assert x[0, 0].rad() < arb(2) ** -150  # accurate, not merely enclosing
+        assert st.locate(fmpq(10)) == 2 and st.start(2) == 8
+
+
+def test_jordan_block_at_a_point_and_over_an_interval():
+    """M = -I + N (N the 3 x 3 shift): e^{Mt} x = e^{-t} (x1 + t x2 + t^2/2 x3, x2 + t x3, x3)."""
+    M = fmpq_mat([[-1, 1, 0], [0, -1, 1], [0, 0, -1]])
+    x0 = fmpq_mat([[1], [-2], [fmpq(1, 3)]])
+    with workprec(128):
+        st = TaylorSteps(M, fmpq(2), arb_mat(x0), 128)
+
+        def exact(t):
+            e = (-t).exp()
+            return [e * (1 - 2 * t + t * t / 6), e * (-2 + t / 3), e / 3]
+
+        for t in (fmpq(7, 3), fmpq(5)):
+            x = st.state(arb(t))
+            with workprec(400):
+                for i, v in enumerate(exact(arb(t))):
+                    assert _contains(x[i, 0], v)
+        X = st.state(arb(1).union(arb(2)))  # an enclosure over [1, 2], across a step boundary
+        with workprec(400):
+            for k in range(11):
+                t = arb(1) + arb(fmpq(k, 10))
+                for i, v in enumerate(exact(t)):
+                    assert _contains(X[i, 0], v)
+
+
+def test_rows_and_their_derivatives():
+    """f = g e^{Mt} x0 with the rotation, g = (1, 0): f = cos t, f^(d) = cos(t + d pi / 2); a
+    second row g = (1, 1) on the same steps: cos t - sin t."""
+    with workprec(128):
+        st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 128)
+        rows = TaylorRows(st, [fmpq_mat([[1, 0]]), fmpq_mat([[1, 1]])])
+        f, g = rows.function(0), rows.function(1)
+        for t in (fmpq(1, 2), fmpq(6)):
+            vals = f.values(t, range(0, 6))
+            gv = g.value(t)
+            with workprec(400):
+                for d, v in enumerate(vals):
+                    assert _contains(v, (arb(t) + d * arb.pi() / 2).cos()), (t, d)
+                assert _contains(gv, arb(t).cos() - arb(t).sin())
+        # enclosures over an interval hold the values inside it and are tight on a short one
+        E = f.enclose(fmpq(3), fmpq(31, 10), 0)
+        with workprec(400):
+            assert _contains(E, arb(3).cos()) and _contains(E, arb(fmpq(31, 10)).cos())
+        assert E.rad() < 0.01
+        assert f.sign_enclose(fmpq(0), fmpq(1), 0) > 0  # cos > 0 on [0, 1]
+        assert f.sign_enclose(fmpq(2), fmpq(3), 0) < 0
+        # float guesses on a grid of h / 64 = 1/16: cos first turns negative after pi/2, cos - sin
+        # after pi/4 (both in the first step, where the scan stops); ``only`` leaves rows out
+        ga = rows.guess_crossings(0.0, 10.0)
+        assert 0 <= ga[0] - 1.5707963268 < 1 / 16 and 0 <= ga[1] - 0.7853981634 < 1 / 16
+        assert rows.guess_crossings(0.0, 10.0, only=[1])[0] is None
+        assert rows.guess_crossings(5.0, 10.0)[0] == 7.875  # cos t < 0 again after 5 pi / 2 (step 1)
+        assert abs(f.guess_crossing(0.0, 10.0) - 1.5707963268) < 0.07
+        assert abs(f.guess_root(1.0, 2.0) - 1.5707963267948966) < 1e-12
+
+
+def _chain_runs(N, T=10):
+    lcs = cart_chain(N)
+    x0 = [Fraction((-1) ** i, 2) for i in range(N)] + [0] * N
+    return lcs, x0
+
+
+def test_a_chain_on_taylor_steps_matches_the_spectral_path(monkeypatch):
+    """Eight carts (n = 16: Taylor steps): every event time to 40 digits, the modes, and x(10)
+    agree with the spectral path (the same run with Taylor steps switched off); the Taylor run
+    never computes a mode's spectral data."""
+    lcs, x0 = _chain_runs(8)
+    taylor = simulate(lcs, x0, 10, digits=30)
+    visited = [lcs.mode(e.mode_after) for e in taylor.events]
+    assert not any("_spectrum" in m.__dict__ for m in visited)
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 10 ** 9)
+    lcs2, _ = _chain_runs(8)
+    spectral = simulate(lcs2, x0, 10, digits=30)
+    assert len(taylor.events) == len(spectral.events) == 6
+    for a, b in zip(taylor.events, spectral.events):
+        assert (a.mode_before, a.modes, a.mode_after) == (b.mode_before, b.modes, b.mode_after)
+        assert a.time.decimal(40).split(" ")[0] == b.time.decimal(40).split(" ")[0]
+    xa, xb = taylor.state(10), spectral.state(10)
+    for a, b in zip(xa.ball(30), xb.ball(30)):  # two certified balls of 30 digits that overlap
+        assert a.overlaps(b) and a.rad() < 1e-30 and b.rad() < 1e-30
+    assert taylor.certified and spectral.certified
+
+
+def test_a_taylor_run_travels_to_a_sweep_parent_and_refines_there():
+    """A trajectory of Taylor phases travels as a sweep's worker sends it (its ball caches left
+    behind) and refines its event times further after the trip: the same 60 digits as the
+    original refined in place."""
+    from lcs_exact.dynamics.sweep import _dumps, _loads
+
+    lcs, x0 = _chain_runs(8)
+    tr = simulate(lcs, x0, 3, digits=20)
+    back = _loads(_dumps(tr, lcs), lcs)
+    assert back.events[-1].time.decimal(60) == tr.events[-1].time.decimal(60)
+    assert len(back.events) == len(tr.events) >= 3
+
+
+def test_a_long_quiet_horizon_goes_to_the_spectral_path(monkeypatch):
+    """A phase whose search would span more than TAYLOR_MAX_SPAN units of ||A_I|| t uses the
+    spectral data: the same events as with Taylor steps."""
+    lcs, x0 = _chain_runs(8)
+    ref = simulate(lcs, x0, 2, digits=30)
+    monkeypatch.setattr(phase_module, "TAYLOR_MAX_SPAN", 1)
+    lcs2, _ = _chain_runs(8)
+    other = simulate(lcs2, x0, 2, digits=30)
+    assert [e.time.decimal(35) for e in ref.events] == [e.time.decimal(35) for e in other.events]
+    assert all(m.__dict__.get("_spectrum") is not None for m in [lcs2.mode(ref.events[0].mode_after)])
