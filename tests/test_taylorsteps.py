@@ -139,3 +139,18 @@ def test_a_long_quiet_horizon_goes_to_the_spectral_path(monkeypatch):
     other = simulate(lcs2, x0, 2, digits=30)
     assert [e.time.decimal(35) for e in ref.events] == [e.time.decimal(35) for e in other.events]
     assert all(m.__dict__.get("_spectrum") is not None for m in [lcs2.mode(ref.events[0].mode_after)])
+
+
+def test_a_theta_past_the_step_widens_the_tail_and_far_past_it_is_refused():
+    """The tail bound holds for |theta| <= 1; a ball just past it (a rounding at a step's end)
+    gets the factor m^J e^{s (m - 1)}, a time before -h is an internal error, not a guess."""
+    from lcs_exact.errors import LCSError
+
+    with workprec(128):
+        st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 128)
+        inside, past = st.tail_at(0, 0, arb(1)), st.tail_at(0, 0, arb(fmpq(9, 8)))
+        m = arb(fmpq(9, 8))
+        assert past >= inside * m ** st.J * (4 * (m - 1)).exp() * arb(fmpq(99, 100))
+        assert inside.mid() == st.tail(0, 0).mid() and inside.rad() == st.tail(0, 0).rad()
+        with pytest.raises(LCSError):
+            st.pieces(fmpq(-5), fmpq(1))

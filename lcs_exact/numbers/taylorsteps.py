@@ -24,6 +24,7 @@ import math
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from .balls import dyadic_lower, dyadic_upper, workprec
+from ..errors import LCSError
 
 __all__ = ["TaylorSteps", "STEP_NORM", "taylor_order"]
 
@@ -166,6 +167,28 @@ class TaylorSteps:
                 self._tails[key] = self.norm_at(k) * arb(self.s) ** top * self._es / math.factorial(top - d)
         return self._tails[key]
 
+    def tail_at(self, k: int, d: int, theta: arb) -> arb:
+        """:meth:`tail` for the theta of a ball, which may pass |theta| = 1 by a rounding (a time
+        at a step's end): for |theta| <= m with m > 1 the tail's terms grow by m^(j - d), so the
+        bound takes the factor m^J e^{s (m - 1)} (J >= the order's top power).
+
+        Parameters
+        ----------
+        k : int
+            The step.
+        d : int
+            The order of the derivative.
+        theta : arb
+        """
+        rho = self.tail(k, d)
+        with workprec(self.prec):
+            m = abs(theta).upper()
+            if m <= 1:
+                return rho
+            if m > 2:
+                raise LCSError(f"internal inconsistency: theta = {theta} is outside step {k} of the Taylor steps")
+            return rho * m ** max(self.J, d) * (arb(self.s) * (m - 1)).exp()
+
     def locate(self, t: fmpq) -> int:
         """The step k with t_k <= t < t_{k+1} (t >= 0; t < 0 gives step 0, whose series holds
         for theta >= -1 too).
@@ -188,6 +211,8 @@ class TaylorSteps:
             At least -h (step 0's series holds back to -h).
         hi : fmpq
         """
+        if lo < -self.h:
+            raise LCSError(f"internal inconsistency: Taylor steps asked at t = {lo} < -h = {-self.h}")
         out = []
         k = self.locate(lo)
         a = lo
@@ -228,7 +253,7 @@ class TaylorSteps:
 
     def _at(self, k: int, th: arb) -> arb_mat:
         ws = self.columns(k)
-        rho = self.tail(k, 0)
+        rho = self.tail_at(k, 0, th)
         with workprec(self.prec):
             acc = ws[-1]
             for w in reversed(ws[:-1]):  # Horner in theta

@@ -42,6 +42,9 @@ __all__ = ["Constraint", "Phase", "PhaseFunction", "EventState", "phase_horizon"
 TAYLOR_MIN_N = 16
 #: ... and only for ||A_I||_inf up to this (a stiff mode keeps the spectral path)
 TAYLOR_MAX_NORM = 2 ** 12
+#: ... and for runs of at most this many bits (about 300 digits: a step's order grows with the
+#: precision, J = 98 at 300 bits, and the spectral path's cost much less)
+TAYLOR_MAX_BITS = 1024
 #: the most units of ||A_I|| t a phase's search steps over (4 units a step)
 TAYLOR_MAX_SPAN = 4 * 4096
 
@@ -122,8 +125,9 @@ class Phase:
         self.M = mode.closed_loop()
         # Taylor steps (no spectral data) for a mode of a large system that is neither nilpotent
         # (its phases are polynomials, exactly) nor too fast for steps of ||A_I h|| <= 4
-        self.taylor = (self.M.nrows() >= TAYLOR_MIN_N and not mode.closed_loop_nilpotent
-                       and 0 < mode.closed_loop_norm <= TAYLOR_MAX_NORM)
+        # and a run's precision at which a step's order (J ~ bits / 3) stays moderate
+        self.taylor = (self.M.nrows() >= TAYLOR_MIN_N and policy.target_bits <= TAYLOR_MAX_BITS
+                       and not mode.closed_loop_nilpotent and 0 < mode.closed_loop_norm <= TAYLOR_MAX_NORM)
         self.z = z
         if isinstance(z, ScaledVector):
             self.base, self.scale = z.v, z.c

@@ -80,7 +80,7 @@ class TaylorRows:
         """f_i^{(d)}(t_k + theta h), |theta| <= 1."""
         st = self.steps
         with workprec(self.prec):
-            v = self.poly(i, k, d)(theta) + arb(0, (self._g1[i] * st.tail(k, d)).upper())
+            v = self.poly(i, k, d)(theta) + arb(0, (self._g1[i] * st.tail_at(k, d, theta)).upper())
             return v / arb(st.h) ** d if d else v
 
     def float_coefficients(self, k: int) -> list[list[float]]:
