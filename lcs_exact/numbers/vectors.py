@@ -10,7 +10,8 @@ exact when x is proven rational; 0 when g lies in the rational span of the forms
 on x (``zero_forms``: the annihilator of V_I along a phase, forms vanishing on the orbit of a
 rational phase start, the constraint whose root ended the phase, all pulled back through
 projections); by homogeneity (x = c q with c > 0 certified and q structured: the sign of g q);
-then a ball that excludes 0, an exact zero test of the closed form (``prove_zero``: Calcium) and
+then a ball that excludes 0 (the one computed already is looked at first: it settles most
+signs before any exact test), an exact zero test of the closed form (``prove_zero``: Calcium) and
 refinement up to the policy's ceiling; otherwise an *unresolved zero*
 (:meth:`~lcs_exact.balls.Policy.unresolved`).
 """
@@ -21,7 +22,7 @@ from typing import Any, Iterator
 from flint import arb, arb_mat, fmpq_mat
 
 from . import calcium
-from .balls import Policy, check_digits, decide_sign
+from .balls import Policy, ball_sign, check_digits, decide_sign, workprec
 from ..errors import ShapeError, UnresolvedSign
 from ..interfaces import SystemLike
 from .nodes import Node
@@ -157,6 +158,14 @@ class ExactVector(Node):
             return (v > 0) - (v < 0)
         if is_zero(form):
             return 0
+        if self._ball is not None:
+            # the ball already computed excludes 0: the sign is certified, and the exact tests
+            # below (they can only prove a zero) are not needed; LDCPs of large systems ask for
+            # many such signs, and an exact membership test costs more than this product
+            with workprec(max(64, self._prec)):
+                s = ball_sign((arb_mat(form) * self._ball)[0, 0])
+            if s:
+                return s
         if self.zero_forms.nrows() and form in self.zero_span:
             return 0
         s = self._structural_sign(form)
