@@ -79,12 +79,14 @@ def test_rows_and_their_derivatives():
         assert E.rad() < 0.01
         assert f.sign_enclose(fmpq(0), fmpq(1), 0) > 0  # cos > 0 on [0, 1]
         assert f.sign_enclose(fmpq(2), fmpq(3), 0) < 0
-        # float guesses on a grid of h / 64 = 1/16: cos first turns negative after pi/2, cos - sin
-        # after pi/4 (both in the first step, where the scan stops); ``only`` leaves rows out
+        # float guesses on a grid of h / 64 = 1/16 (offset by 0.618 / 16): cos first turns negative
+        # after pi/2, cos - sin after pi/4 (both in the first step, where the scan stops); ``only``
+        # leaves rows out
         ga = rows.guess_crossings(0.0, 10.0)
         assert 0 <= ga[0] - 1.5707963268 < 1 / 16 and 0 <= ga[1] - 0.7853981634 < 1 / 16
         assert rows.guess_crossings(0.0, 10.0, only=[1])[0] is None
-        assert rows.guess_crossings(5.0, 10.0)[0] == 7.875  # cos t < 0 again after 5 pi / 2 (step 1)
+        g5 = rows.guess_crossings(5.0, 10.0)[0]  # cos t < 0 again after 5 pi / 2 (in step 1)
+        assert 0 <= g5 - 7.853981634 < 1 / 16 and g5 * 16 != int(g5 * 16)
         assert abs(f.guess_crossing(0.0, 10.0) - 1.5707963268) < 0.07
         assert abs(f.guess_root(1.0, 2.0) - 1.5707963267948966) < 1e-12
 
@@ -154,3 +156,25 @@ def test_a_theta_past_the_step_widens_the_tail_and_far_past_it_is_refused():
         assert inside.mid() == st.tail(0, 0).mid() and inside.rad() == st.tail(0, 0).rad()
         with pytest.raises(LCSError):
             st.pieces(fmpq(-5), fmpq(1))
+
+
+def test_the_paper_two_carts_on_taylor_steps(monkeypatch):
+    """Section 7 with every phase on Taylor steps (TAYLOR_MIN_N = 1): the events at t = 1 exactly
+    (a rational root, where a float guess on a dyadic grid would have landed with no sign to show)
+    and at 1 + pi/2 (closed form proven), and x(3) = e^{A(2 - pi/2)} (0, 0, 0, 1) to 30 digits
+    (mpmath's expm)."""
+    import mpmath as mp
+    import sympy as sp
+
+    from lcs_exact import expm_action
+    from lcs_exact.examples import two_carts
+
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 1)
+    lcs = two_carts()
+    tr = simulate(lcs, expm_action(lcs.A, -1, [0, -1, -1, 0]), 3, digits=30)
+    assert [e.time.closed_form for e in tr.events] == [1, 1 + sp.pi / 2]
+    A = [[int(lcs.A[i, j]) for j in range(4)] for i in range(4)]
+    with mp.workdps(50):
+        want = mp.expm(mp.matrix(A) * (2 - mp.pi / 2)) * mp.matrix([0, 0, 0, 1])
+        for b, w in zip(tr.state(3).ball(30), want):
+            assert abs(mp.mpf(b.mid().str(45, radius=False)) - w) < mp.mpf(10) ** -30 and b.rad() < 1e-30

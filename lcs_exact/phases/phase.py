@@ -237,7 +237,8 @@ class Phase:
         """The constraints' polynomials on Taylor steps from the start's ball at ``prec`` bits (or
         more: cached at the highest precision asked; a higher one restarts from the exact start)."""
         if self._rows is None or self._rows.prec < prec:
-            self.policy.check_deadline(lambda: f" while stepping mode {format_mode(self.mode.I)} at {prec} bits")
+            self.policy.check_deadline(lambda: f" while isolating events: Taylor steps of mode "
+                                       f"{format_mode(self.mode.I)} at {prec} bits")
             steps = TaylorSteps(self.M, self.mode.closed_loop_norm, self.base.arb(prec), prec,
                                 self.zero_coordinates())
             self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms)

@@ -28,6 +28,10 @@ __all__ = ["TaylorRows", "TaylorSum"]
 
 #: float points a step at which a crossing is looked for (guesses only)
 GUESS_POINTS = 64
+#: where in its 1/GUESS_POINTS of the step each point lies: not at a simple rational, so that a
+#: guess does not land exactly on an event at a rational time (t = 1 in section 7), where no ball
+#: can show the sign the search's window needs at its end
+GUESS_OFFSET = 0.6180339887498949
 
 
 class TaylorRows:
@@ -111,7 +115,7 @@ class TaylorRows:
         k = st.locate(fmpq(a) if isinstance(a, int) else _fmpq_of_float(a))
         while float(st.start(k)) < b:
             t0 = float(st.start(k))
-            ths = [(p + 1) / GUESS_POINTS for p in range(GUESS_POINTS)]
+            ths = [(p + GUESS_OFFSET) / GUESS_POINTS for p in range(GUESS_POINTS)]
             vals = self._float_grid(k, ths)
             for i in scan:
                 if out[i] is not None:
