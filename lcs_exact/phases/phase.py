@@ -45,8 +45,9 @@ TAYLOR_MAX_NORM = 2 ** 12
 #: ... and for runs of at most this many bits (about 300 digits: a step's order grows with the
 #: precision, J = 98 at 300 bits, and the spectral path's cost much less)
 TAYLOR_MAX_BITS = 1024
-#: the most units of ||A_I|| t a phase's search steps over (4 units a step)
-TAYLOR_MAX_SPAN = 4 * 4096
+#: the most units of ||A_I|| t a phase's search steps over (4 units a step; 128 steps cost about
+#: what the spectral data of a mode of n = 128 cost: a longer quiet horizon takes that path)
+TAYLOR_MAX_SPAN = 4 * 128
 
 
 @dataclass(frozen=True)
