@@ -178,3 +178,20 @@ def test_the_paper_two_carts_on_taylor_steps(monkeypatch):
         want = mp.expm(mp.matrix(A) * (2 - mp.pi / 2)) * mp.matrix([0, 0, 0, 1])
         for b, w in zip(tr.state(3).ball(30), want):
             assert abs(mp.mpf(b.mid().str(45, radius=False)) - w) < mp.mpf(10) ** -30 and b.rad() < 1e-30
+
+
+def test_a_guess_on_an_event_at_a_rational_time_does_not_end_a_window(monkeypatch):
+    """With the guess grid put back on the dyadics (offset 1: points (p + 1) h / 64), section 7's
+    guess for y_0 lands exactly on its root t = 1, where f's ball holds 0 at every precision: the
+    search ignores that window and searches the horizon (it raised UnresolvedSign before)."""
+    import sympy as sp
+
+    import lcs_exact.phases.taylorsum as taylorsum
+    from lcs_exact import expm_action
+    from lcs_exact.examples import two_carts
+
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 1)
+    monkeypatch.setattr(taylorsum, "GUESS_OFFSET", 1.0)
+    lcs = two_carts()
+    tr = simulate(lcs, expm_action(lcs.A, -1, [0, -1, -1, 0]), 3, digits=30)
+    assert [e.time.closed_form for e in tr.events] == [1, 1 + sp.pi / 2]

@@ -115,7 +115,9 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: 
     if estimate is not None:
         with workprec(64):
             b1 = min(horizon, dyadic_upper(arb(estimate)))
-        if a < b1 < horizon:
+        # a window cannot end where f's ball holds 0 (a guess on an event at an exact time, t = 1):
+        # no sign there would ever close it; the whole horizon is searched instead
+        if a < b1 < horizon and ball_sign(fn.at(prec).value(b1)) != 0:
             br = first_crossing(fn, a, b1, prec, touch=touch)
             # go on from b1 only where f(b1) > 0 is certified (the search's precondition); an
             # estimate that lands on a root (an exact time such as 1) is searched again whole
