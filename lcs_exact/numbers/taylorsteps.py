@@ -85,7 +85,8 @@ class TaylorSteps:
             self._Mh = arb_mat(M * self.h)
             self._es = arb(self.s).exp()
             self._inv = [arb(fmpq(1, j)) for j in range(1, self.J)]
-        self._x = [self._clean(x0)]  # x_k, the ball at t_k
+        # x_k, the ball at t_k (x0 copied before its zero coordinates are set: it is the caller's)
+        self._x = [self._clean(arb_mat(self.n, 1, x0.entries()) if self.zero else x0)]
         self._w: list[list[arb_mat]] = []  # the columns w_0 .. w_{J-1} of step k
         self._norms: list[arb] = []  # ||x_k||_inf bounds
         self._tails: dict = {}

@@ -27,12 +27,11 @@ from ..numbers import calcium
 from ..numbers import Policy, dyadic_lower, workprec
 from ..modes import format_mode
 from ..numbers import RationalReal, as_real, ca_from_state, ca_state
-from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, algebraic_vector, ca_matvec, orbit_start
+from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, TaylorSteps, algebraic_vector, ca_matvec, orbit_start
 from ..algebra import eliminate
 from ..algebra import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, submatrix, to_fmpq, zeros
 from .roots import ExpSum, RootReal, newton_ball
 from .taylorsum import TaylorRows, TaylorSum
-from ..numbers import TaylorSteps
 from ..algebra import RowSpan, invariant_forms, orbit_zero_forms, row_basis
 
 __all__ = ["Constraint", "Phase", "PhaseFunction", "EventState", "phase_horizon", "TAYLOR_MIN_N"]

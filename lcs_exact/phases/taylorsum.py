@@ -19,8 +19,7 @@ import math
 
 from flint import arb, arb_mat, arb_poly, fmpq, fmpq_mat
 
-from ..numbers import dyadic_lower, dyadic_upper, workprec
-from ..numbers import TaylorSteps
+from ..numbers import TaylorSteps, dyadic_lower, dyadic_upper, workprec
 from ..algebra import norm_inf
 from .roots import taylor_form
 
@@ -175,10 +174,6 @@ class TaylorSum:
         """An enclosure of f^{(d)} on [lo, hi], for its sign (no stiff terms to factor out: a
         stiff mode keeps the spectral path)."""
         return self.enclose(lo, hi, d, sign_only=True)
-
-    def guess_crossing(self, a: float, b: float) -> float | None:
-        """A float guess of the first crossing in (a, b] (None: none seen)."""
-        return TaylorRows(self.steps, [self.rows.rows[self.i]]).guess_crossings(a, b)[0]
 
     def guess_root(self, lo: float, hi: float) -> float | None:
         """A float root in (lo, hi) where f decreases: Newton's method on the midpoints of the
