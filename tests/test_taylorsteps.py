@@ -97,9 +97,10 @@ def _chain_runs(N, T=10):
 
 
 def test_a_chain_on_taylor_steps_matches_the_spectral_path(monkeypatch):
-    """Eight carts (n = 16: Taylor steps): every event time to 40 digits, the modes, and x(10)
-    agree with the spectral path (the same run with Taylor steps switched off); the Taylor run
-    never computes a mode's spectral data."""
+    """Eight carts (n = 16, on Taylor steps from n = 16 here): every event time to 40 digits, the
+    modes, and x(10) agree with the spectral path (the same run with Taylor steps switched off);
+    the Taylor run never computes a mode's spectral data."""
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 16)
     lcs, x0 = _chain_runs(8)
     taylor = simulate(lcs, x0, 10, digits=30)
     visited = [lcs.mode(e.mode_after) for e in taylor.events]
@@ -123,8 +124,9 @@ def test_a_taylor_run_travels_to_a_sweep_parent_and_refines_there():
     original refined in place."""
     from lcs_exact.dynamics.sweep import _dumps, _loads
 
-    lcs, x0 = _chain_runs(8)
+    lcs, x0 = _chain_runs(12)  # n = 24: Taylor steps
     tr = simulate(lcs, x0, 3, digits=20)
+    assert tr.phases[-1].phase.taylor
     back = _loads(_dumps(tr, lcs), lcs)
     assert back.events[-1].time.decimal(60) == tr.events[-1].time.decimal(60)
     assert len(back.events) == len(tr.events) >= 3
@@ -133,6 +135,7 @@ def test_a_taylor_run_travels_to_a_sweep_parent_and_refines_there():
 def test_a_long_quiet_horizon_goes_to_the_spectral_path(monkeypatch):
     """A phase whose search would span more than TAYLOR_MAX_SPAN units of ||A_I|| t uses the
     spectral data: the same events as with Taylor steps."""
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 16)
     lcs, x0 = _chain_runs(8)
     ref = simulate(lcs, x0, 2, digits=30)
     monkeypatch.setattr(phase_module, "TAYLOR_MAX_SPAN", 1)
