@@ -95,7 +95,7 @@ WHERE_THE_TIME_GOES = (
     '`python benchmarks/scale.py --profile 32` groups the time of the 32-cart chain by what the engine '
     'is doing (a SIGPROF sample every few ms of CPU time, given to the innermost frame in a group), '
     "then prints cProfile's top functions; instruction counts (valgrind's callgrind) are the way to "
-    'compare two versions on this noisy machine. Since issue 30 the phases of a system of 24 states '
+    'compare two versions on this noisy machine. Since issue 30 the phases of a system of 32 states '
     'or more are evaluated on Taylor steps (numbers/taylorsteps.py, phases/taylorsum.py: J ball '
     'matrix-vector products a step, the polynomials of all monitored rows from one product a column, '
     'no eigenvalues), the modes of small systems, stiff modes and long quiet horizons keep the '

@@ -124,7 +124,7 @@ def test_a_taylor_run_travels_to_a_sweep_parent_and_refines_there():
     original refined in place."""
     from lcs_exact.dynamics.sweep import _dumps, _loads
 
-    lcs, x0 = _chain_runs(12)  # n = 24: Taylor steps
+    lcs, x0 = _chain_runs(16)  # n = 32: Taylor steps
     tr = simulate(lcs, x0, 3, digits=20)
     assert tr.phases[-1].phase.taylor
     back = _loads(_dumps(tr, lcs), lcs)

@@ -38,9 +38,10 @@ __all__ = ["Constraint", "Phase", "PhaseFunction", "EventState", "phase_horizon"
 
 #: a mode's phases are evaluated by Taylor steps (:mod:`lcs_exact.numbers.taylorsteps`) from this
 #: state dimension on; below it the spectral data are cheap and kept (one computation per mode).
-#: Measured on the chains of carts: n = 16 runs 30 % faster on spectral data, n = 24 15-25 %
-#: faster on Taylor steps, n = 32 and more two to three times faster
-TAYLOR_MIN_N = 24
+#: Measured on the chains of carts to t = 10 (a few events, short phases) and t = 300 (190
+#: events): n = 16 runs 30 % faster on spectral data; n = 24 15-25 % faster on Taylor steps to
+#: t = 10 but 10 % slower to t = 300; n = 32 10 % faster and 6 % slower; n = 64 twice as fast
+TAYLOR_MIN_N = 32
 #: ... and only for ||A_I||_inf up to this (a stiff mode keeps the spectral path)
 TAYLOR_MAX_NORM = 2 ** 12
 #: ... and for runs of at most this many bits (about 300 digits: a step's order grows with the
@@ -410,7 +411,10 @@ class EventState(ExpVector):
     def _compute(self, prec):
         plain = super()._compute(prec)
         if self._propagate is not None:
-            return plain  # Taylor steps: no propagator matrix here (the anchors carry accuracy)
+            # Taylor steps: plain balls.  The centered form needs e^{A_I Theta} (FLINT's matrix
+            # exponential: 20 ms at n = 64, 120 ms at n = 128) and cost more than it saved: 4.9 s
+            # against 3.6 s on 191 events of twelve carts, N = 32 and 64 10-20 % slower
+            return plain
         Z = self.v.arb(prec)
         n = self.n
         if all(Z[i, 0].rad() == 0 for i in range(n)):
