@@ -96,7 +96,8 @@ WHERE_THE_TIME_GOES = (
     'is doing (a SIGPROF sample every few ms of CPU time, given to the innermost frame in a group), '
     "then prints cProfile's top functions; instruction counts (valgrind's callgrind) are the way to "
     'compare two versions on this noisy machine. Since issue 30 the phases of a system of 32 states '
-    'or more are evaluated on Taylor steps (numbers/taylorsteps.py, phases/taylorsum.py: J ball '
+    'or more are evaluated on Taylor steps (lcs_exact/numbers/taylorsteps.py, '
+    'lcs_exact/phases/taylorsum.py: J ball '
     'matrix-vector products a step, the polynomials of all monitored rows from one product a column, '
     'no eigenvalues), the modes of small systems, stiff modes and long quiet horizons keep the '
     'spectral data. Measured on 2026-12-07: at N = 32 the root search (steps and certified '
