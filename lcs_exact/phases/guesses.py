@@ -13,7 +13,7 @@ import cmath
 import math
 from typing import Any
 
-__all__ = ["float_crossing", "float_root", "MAX_FLOAT_POINTS"]
+__all__ = ["float_crossing", "float_root", "newton_in_bracket", "MAX_FLOAT_POINTS"]
 
 #: how many float points an estimate of a crossing looks at, at most
 MAX_FLOAT_POINTS = 1 << 14
@@ -125,9 +125,16 @@ def float_root(f: Any, lo: float, hi: float) -> float | None:
             dv += wt * (e * (l * p + dp)).real
         return v, dv
 
+    return newton_in_bracket(f_df, lo, hi)
+
+
+def newton_in_bracket(f_df: Any, lo: float, hi: float, iterations: int = 200) -> float | None:
+    """A float root in (lo, hi) of a function that decreases there, given as ``f_df(t) -> (f,
+    f')``: Newton's method, a step leaving the bracket of float signs bisecting it instead (None
+    when the floats overflow or are not finite).  A guess only: checked before use."""
     a, b = lo, hi
     t = (a + b) / 2
-    for _ in range(200):
+    for _ in range(iterations):
         try:
             v, dv = f_df(t)
         except OverflowError:

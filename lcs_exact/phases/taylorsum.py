@@ -15,12 +15,12 @@ guesses (the midpoints of the coefficients on a grid of theta) only order and wi
 """
 from __future__ import annotations
 
-import math
 
 from flint import arb, arb_mat, arb_poly, fmpq, fmpq_mat
 
 from ..numbers import TaylorSteps, dyadic_lower, dyadic_upper, workprec
 from ..algebra import norm_inf
+from .guesses import newton_in_bracket
 from .roots import taylor_form
 
 __all__ = ["TaylorRows", "TaylorSum"]
@@ -180,31 +180,14 @@ class TaylorSum:
         step's polynomial, safeguarded by bisection (a guess, checked before use)."""
         st = self.steps
         h = float(st.h)
-        a, b = lo, hi
-        t = (a + b) / 2
-        for _ in range(100):
+
+        def f_df(t: float) -> tuple[float, float]:
             k = st.locate(_fmpq_of_float(t))
             row = self.rows.float_coefficients(k)[self.i]
             th = (t - float(st.start(k))) / h
-            v, dv = _horner(row, th), _horner_derivative(row, th) / h
-            if not (math.isfinite(v) and math.isfinite(dv)):
-                return None
-            if v > 0:
-                a = t
-            elif v < 0:
-                b = t
-            else:
-                return t
-            step = v / dv if dv < 0 else math.inf
-            if abs(step) <= 4e-16 * max(1.0, abs(t)):
-                return t - step
-            nt = t - step
-            if not a < nt < b:
-                nt = (a + b) / 2
-                if not a < nt < b:
-                    return t
-            t = nt
-        return t
+            return _horner(row, th), _horner_derivative(row, th) / h
+
+        return newton_in_bracket(f_df, lo, hi, 100)
 
 
 def _stack(rows: list[fmpq_mat]) -> fmpq_mat:
