@@ -250,3 +250,55 @@ def test_an_accumulation_without_a_law_is_proven_and_crossed():
         lo, hi = acc.lower, acc.upper
         assert mp.mpf(int(lo.p)) / int(lo.q) <= t <= mp.mpf(int(hi.p)) / int(hi.q)
     assert acc.state.known_rational() == fmpq_mat([[0], [0], [1]]) and tr.phases[-1].mode == frozenset({0})
+
+
+def _copies(lcs, m):
+    """m uncoupled copies of lcs (block-diagonal A, B, C, D)."""
+    def blocks(M):
+        r, c = M.nrows(), M.ncols()
+        out = fmpq_mat(r * m, c * m)
+        for b in range(m):
+            for i in range(r):
+                for j in range(c):
+                    out[b * r + i, b * c + j] = M[i, j]
+        return out
+    return L.LCS(*(blocks(M) for M in (lcs.A, lcs.B, lcs.C, lcs.D)))
+
+
+def test_relations_among_the_components_of_a_start_are_zero_forms():
+    """x0 = (a, 0, 2a, b) with a, b components of e^{-A} v: 2 x_0 - x_2 = 0 and x_1 = 0 are
+    proven by the definitions (and nothing else: a and b are independent reals); the components
+    of a vector carry that vector's relations (3 w_0 - w_1 = 0 for w = (a, 3a))."""
+    from lcs_exact.numbers.vectors import as_exact_vector, component_relations
+    carts = L.models.two_carts()
+    x = L.expm_action(carts.A, -1, [0, -1, -1, 0])
+    a, b = x[1], x[3]
+    zf = as_exact_vector([a, 0, 2 * a, b]).zero_forms
+    assert zf == fmpq_mat([[1, 0, fmpq(-1, 2), 0], [0, 1, 0, 0]])
+    w = as_exact_vector([a, 3 * a])
+    assert w.zero_forms == fmpq_mat([[1, fmpq(-1, 3)]])  # the canonical row basis of 3 w_0 - w_1
+    assert component_relations([w[0], w[1]]) == fmpq_mat([[1, fmpq(-1, 3)]])
+    assert component_relations([a, b]).nrows() == 0
+
+
+@pytest.mark.parametrize("m", [2, 8])
+def test_copies_of_the_two_carts_from_an_exact_start_hit_together(m):
+    """m uncoupled copies of section 7's two carts, each from x0 = e^{-A}(0, -1, -1, 0) (the
+    same exact reals repeated): every event of one copy is an event of all at the same instant
+    (x_i = x_{i+4} on every phase: the copies' roots are proven equal, never compared by balls),
+    at section 7's times 1 and 1 + pi/2 (closed forms) and then at the single system's two later
+    events; m = 8 (n = 32) runs on Taylor steps, m = 2 on spectral data."""
+    carts = L.models.two_carts()
+    x1 = L.expm_action(carts.A, -1, [0, -1, -1, 0])
+    single = L.simulate(carts, x1, 10, digits=30)
+    tr = L.simulate(_copies(carts, m), list(x1) * m, 10, digits=30)
+    assert tr.certified and len(tr.events) == len(single.events) == 4
+    assert [str(e.time.closed_form) for e in tr.events[:2]] == ["1", "1 + pi/2"]
+    for e, s in zip(tr.events, single.events):
+        assert e.time.ball(30).overlaps(s.time.ball(30)) and e.time.ball(30).rad() < 1e-30
+        (trigger,) = s.triggers  # y_0 or u_0: constraint 0 of every copy (copy b's is b)
+        assert set(e.triggers) == {f"{trigger[0]}_{b}" for b in range(m)}
+        assert e.mode_after == frozenset(b for b in range(m) if 0 in s.mode_after)
+        assert e.modes == tuple(frozenset(range(m)) for _ in s.modes)
+    xs, xt = single.state(10).ball(25), tr.state(10).ball(25)
+    assert all(xt[4 * b + i].overlaps(xs[i]) for b in range(m) for i in range(4))
