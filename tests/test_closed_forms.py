@@ -8,7 +8,7 @@ import sympy as sp
 
 import lcs_exact as L
 from lcs_exact.numbers.closedforms import exp_candidates as _exp_candidates, solve_candidates as _solve_candidates
-from lcs_exact.numbers.expm import t_symbol
+from lcs_exact.numbers.laplace import t_symbol
 
 _t = t_symbol()
 

@@ -1,4 +1,4 @@
-"""Symbolic inverse Laplace transforms (expm.laplace_closed_form, expm.symbolic_expm) against
+"""Symbolic inverse Laplace transforms (laplace.laplace_closed_form, laplace.symbolic_expm) against
 mpmath's matrix exponential: these expressions are used in closed-form proofs, so they must be
 right for every factor shape (non-monic linear factors, repeated roots, complex pairs,
 biquadratic quartics over Q(√d))."""
@@ -8,7 +8,8 @@ import sympy as sp
 from flint import fmpq, fmpq_mat, fmpq_poly
 from hypothesis import given, settings, strategies as st
 
-from lcs_exact.numbers.expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
+from lcs_exact.numbers.expm import Spectrum
+from lcs_exact.numbers.laplace import laplace_closed_form, symbolic_expm, t_symbol
 
 _t = t_symbol()
 

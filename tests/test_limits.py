@@ -14,7 +14,7 @@ import lcs_exact as L
 from lcs_exact import calcium
 from lcs_exact.balls import Deadline, check_in_force
 from lcs_exact.closedforms import exp_candidates
-from lcs_exact.expm import t_symbol
+from lcs_exact.numbers.laplace import t_symbol
 from lcs_exact.forms import Closed
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]

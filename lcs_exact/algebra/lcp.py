@@ -168,15 +168,18 @@ def murty(m: fmpq_mat, q_forms: fmpq_mat, x: Any = None, *, max_pivots: int | No
         a = sorted(basis)
         u = zeros(k, n)
         if a:
-            ua = -submatrix(m, a, a).solve(submatrix(q_forms, a, None))
-            for r, i in enumerate(a):
-                for j in range(n):
-                    u[i, j] = ua[r, j]
+            ua = (-submatrix(m, a, a).solve(submatrix(q_forms, a, None))).entries()
+            at = {i: r for r, i in enumerate(a)}
+            zero = [0] * n
+            u = fmpq_mat(k, n, [x for i in range(k) for x in
+                                (ua[at[i] * n:(at[i] + 1) * n] if i in at else zero)])
         y = q_forms + m * u
+        ue, ye = u.entries(), y.entries()  # the rows read once, not one submatrix each
         bad = None
         for i in range(k):
-            row = submatrix(u if i in basis else y, [i], None)
-            if sign_of_form(row if point is not None else row[0, 0], point) < 0:
+            e = ue if i in basis else ye
+            row = fmpq_mat(1, n, e[i * n:(i + 1) * n]) if point is not None else e[i * n]
+            if sign_of_form(row, point) < 0:
                 bad = i
                 break
         if bad is None:

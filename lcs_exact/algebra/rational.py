@@ -478,10 +478,17 @@ def submatrix(m: fmpq_mat, rows: Sequence[int] | None = None, cols: Sequence[int
     """
     r, c = m.nrows(), m.ncols()
     rows = range(r) if rows is None else list(rows)
+    if cols is None and rows and list(rows) == list(range(rows[0], rows[0] + len(rows))):
+        # whole rows in a run (the first k rows of an echelon form): one slice of the entries
+        if len(rows) * 8 < r:
+            return fmpq_mat(len(rows), c, [m[i, j] for i in rows for j in range(c)])
+        return fmpq_mat(len(rows), c, m.entries()[rows[0] * c:(rows[0] + len(rows)) * c])
     cols = range(c) if cols is None else list(cols)
     if 4 * len(rows) * len(cols) < r * c:  # a small part: entry by entry
         return fmpq_mat(len(rows), len(cols), [m[i, j] for i in rows for j in cols])
     e = m.entries()  # row-major, one C call
+    if len(cols) == c:  # whole rows: slices (C) instead of entry by entry
+        return fmpq_mat(len(rows), c, [x for i in rows for x in e[i * c:(i + 1) * c]])
     return fmpq_mat(len(rows), len(cols), [e[i * c + j] for i in rows for j in cols])
 
 

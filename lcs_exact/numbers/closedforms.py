@@ -28,7 +28,8 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 from . import calcium
 from .balls import closed_form_arb, workprec
 from ..errors import InvalidArgument, LCSError, UnresolvedSign
-from .expm import Spectrum, laplace_closed_form, symbolic_expm, t_symbol
+from .expm import Spectrum
+from .laplace import laplace_closed_form, symbolic_expm, t_symbol
 from .forms import Closed, SympyOutOfTime, sympy_budget, sympy_proves_zero
 from ..algebra import matrix_to_sympy
 from .algebraics import radical_form
@@ -553,7 +554,7 @@ def solve_candidates(sym, b: arb) -> list:
     at wt = atan(-a/b) + pi k when c = 0; SymPy's own solutions come first (candidates only: the
     caller proves them).
 
-    >>> from lcs_exact.expm import t_symbol
+    >>> from lcs_exact.numbers.laplace import t_symbol
     >>> import sympy
     >>> t = t_symbol()
     >>> solve_candidates(sympy.cos(t) + sympy.sin(t) / 3, arb("1.8925"))   # tan t = -3
@@ -647,7 +648,7 @@ def harmonic_candidates(sym, b: arb) -> list:
     per factor) give the candidates t = (+-acos(r) + 2 pi m) / w near the ball b, e.g.
     acos((1 + sqrt(129))/16) (candidates only: the caller proves them).
 
-    >>> from lcs_exact.expm import t_symbol
+    >>> from lcs_exact.numbers.laplace import t_symbol
     >>> import sympy
     >>> t = t_symbol()
     >>> harmonic_candidates(16 * sympy.cos(2 * t) - 2 * sympy.cos(t) + 8, arb("0.67"))[0]  # 32x^2 - 2x - 8

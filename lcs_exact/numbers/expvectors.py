@@ -13,7 +13,8 @@ from flint import fmpq, fmpq_mat
 from . import calcium
 from .balls import Policy
 from ..errors import ShapeError, UnresolvedSign
-from .expm import Spectrum, spectrum_of, symbolic_expm, t_symbol
+from .expm import Spectrum, spectrum_of
+from .laplace import symbolic_expm, t_symbol
 from .nodes import closed_ready, derive_closed, in_dependency_order
 from ..algebra import invariant_forms, is_zero, orbit_zero_forms, to_matrix, zeros
 from .reals import Real, as_real
