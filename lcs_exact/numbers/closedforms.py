@@ -43,11 +43,11 @@ __all__ = ["candidates", "prove_root", "prove_root_is", "prove_zero_at", "functi
 _MAX_SIMPLIFY_OPS = 400
 
 
-def _frequencies(M: fmpq_mat) -> tuple[list[fmpq], list[fmpq]]:
+def _frequencies(M: fmpq_mat, factors: list | None = None) -> tuple[list[fmpq], list[fmpq]]:
     """(omega^2 of the complex-pair quadratic factors, real rational eigenvalues) of chi(M),
-    exactly (no SymPy)."""
+    exactly (no SymPy); ``factors``: chi's irreducible factors when already known."""
     squares, lambdas = [], []
-    for p, _ in M.charpoly().factor()[1]:
+    for p, _ in (factors if factors is not None else M.charpoly().factor()[1]):
         c = p.coeffs()
         if p.degree() == 1:
             lambdas.append(-c[0] / c[1])
@@ -59,7 +59,7 @@ def _frequencies(M: fmpq_mat) -> tuple[list[fmpq], list[fmpq]]:
     return squares, lambdas
 
 
-def candidates(theta: arb, M: fmpq_mat) -> list[Closed]:
+def candidates(theta: arb, M: fmpq_mat, factors: list | None = None) -> list[Closed]:
     """Small-height candidates near the ball ``theta``: rationals, (p/q) pi/omega, log(p/q)/lambda
     (light :class:`~lcs_exact.forms.Closed` forms, nonnegative, without repetition).
 
@@ -70,6 +70,9 @@ def candidates(theta: arb, M: fmpq_mat) -> list[Closed]:
     M : fmpq_mat
         The phase's matrix: its frequencies omega (complex pairs of quadratic factors of det(sI - M),
         and omega = 1) and rational eigenvalues lambda give the pi/omega and log/lambda candidates.
+    factors : list, optional
+        [(p, multiplicity)]: the irreducible factors of det(sI - M) over Q, when known
+        (:meth:`~lcs_exact.numbers.expm.Spectrum.irreducible_factors`); else they are computed.
     """
     from mpmath import mp, mpf
     out = []
@@ -82,7 +85,7 @@ def candidates(theta: arb, M: fmpq_mat) -> list[Closed]:
 
         for f in approx(x):
             out.append(Closed.rational(fmpq(f.numerator, f.denominator)))
-        squares, lambdas = _frequencies(M)
+        squares, lambdas = _frequencies(M, factors)
         for w2 in [fmpq(1)] + squares:
             wv = mp.sqrt(mpf(int(w2.p)) / int(w2.q))
             for f in approx(x * wv / mp.pi):
@@ -107,13 +110,13 @@ def _shifted_candidates(b: arb, spectrum: Spectrum, v: Any):
     """Candidates near the ball b; when the start is v = e^{Ms} w with a closed-form s (e.g.
     x0 = e^{-sqrt2 M} w), also c - s for the candidates c of the time measured on w's orbit
     (a touch at sqrt 2 is pi-free on the orbit of w: its candidate is c - s)."""
-    yield from candidates(b, spectrum.M)
+    yield from candidates(b, spectrum.M, spectrum.irreducible_factors())
     inner, shift = orbit_start(v, spectrum.M)
     sc = shift.closed if shift is not None else None
     if sc is not None and not sc.is_zero:
         with workprec(200):
             bs = b + sc.arb()
-        for c in candidates(bs, spectrum.M):
+        for c in candidates(bs, spectrum.M, spectrum.irreducible_factors()):
             yield c - sc
 
 

@@ -138,6 +138,13 @@ class Spectrum:
             nil.append(P * fmpq(1, fact))
         self.nilpotent = nil  # N^j / j!, j < m (exact)
 
+    def irreducible_factors(self) -> list:
+        """[(p, multiplicity in chi)]: chi's irreducible factors over Q (cached; no decomposition)."""
+        if self._irreducible is None:
+            chi = self.__dict__.get("chi") or self.M.charpoly()
+            self._irreducible = [(fmpq_poly(p), k) for p, k in chi.factor()[1]] if self.n else []
+        return self._irreducible
+
     @property
     def nilpotent_only(self) -> bool:
         """True when M is nilpotent (every eigenvalue 0): e^{Mt} is a polynomial in t."""
@@ -180,16 +187,13 @@ class Spectrum:
     def _eigen(self, prec: int) -> list[tuple[acb, int, int]]:
         """[(lambda, weight, multiplicity)], cached at the highest precision asked."""
         if self._roots[0] < prec:
-            if self._irreducible is None:
-                # the roots grouped by their multiplicity in chi (= the rank of K_lambda), from
-                # the irreducible factors over Q: isolating the roots of each factor costs a
-                # fraction of isolating them all at once (a 64 x 64 mode of a chain of carts:
-                # factors of degree 2, 2, 30, 30; 9 ms instead of 25 ms at 640 bits), and
-                # factoring over Q costs a few percent of that
-                self._irreducible = [(fmpq_poly(p), k) for p, k in self.chi.factor()[1]] if self.n else []
+            # the roots grouped by their multiplicity in chi (= the rank of K_lambda), from the
+            # irreducible factors over Q: isolating the roots of each factor costs a fraction of
+            # isolating them all at once (a 64 x 64 mode of a chain of carts: factors of degree
+            # 2, 2, 30, 30; 9 ms instead of 25 ms at 640 bits), and factoring costs a few percent
             with workprec(prec + 16):
                 out, self._root_factor = [], []
-                for idx, (p, mult) in enumerate(self._irreducible):
+                for idx, (p, mult) in enumerate(self.irreducible_factors()):
                     for lam, _ in p.complex_roots():
                         if lam.imag.is_zero():
                             out.append((acb(lam.real), 1, mult))
