@@ -269,7 +269,8 @@ def test_relations_among_the_components_of_a_start_are_zero_forms():
     """x0 = (a, 0, 2a, b) with a, b components of e^{-A} v: 2 x_0 - x_2 = 0 and x_1 = 0 are
     proven by the definitions (and nothing else: a and b are independent reals); the components
     of a vector carry that vector's relations (3 w_0 - w_1 = 0 for w = (a, 3a))."""
-    from lcs_exact.numbers.vectors import as_exact_vector, component_relations
+    from lcs_exact.numbers.relations import component_relations
+    from lcs_exact.numbers.vectors import as_exact_vector
     carts = L.models.two_carts()
     x = L.expm_action(carts.A, -1, [0, -1, -1, 0])
     a, b = x[1], x[3]

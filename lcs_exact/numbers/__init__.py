@@ -1,7 +1,7 @@
 """Exact and certified numbers: the precision policy and balls (``balls``), FLINT's Calcium
 through ctypes (``flintlib``, ``calcium``), balls with derivatives (``duals``), light closed
 forms (``forms``), algebraic numbers pickled and in radicals (``algebraics``), e^{At}
-(``expm``, symbolically ``laplace``; on Taylor steps, ``taylorsteps``), exact reals and vectors (``nodes``, ``reals``, ``vectors``, ``expvectors``),
+(``expm``, symbolically ``laplace``; on Taylor steps, ``taylorsteps``), exact reals and vectors (``nodes``, ``reals``, ``relations``, ``vectors``, ``expvectors``),
 closed-form candidates and their proofs (``closedforms``) and Taylor models (``taylormodels``).
 Imports ``algebra``.
 

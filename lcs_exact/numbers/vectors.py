@@ -28,11 +28,12 @@ from ..interfaces import SystemLike
 from .nodes import Node
 from ..algebra import as_list, format_form, is_zero, matrix_to_sympy, to_vector, vector_entries, zeros
 from .algebraics import ca_from_state, ca_state, radical_form, rational_ca
-from .reals import ComponentReal, Real, ScaledReal, as_real, is_sympy, linear_terms
-from ..algebra import RowSpan, kernel, left_kernel, pulled_back_forms, row_basis
+from .reals import ComponentReal, Real, ScaledReal, as_real, is_sympy
+from .relations import component_relations
+from ..algebra import RowSpan, kernel, pulled_back_forms, row_basis
 
 __all__ = ["ExactVector", "RationalVector", "ScaledVector", "ProjectedVector", "ComponentsVector", "AlgebraicVector",
-           "algebraic_vector", "ca_matvec", "component_relations", "as_exact_vector", "as_state", "homogenized"]
+           "algebraic_vector", "ca_matvec", "as_exact_vector", "as_state", "homogenized"]
 
 
 class ExactVector(Node):
@@ -174,6 +175,20 @@ class ExactVector(Node):
         return decide_sign(lambda p: (arb_mat(form) * self.arb(p))[0, 0], policy=self.policy,
                            what=lambda: f"the form {format_form(form)} at {self!r}",
                            start=max(64, self._prec), prove_zero=lambda: self.prove_zero(form))
+
+    def form_balls(self, forms: fmpq_mat) -> tuple[arb_mat, int] | None:
+        """(balls of forms . x, their precision) from the ball of x already computed, or None (no
+        ball yet: a state decided by its structure need not be evaluated): the values mode
+        selection's pivoting reads; a sign they do not show is asked of :meth:`sign_of_form`.
+
+        Parameters
+        ----------
+        forms : fmpq_mat, m x n"""
+        if self._ball is None or self.known_rational() is not None:
+            return None
+        prec = max(64, self._prec)
+        with workprec(prec):
+            return arb_mat(forms) * self._ball, prec
 
     def _structural_sign(self, form: fmpq_mat) -> int | None:
         return None
@@ -444,56 +459,6 @@ class ComponentsVector(ExactVector):
     def known_ca(self):
         cs = [c.known_ca() for c in self.comps]
         return None if any(c is None for c in cs) else cs
-
-
-def component_relations(comps: list[Real]) -> fmpq_mat:
-    """The forms w with sum_j w_j c_j = 0 that the definitions of the reals c_j prove, as rows.
-
-    Each c_j is const_j + sum_k q_jk r_k over base reals r_k (:func:`~lcs_exact.reals.linear_terms`:
-    sums and rational multiples unfolded), the component i of one exact vector v counted as one base
-    (v, i) however often it was taken, and the zero forms of such a v relate its components
-    (rho . (v_0, ..., v_{n-1}) = 0).  w vanishes on c when w . const = 0 and w Q lies in the span of
-    those relations: the left kernel of [[Q, const], [R, 0]], restricted to w.  A start x0 given as
-    copies of one exact state (a system of identical blocks) gets the relations x_i = x_j, and a
-    phase from it their invariant part, so that the copies' simultaneous events are proven equal
-    (:meth:`~lcs_exact.phases.phase.Phase.proportional`) instead of refused.
-
-    Parameters
-    ----------
-    comps : list of Real
-        The components c_0, ..., c_{n-1}.
-    """
-    n = len(comps)
-    keys: dict = {}  # base key -> column (1 + k)
-    vectors: dict = {}  # id(v) -> v, for the components of one exact vector
-    rows = []
-    for c in comps:
-        const, terms = linear_terms(c)
-        row = {0: const}
-        for q, r in terms:
-            if isinstance(r, ComponentReal):
-                key = ("component", id(r.vec), r.i)
-                vectors[id(r.vec)] = r.vec
-            else:
-                key = ("real", id(r))
-            col = keys.setdefault(key, 1 + len(keys))
-            row[col] = row.get(col, 0) + q
-        rows.append(row)
-    relations = []  # rho over the bases, from the zero forms of the vectors the components are of
-    for vid, v in vectors.items():
-        for a in range(v.zero_forms.nrows()):
-            rho = {}
-            for i in range(v.n):
-                if v.zero_forms[a, i] != 0:
-                    rho[keys.setdefault(("component", vid, i), 1 + len(keys))] = v.zero_forms[a, i]
-            relations.append(rho)
-    m = fmpq_mat(n + len(relations), 1 + len(keys))
-    for i, row in enumerate(rows + relations):
-        for col, q in row.items():
-            m[i, col] = q
-    L = left_kernel(m)
-    W = fmpq_mat(L.nrows(), n, [L[a, j] for a in range(L.nrows()) for j in range(n)])
-    return row_basis(W) if W.nrows() else W
 
 
 def ca_matvec(P: fmpq_mat, xs: list | None) -> list | None:
