@@ -369,3 +369,42 @@ def test_murty_with_linear_forms(m, data):
     assert {u} == lcp_solutions(q, m)
     # u_i = 0 off the basis, as forms
     assert all(U[i, j] == 0 for i in range(k) if i not in basis for j in range(n))
+
+
+class _FormsOnly:
+    """A point that answers only sign_of_form: Murty decides every sign on the k x n forms."""
+
+    def __init__(self, x):
+        self.x = x
+
+    def sign_of_form(self, form):
+        return self.x.sign_of_form(form)
+
+
+@given(p_matrix(kmax=4), st.data())
+@PROP
+def test_murty_on_the_balls_of_an_exact_point_agrees_with_the_forms(m, data):
+    """At an exact-real point x = (a, a, b, 0, 1) (a = sqrt 2, b = sqrt 3; x_0 - x_1 = 0 and x_3 = 0
+    are exact relations no ball shows), Murty's pivoting on the balls of Q x (a ball holding 0 asks
+    the exact form) gives the basis and forms of the pivoting on the forms alone, and U x, Y x
+    solve the LCP: u, y >= 0 and u_i y_i = 0, certified at 200 bits where nonzero."""
+    import sympy
+    from lcs_exact.algebra import submatrix
+    from lcs_exact.numbers.reals import as_real
+    from lcs_exact.numbers.vectors import as_exact_vector
+    a, b = as_real(sympy.sqrt(2)), as_real(sympy.sqrt(3))
+    x = as_exact_vector([a, a, b, 0, 1])
+    x.arb(128)  # the ball Murty reads
+    k, n = len(m), 5
+    Q = [data.draw(vector(n, -2, 2)) for _ in range(k)]
+    M, Qm = fmat(m), fmat(Q)
+    got = murty(M, Qm, x)
+    assert got == murty(M, Qm, _FormsOnly(x))
+    basis, U, Y = got
+    assert Y == Qm + M * U
+    u, y = U * x.arb(200), Y * x.arb(200)  # arb_mat products: balls of u and y
+    for i in range(k):
+        su, sy = x.sign_of_form(submatrix(U, [i], None)), x.sign_of_form(submatrix(Y, [i], None))
+        assert su >= 0 and sy >= 0 and su * sy == 0
+        assert (i in basis) or su == 0
+        assert not u[i, 0] < 0 and not y[i, 0] < 0
