@@ -329,7 +329,7 @@ class _Run:
                 return
             theta, cons = hit.theta, hit.constraints  # t + theta: in absolute time when the sources' clock proves it
             t_new = self.T if hit.at_horizon else self.clock.event_time(phase, t, theta) if self.clock else t + theta
-            z = phase.event_state(theta, vstack(*[c.g for c in cons]))
+            z = phase.event_state(theta, vstack(*[c.g for c in cons]), tuple(c.g for c in hit.positive))
             self.anchor(theta, z, prec)
             self.phases.append(PhaseRecord(t, t_new, mode.index_set, phase, self.undetermined))
             self.durations.append(theta)

@@ -11,7 +11,8 @@ on x (``zero_forms``: the annihilator of V_I along a phase, forms vanishing on t
 rational phase start, the constraint whose root ended the phase, all pulled back through
 projections); by homogeneity (x = c q with c > 0 certified and q structured: the sign of g q);
 then a ball that excludes 0 (the one computed already is looked at first: it settles most
-signs before any exact test), an exact zero test of the closed form (``prove_zero``: Calcium) and
+signs before any exact test), a positive multiple of a row known positive where the vector was
+made (``positive_forms``: an event state's constraints its root search proved > 0), an exact zero test of the closed form (``prove_zero``: Calcium) and
 refinement up to the policy's ceiling; otherwise an *unresolved zero*
 (:meth:`~lcs_exact.balls.Policy.unresolved`).
 """
@@ -52,6 +53,9 @@ class ExactVector(Node):
     """
 
     n: int
+    #: rows g proven g . x > 0 where x was made (an event state: constraints its phase's search
+    #: proved positive up to the event); a form that is a positive multiple of one is positive
+    positive_forms: tuple = ()
 
     def __init__(self, n: int, zero_forms: fmpq_mat | None = None, policy: Policy | None = None):
         super().__init__(policy)
@@ -169,6 +173,8 @@ class ExactVector(Node):
                 return s
         if self.zero_forms.nrows() and form in self.zero_span:
             return 0
+        if any(_positive_multiple(form, g) for g in self.positive_forms):
+            return 1
         s = self._structural_sign(form)
         if s is not None:
             return s
@@ -459,6 +465,15 @@ class ComponentsVector(ExactVector):
     def known_ca(self):
         cs = [c.known_ca() for c in self.comps]
         return None if any(c is None for c in cs) else cs
+
+
+def _positive_multiple(form: fmpq_mat, g: fmpq_mat) -> bool:
+    """form = c g with a rational c > 0 (exactly)."""
+    j = next((j for j in range(g.ncols()) if g[0, j] != 0), None)
+    if j is None:
+        return False
+    c = form[0, j] / g[0, j]
+    return c > 0 and form == g * c
 
 
 def ca_matvec(P: fmpq_mat, xs: list | None) -> list | None:

@@ -60,14 +60,15 @@ class _Toucher(_Finder):
     def __init__(self, phase: Phase, c: Constraint, clock: PhaseClock | None = None):
         super().__init__(phase, c)
         self.clock = clock
+        self.touched = False  # a touch was proven: f = 0 somewhere in the search, not f > 0
 
     def __call__(self, lo: fmpq, hi: fmpq, convex_lo: fmpq, convex_hi: fmpq):
         ph = self.phase
         if ph.policy.closed_forms == "off":
             return None
-        if prove_touch(ph.spectrum, self.c.g, ph.base, lo, hi, ph.policy.deadline):
-            return True
-        if self.clock is not None and self.clock.proves_touch(ph, self.c.g, lo, hi, convex_lo, convex_hi):
+        if prove_touch(ph.spectrum, self.c.g, ph.base, lo, hi, ph.policy.deadline) or (
+                self.clock is not None and self.clock.proves_touch(ph, self.c.g, lo, hi, convex_lo, convex_hi)):
+            self.touched = True
             return True
         return None
 
@@ -96,20 +97,30 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: 
     ``estimate``: a float guess of the crossing (:func:`~lcs_exact.guesses.float_crossing`).  The
     certified search covers (0, estimate] first and, only when it finds no crossing there, the
     rest of the horizon: a guess can cost time, never the result."""
+    return _search(phase, c, horizon, prec, estimate, clock)[0]
+
+
+def _search(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: float | None = None,
+            clock: PhaseClock | None = None) -> tuple:
+    """(:func:`first_root`'s answer, strict): ``strict`` True when the search proved f > 0 at
+    every point of (0, end] it passed, end the horizon (no root) or the root's bracket's lower end
+    (every verdict of the search is strict positivity, except a proven touch or a zero assumed
+    under ``allow_unresolved``, and an exact polynomial's roots, which are not looked at)."""
     sign, order = phase.start_order(c)
     if sign == 0:
-        return None  # f = 0 on the whole phase
+        return None, False  # f = 0 on the whole phase
     if sign < 0:
-        return IMMEDIATE
+        return IMMEDIATE, False
     fn = phase.function(c)
     exact = fn.exact_coefficients()
     if exact is not None:  # a polynomial phase from an exact start: its roots exactly
         hit = exact_first_crossing(exact, horizon, phase.policy)
         if hit is not None:
-            return hit.root
+            return hit.root, False
     a, prec = _start(phase, c, fn, order, horizon, prec)
+    strict = exact is None and not phase.policy.allow_unresolved
     if a >= horizon:
-        return None
+        return None, strict
     touch = _Toucher(phase, c, clock)
     br = None
     if estimate is not None:
@@ -125,9 +136,10 @@ def first_root(phase: Phase, c: Constraint, horizon: fmpq, prec: int, estimate: 
                 a = b1
     if br is None and a < horizon:
         br = first_crossing(fn, a, horizon, prec, touch=touch)
+    strict = strict and not touch.touched
     if br is None:
-        return None
-    return RootReal(fn, br, _Finder(phase, c))
+        return None, strict
+    return RootReal(fn, br, _Finder(phase, c)), strict
 
 
 def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int) -> tuple[fmpq, int]:
@@ -213,11 +225,15 @@ def _equal_closed(a: RootReal, b: RootReal) -> bool | None:
 
 class Hit(NamedTuple):
     """The next event of a phase: ``theta`` its time from the phase start, ``constraints`` those
-    reaching zero there, ``at_horizon`` True when theta is proven equal to the horizon H."""
+    reaching zero there, ``at_horizon`` True when theta is proven equal to the horizon H,
+    ``positive`` constraints proven > 0 at theta by their searches (strictly positive up to a
+    later root or the search's end: a gap 10^-200 wide at the event, which no ball of the event
+    state at the working precision shows, is known positive without refining the state)."""
 
     theta: Real
     constraints: list
     at_horizon: bool = False
+    positive: tuple = ()
 
 
 def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None) -> Hit | None:
@@ -235,16 +251,21 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
     hb = horizon_bound(H)
     phase.use_spectral(hb)
     found: list = []
+    strict: list = []  # constraints whose search proved them > 0 up to the first event (see Hit)
     limit = hb
     search = min(prec, SEARCH_PREC)
     for est, c in _by_estimate(phase, hb, search):
-        r = first_root(phase, c, limit, search, est, clock)
+        r, positive = _search(phase, c, limit, search, est, clock)
         if r is None:
+            if positive:  # > 0 on (0, limit], and the first event is before limit
+                strict.append(c)
             continue
         if r is IMMEDIATE:
             raise LCSError(f"internal inconsistency: {c.name} of the selected mode "
                            f"{format_mode(phase.mode.I)} is negative at the start of the phase")
         found.append((c, r))
+        if positive and r.simple:  # > 0 before its root (f decreases through it), later than the event's
+            strict.append(c)
         limit = min(limit, r.hi)
     if not found:
         return None
@@ -261,7 +282,7 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
             return None
     simultaneous = [first_c] + [c for c, r in found if r is not first and
                                 compare_roots(phase, r, c, first, first_c) == 0]
-    return Hit(first, simultaneous, at)
+    return Hit(first, simultaneous, at, tuple(c for c in strict if c not in simultaneous))
 
 
 def _before(first: Real, H: Real) -> bool:

@@ -362,15 +362,16 @@ class Phase:
             acc = term if acc is None else [((a * tc).compact() + b).compact() for a, b in zip(acc, term)]
         return algebraic_vector(acc, zero_forms, self.policy)
 
-    def event_state(self, theta: RootReal, zero_forms: fmpq_mat | None = None) -> ExactVector:
+    def event_state(self, theta: RootReal, zero_forms: fmpq_mat | None = None, positive: tuple = ()) -> ExactVector:
         """x(theta-) at the end of the phase (theta a root of a constraint of this phase), with
-        the phase's vanishing forms and ``zero_forms`` (the triggers) as known relations."""
+        the phase's vanishing forms and ``zero_forms`` (the triggers) as known relations, and the
+        rows ``positive`` (constraints the search proved > 0 at theta) as known signs."""
         zf = self.zero_forms
         if zero_forms is not None and zero_forms.nrows():
             zf = row_basis(zf, zero_forms) if zf.nrows() else row_basis(zero_forms)
         x = self._exact_state(theta, zf)
         if x is None:
-            x = EventState(self, theta, zf)
+            x = EventState(self, theta, zf, positive)
         return ScaledVector(self.scale, x, self.policy) if self.scale is not None else x
 
     def proportional(self, ga: fmpq_mat, gb: fmpq_mat) -> bool:
@@ -403,10 +404,11 @@ class EventState(ExpVector):
     (the wrapping effect); the centered form keeps their correlation, so a long run's anchors
     keep their accuracy.  The plain enclosure is intersected in (both are rigorous)."""
 
-    def __init__(self, phase: "Phase", theta: RootReal, zero_forms: fmpq_mat | None):
+    def __init__(self, phase: "Phase", theta: RootReal, zero_forms: fmpq_mat | None, positive: tuple = ()):
         super().__init__(phase.mode.spectrum, theta, phase.base, zero_forms, phase.policy, modal=phase.modal,
                          M=phase.M, propagate=phase.propagate if phase.taylor else None)
         self.g = theta.function.g
+        self.positive_forms = tuple(positive)
 
     def _compute(self, prec):
         plain = super()._compute(prec)
