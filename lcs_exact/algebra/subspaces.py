@@ -180,14 +180,21 @@ def projection(v: fmpq_mat, t: fmpq_mat) -> fmpq_mat:
     n = v.nrows()
     if v.ncols() + t.ncols() != n:
         raise ShapeError(f"V (dim {v.ncols()}) and T (dim {t.ncols()}) do not split Q^{n}")
-    s = hstack(v, t) if n else zeros(0, 0)
     if n == 0:
-        return s
-    if s.det() == 0:
-        raise ShapeError("V and T intersect: no projection onto V along T")
-    # coordinates of e_j in the basis [V T]: S^{-1}; keep the V block
-    coords = s.solve(identity(n))
-    return v * submatrix(coords, range(v.ncols()), None) if v.ncols() else zeros(n, n)
+        return zeros(0, 0)
+    # S^{-1} = [C_V; C_T] (the coordinates in the basis [V T]): P = V C_V = I - T C_T.  Only the
+    # rows of the smaller block are solved for (S^T Y = E, Y^T those rows): T_I has dimension
+    # |I| times the relative degree, so a 128-state mode solves for a few columns, not 128
+    d = v.ncols()
+    rows = range(d) if d <= n - d else range(d, n)
+    E = fmpq_mat(n, len(rows), [int(i == j) for i in range(n) for j in rows])
+    try:
+        C = vstack(v.transpose(), t.transpose()).solve(E).transpose()  # S^T = [V^T; T^T]
+    except ZeroDivisionError:
+        raise ShapeError("V and T intersect: no projection onto V along T") from None
+    if d <= n - d:
+        return v * C if d else zeros(n, n)
+    return identity(n) - t * C
 
 
 
