@@ -23,12 +23,10 @@ def rref(m: fmpq_mat) -> tuple[fmpq_mat, list[int]]:
     if m.nrows() == 0 or m.ncols() == 0:
         return m, []
     r, rk = m.rref()
-    c = m.ncols()
-    e = r.entries()[:rk * c] if rk else []  # the nonzero rows, read once
     pivots = []
     j = 0
-    for i in range(rk):  # pivot columns increase with the row: scan on from the last
-        while e[i * c + j] == 0:
+    for i in range(rk):  # pivot columns increase with the row: scan on from the last one
+        while r[i, j] == 0:
             j += 1
         pivots.append(j)
     return r, pivots
