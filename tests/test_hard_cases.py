@@ -341,3 +341,45 @@ def test_the_signs_event_states_know_are_positive_on_a_chain():
             assert v > 0
             known += 1
     assert len(tr.events) == 12 and known >= 60
+
+
+def test_a_near_graze_beside_a_chain_is_proven_in_the_dimension_of_its_block():
+    """A unit oscillator with a stop at 1 - 10^-60 (y = 1 - 10^-60 - sin t from q = 0, v = -1)
+    beside fifteen uncoupled carts (n = 33): the touch test near pi/2 runs on the 3 states the
+    constraint sees (its left Krylov space), not on 33 (minutes in Calcium, past time_limit,
+    before).  The impact is at asin(1 - 10^-60) = pi/2 - 1.41e-30, written out here."""
+    from fractions import Fraction
+    from lcs_exact.builders.mechanics import mechanical
+    from lcs_exact.numbers.closedforms import observed
+    graze = mechanical([[1]], [[1]], [[1]], gap=[1 - fmpq(1, 10 ** 60)])
+    chain = L.examples.cart_chain(15)
+    blocks = [(graze, 0, 0), (chain, graze.n, graze.B.ncols())]
+    n, k = graze.n + chain.n, graze.B.ncols() + chain.B.ncols()
+    A, B, C, D = fmpq_mat(n, n), fmpq_mat(n, k), fmpq_mat(k, n), fmpq_mat(k, k)
+    for s, r, c in blocks:
+        for i in range(s.n):
+            for j in range(s.n):
+                A[r + i, r + j] = s.A[i, j]
+            for j in range(s.B.ncols()):
+                B[r + i, c + j] = s.B[i, j]
+        for i in range(s.B.ncols()):
+            for j in range(s.n):
+                C[c + i, r + j] = s.C[i, j]
+    lcs = L.LCS(A, B, C, D)
+    x0 = [0, -1, 1] + [Fraction(1 + i, 5) for i in range(15)] + [0] * 15
+    tr = L.simulate(lcs, x0, 2, time_limit=60)
+    assert tr.certified and len(tr.events) == 1
+    with mp.workdps(80):
+        want = mp.asin(1 - mp.mpf(10) ** -60)
+        assert abs(mp.mpf(tr.events[0].time.ball(50).mid().str(60, radius=False)) - want) < mp.mpf(10) ** -48
+    # the reduction itself: y_0 sees 3 of the 33 states, with the same function
+    sp = L.numbers.spectrum_of(A)
+    g = fmpq_mat(1, n, [C[0, j] for j in range(n)])
+    x = L.numbers.vectors.as_exact_vector(x0)
+    spr, e1, w = observed(sp, g, x)
+    assert spr.n == 3 and e1 == fmpq_mat([[1, 0, 0]])
+    from flint import arb, arb_mat, ctx
+    with ctx.workprec(128):
+        full = (arb_mat(g) * sp.apply(arb(fmpq(3, 7)), x.arb(128), 128))[0, 0]
+        small = (arb_mat(e1) * spr.apply(arb(fmpq(3, 7)), w.arb(128), 128))[0, 0]
+    assert full.overlaps(small) and full.rad() < 1e-30

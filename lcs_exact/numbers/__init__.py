@@ -2,7 +2,7 @@
 through ctypes (``flintlib``, ``calcium``), balls with derivatives (``duals``), light closed
 forms (``forms``), algebraic numbers pickled and in radicals (``algebraics``), e^{At}
 (``expm``, symbolically ``laplace``; on Taylor steps, ``taylorsteps``), exact reals and vectors (``nodes``, ``reals``, ``relations``, ``vectors``, ``expvectors``),
-closed-form candidates and their proofs (``closedforms``) and Taylor models (``taylormodels``).
+closed-form candidates and their proofs (``closedforms``, symbolic candidates ``rootforms``) and Taylor models (``taylormodels``).
 Imports ``algebra``.
 
 This is the subpackage's door: other subpackages and users import what ``__all__`` names,
