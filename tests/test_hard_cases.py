@@ -383,3 +383,20 @@ def test_a_near_graze_beside_a_chain_is_proven_in_the_dimension_of_its_block():
         full = (arb_mat(g) * sp.apply(arb(fmpq(3, 7)), x.arb(128), 128))[0, 0]
         small = (arb_mat(e1) * spr.apply(arb(fmpq(3, 7)), w.arb(128), 128))[0, 0]
     assert full.overlaps(small) and full.rad() < 1e-30
+
+
+def test_a_crossing_through_a_triple_root_at_an_exact_time_is_proven():
+    """Free pair (k = 1), stop q1 >= 0, from e^{-A}(0, 0, 0, -1): at t = 1 the state is (0, 0, 0, -1),
+    so q1 = q1' = q1'' (= -q1 + q2) = 0 and q1''' = -q1' + q2' = -1 < 0: q1 crosses through a triple
+    root.  Its bracket is not simple; t = 1 is proven its only zero there (f, f', f'' vanish at 1,
+    f''' < 0 on the bracket), so the state there is exact and the mode {0} is selected without a
+    jump.  Then q1 = 0, q2 = -sin(t - 1), u = sin(t - 1) >= 0 up to t = 2."""
+    tr = L.simulate(free_pair(1), L.expm_action(free_pair(1).A, -1, [0, 0, 0, -1]), 2)
+    assert tr.certified and len(tr.events) == 1
+    (e,) = tr.events
+    assert str(e.time.closed_form) == "1" and e.triggers == ("y_0",)
+    assert e.modes == () and e.mode_after == frozenset({0})
+    assert [num(c) for c in e.state_after] == [0, 0, 0, -1]
+    x2 = [num(c) for c in tr.state(2)]
+    assert x2[0] == 0 and x2[2] == 0
+    assert close(x2[1], -mp.sin(1)) and close(x2[3], -mp.cos(1))

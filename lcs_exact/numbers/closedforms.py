@@ -345,8 +345,9 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
 
     Candidates near the root (:func:`candidates`, also shifted along the orbit of the start, then
     :func:`symbolic_candidates`) are tried in turn; the first that lies in the root's bracket with
-    f proven zero there (:func:`prove_zero_at`) is the answer.  A bracket that may hold several
-    roots (``root.simple`` false) gives None.
+    f proven zero there (:func:`prove_zero_at`) is the answer.  In a bracket that may hold several
+    roots (``root.simple`` false: a multiple root) a candidate must also be its only zero
+    (:func:`_only_zero`).
 
     Parameters
     ----------
@@ -362,11 +363,14 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
         The run's ``time_limit`` (:class:`~lcs_exact.balls.Deadline`), looked at during the SymPy steps.
     """
     b = root.arb(200)
+    lo, hi = root.interval()
     if not root.simple:
         # a bracket that may hold several roots (a multiple root, a cluster): a zero of f inside
-        # it need not be the first crossing, so no candidate can be accepted
+        # it is the crossing only when it is the bracket's one zero
+        for cand in _shifted_candidates(b, spectrum, v):
+            if _inside(cand, lo, hi) and _only_zero(root, spectrum, g, v, cand, deadline):
+                return cand, cand.to_ca()
         return None
-    lo, hi = root.interval()
     for cand in _shifted_candidates(b, spectrum, v):
         if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
             return cand, cand.to_ca()
@@ -374,6 +378,21 @@ def prove_root(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, deadline=None
         if _inside(cand, lo, hi) and prove_zero_at(spectrum, g, v, cand, deadline=deadline) is True:
             return cand, cand.to_ca()
     return None
+
+
+def _only_zero(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadline) -> bool:
+    """cand is the only zero of f in the root's bracket [lo, hi]: f^{(j)}(cand) = 0 proven for
+    j < m and the enclosure of f^{(m)} over [lo, hi] excludes 0.  By Rolle f then has at most m
+    zeros in [lo, hi] counted with multiplicity, and cand has m: the crossing (a zero, f(lo) > 0 >
+    f(hi)) is cand.  A crossing through a triple root at t = 1 from e^{-A} w is proven so."""
+    lo, hi = root.interval()
+    f = root.function.at(max(200, root.anchor_prec))
+    for m in range(min(spectrum.n, 16) + 1):
+        if m and not f.sign_enclose(lo, hi, m).contains(0):
+            return True
+        if prove_zero_at(spectrum, g, v, cand, derivative=m, deadline=deadline) is not True:
+            return False
+    return False
 
 
 def symbolic_candidates(spectrum: Spectrum, g: fmpq_mat, v: Any, b: arb, deadline=None,
