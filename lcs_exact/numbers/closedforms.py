@@ -35,7 +35,7 @@ from ..algebra import matrix_to_sympy
 from .algebraics import radical_form
 from .vectors import ProjectedVector, RationalVector
 from .expvectors import orbit_start
-from ..algebra import in_row_span, rank, solve_any, vstack
+from ..algebra import in_row_span, rank, row_basis, solve_any, vstack
 
 __all__ = ["candidates", "observed", "prove_root", "prove_root_is", "prove_zero_at", "function_closed_form", "prove_touch",
            "exp_candidates", "solve_candidates", "harmonic_candidates", "symbolic_candidates"]
@@ -132,13 +132,13 @@ def _inside(cand, lo: fmpq, hi: fmpq) -> bool:
 
 
 def observed(spectrum: Spectrum, g: fmpq_mat, v: Any) -> tuple[Spectrum, fmpq_mat, Any]:
-    """f(t) = g e^{Mt} v on the left Krylov space of g: (spectrum of M', e_1, O v) with
-    f(t) = e_1 e^{M't} (O v) and f^{(d)} = e_1 M'^d e^{M't} (O v).
+    """f(t) = g e^{Mt} v on the left Krylov space of g: (spectrum of M', c, O v) with
+    f(t) = c e^{M't} (O v) and f^{(d)} = c M'^d e^{M't} (O v).
 
-    O has the rows g, gM, ..., gM^{d-1} (d the first power where g M^d depends on them, d <= n) and
-    O M = M' O with M' the companion matrix of that dependency.  A proof about f then works in d
-    dimensions: a stop on one block of a 33-state scene evaluates e^{M t*} of that block in
-    Calcium, not of all 33 states (minutes).  (spectrum, g, v) itself when d = n.
+    The rows of O are the canonical basis of span{g, gM, gM^2, ...} (dimension d <= n), O M = M' O
+    and g = c O.  A proof about f then works in d dimensions: a stop on one block of a 33-state
+    scene evaluates e^{M t*} of that block in Calcium, not of all 33 states (minutes).
+    (spectrum, g, v) itself unless d <= n/2 (the reduction would save little).
 
     Parameters
     ----------
@@ -152,33 +152,27 @@ def observed(spectrum: Spectrum, g: fmpq_mat, v: Any) -> tuple[Spectrum, fmpq_ma
     cache = spectrum.__dict__.setdefault("_observed", {})
     key = tuple(g.entries())
     if key not in cache:
-        cache[key] = _krylov_rows(spectrum.M, g)
-    O, Mr = cache[key]
+        cache[key] = _krylov_basis(spectrum.M, g)
+    O, Mr, c = cache[key]
     if O is None:
         return spectrum, g, v
-    d = O.nrows()
     q = v.known_rational()
     w = RationalVector(O * q, v.policy) if q is not None else ProjectedVector(O, v)
-    return spectrum_of(Mr), fmpq_mat(1, d, [1] + [0] * (d - 1)), w
+    return spectrum_of(Mr), c, w
 
 
-def _krylov_rows(M: fmpq_mat, g: fmpq_mat) -> tuple:
-    """(O, M') of :func:`observed`, or (None, None) when g's Krylov space is all of Q^n."""
+def _krylov_basis(M: fmpq_mat, g: fmpq_mat) -> tuple:
+    """(O, M', c) of :func:`observed`, or (None, None, None) when d > n/2."""
     n = M.ncols()
     rows = [g]
-    for _ in range(n):
+    for _ in range(n // 2):  # g M^j, j <= n/2: the space has dimension <= n/2 iff they are dependent
         rows.append(rows[-1] * M)
-    d = rank(vstack(*rows))
-    if d == n:
-        return None, None
-    O = vstack(*rows[:d])
-    c = solve_any(O.transpose(), rows[d].transpose())  # g M^d = c O
-    Mr = fmpq_mat(d, d)
-    for i in range(d - 1):
-        Mr[i, i + 1] = 1
-    for j in range(d):
-        Mr[d - 1, j] = c[j, 0]
-    return O, Mr
+    if rank(vstack(*rows)) == len(rows):
+        return None, None, None
+    O = row_basis(*rows)
+    Mr = solve_any(O.transpose(), (O * M).transpose()).transpose()  # O M = M' O
+    c = solve_any(O.transpose(), g.transpose()).transpose()  # g = c O
+    return O, Mr, c
 
 
 def prove_zero_at(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, *, derivative: int = 0,
