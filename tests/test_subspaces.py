@@ -278,6 +278,10 @@ def test_projection_errors():
         projection(fm([[1], [0], [0]]), fm([[0], [1], [0]]))           # dims 1 + 1 != 3
     with pytest.raises(ShapeError):
         projection(fm([[1], [0]]), fm([[2], [0]]))                     # V = T: they intersect
+    with pytest.raises(ShapeError):  # a "basis" of Q^2 with a dependency, T = 0: no solve sees it
+        projection(fm([[1, 2], [1, 2]]), fmpq_mat(2, 0))
+    with pytest.raises(ShapeError):
+        projection(fmpq_mat(2, 0), fm([[1, 2], [1, 2]]))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -186,8 +186,11 @@ def projection(v: fmpq_mat, t: fmpq_mat) -> fmpq_mat:
     d = v.ncols()
     rows = range(d) if d <= n - d else range(d, n)
     E = fmpq_mat(n, len(rows), [int(i == j) for i in range(n) for j in rows])
+    St = vstack(v.transpose(), t.transpose())  # S^T = [V^T; T^T]
     try:
-        C = vstack(v.transpose(), t.transpose()).solve(E).transpose()  # S^T = [V^T; T^T]
+        if not rows and St.rank() < n:  # V or T is all of Q^n: no solve to find a dependency
+            raise ZeroDivisionError
+        C = St.solve(E).transpose()
     except ZeroDivisionError:
         raise ShapeError("V and T intersect: no projection onto V along T") from None
     if d <= n - d:
