@@ -400,3 +400,46 @@ def test_a_crossing_through_a_triple_root_at_an_exact_time_is_proven():
     x2 = [num(c) for c in tr.state(2)]
     assert x2[0] == 0 and x2[2] == 0
     assert close(x2[1], -mp.sin(1)) and close(x2[3], -mp.cos(1))
+
+
+def _side_by_side(*systems):
+    """The uncoupled system of several LCSs (block-diagonal A, B, C, D)."""
+    n, k = sum(s.n for s in systems), sum(s.B.ncols() for s in systems)
+    A, B, C, D = fmpq_mat(n, n), fmpq_mat(n, k), fmpq_mat(k, n), fmpq_mat(k, k)
+    r = c = 0
+    for s in systems:
+        m = s.B.ncols()
+        for i in range(s.n):
+            for j in range(s.n):
+                A[r + i, r + j] = s.A[i, j]
+            for j in range(m):
+                B[r + i, c + j] = s.B[i, j]
+        for i in range(m):
+            for j in range(s.n):
+                C[c + i, r + j] = s.C[i, j]
+            for j in range(m):
+                D[c + i, c + j] = s.D[i, j]
+        r, c = r + s.n, c + m
+    return L.LCS(A, B, C, D)
+
+
+def test_two_bridges_switch_together_at_a_closed_form_of_absolute_time():
+    """Full-wave bridges driven by sin t and sin(4t/3), side by side (n = 6): each alone switches at
+    t = 3 pi/4 (the second where sin(4t/3) = 0), after events at times without closed forms.  Side by
+    side the two roots are proven one instant through the sources' clock (3 pi/4 in absolute time
+    for both; no ball can order them): one event with both bridges' triggers, and every other
+    event of the pair is an event of one bridge alone, at the same time."""
+    from fractions import Fraction
+    rs = [L.examples.sine_rectifier(omega=Fraction(k, 3), full_wave=True) for k in (3, 4)]
+    x0s = [list(s.embed([Fraction(k + 1, 9)])) for k, s in enumerate(rs)]
+    tr = L.simulate(_side_by_side(*rs), sum(x0s, []), 8)
+    assert tr.certified
+    alone = [[e.time.ball(25) for e in L.simulate(s, x0, 8).events] for s, x0 in zip(rs, x0s)]
+    both = [e.time.ball(25) for e in tr.events]
+    assert len(both) == len(alone[0]) + len(alone[1]) - 1  # one instant shared
+    for t in alone[0] + alone[1]:
+        assert sum(b.overlaps(t) for b in both) == 1
+    (shared,) = [e for e in tr.events if all(any(e.time.ball(25).overlaps(t) for t in a) for a in alone)]
+    assert str(shared.time.closed_form) == "3*pi/4"
+    assert set(shared.triggers) == {"u_3", "y_0", "y_5"}  # bridge 0's u_3, y_0 and bridge 1's y_1 (y_5 here)
+    assert abs(mp.sin(mp.mpf(4) / 3 * 3 * mp.pi / 4)) < mp.mpf(10) ** -40

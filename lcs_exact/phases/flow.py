@@ -178,9 +178,13 @@ def horizon_bound(H: Real) -> fmpq:
         return dyadic_upper(b + abs(b) * arb(2) ** -40)
 
 
-def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Constraint) -> int:
+def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Constraint,
+                  clock: PhaseClock | None = None) -> int:
     """Certified order of two roots of the same phase: -1, 0 (equal: proven, or assumed under
-    ``allow_unresolved``), +1."""
+    ``allow_unresolved``), +1.  Equality is proven by closed forms of the roots, or through the
+    sources' ``clock`` by one closed form of absolute time for both (two rectifiers driven by
+    sin t and sin 4t/3 switch together at t = 3 pi, after phases that start at times without a
+    closed form)."""
     if phase.proportional(ca.g, cb.g):
         return 0
     xa, xb = a.known_ca(), b.known_ca()
@@ -208,10 +212,30 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
                     d = _equal_closed(a, b)
                     if d is True:
                         return 0
+                if clock is not None and _same_absolute_time(phase, clock, a, b):
+                    return 0
         if prec >= policy.max_prec:
             return policy.unresolved(f"the order of the roots of {ca.name} and {cb.name} "
                                      "(simultaneous events?)")
         prec = min(2 * prec, policy.max_prec)
+
+
+def _same_absolute_time(phase: Phase, clock: PhaseClock, a: RootReal, b: RootReal) -> bool:
+    """t_s + a and t_s + b are proven one closed form of absolute time (each root a source's
+    zero, :meth:`~lcs_exact.clock.SourceClock.proven_time`)."""
+    times = []
+    for r in (a, b):
+        with workprec(200):
+            ball = clock.t_s.arb(200) + r.arb(200)
+        t = clock.clock.proven_time(phase, clock.t_s, r, ball)
+        if t is None:
+            return False
+        times.append(t)
+    ta, tb = times
+    if ta == tb:
+        return True
+    xa, xb = ta.to_ca(), tb.to_ca()
+    return xa is not None and xb is not None and (xa - xb).is_zero() is True
 
 
 def _equal_closed(a: RootReal, b: RootReal) -> bool | None:
@@ -271,7 +295,7 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
         return None
     first_c, first = found[0]
     for c, r in found[1:]:
-        if compare_roots(phase, r, c, first, first_c) < 0:
+        if compare_roots(phase, r, c, first, first_c, clock) < 0:
             first_c, first = c, r
     if phase.policy.closed_forms == "eager":
         first.closed
@@ -281,7 +305,7 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
         if not at and (first - H).sign() > 0:
             return None
     simultaneous = [first_c] + [c for c, r in found if r is not first and
-                                compare_roots(phase, r, c, first, first_c) == 0]
+                                compare_roots(phase, r, c, first, first_c, clock) == 0]
     return Hit(first, simultaneous, at, tuple(c for c in strict if c not in simultaneous))
 
 
