@@ -197,3 +197,27 @@ def test_a_guess_on_an_event_at_a_rational_time_does_not_end_a_window(monkeypatc
     lcs = two_carts()
     tr = simulate(lcs, expm_action(lcs.A, -1, [0, -1, -1, 0]), 3, digits=30)
     assert [e.time.closed_form for e in tr.events] == [1, 1 + sp.pi / 2]
+
+
+def test_event_states_on_taylor_steps_take_the_centered_form_in_a_run_that_lost_accuracy(monkeypatch):
+    """Once a run has lost CENTERED_AFTER_LOST bits, its event states on Taylor steps are computed
+    in the centered form (set to -1 here: from the first event): eight carts on Taylor steps to
+    t = 60 give the spectral path's events (times to 35 digits, modes) and x(60), as plain balls do."""
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 16)
+    runs = {}
+    for centered in (-1, 10 ** 9):
+        monkeypatch.setattr(phase_module, "CENTERED_AFTER_LOST", centered)
+        lcs, x0 = _chain_runs(8)
+        runs[centered] = simulate(lcs, x0, 60, digits=30)
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 10 ** 9)
+    lcs, x0 = _chain_runs(8)
+    spectral = simulate(lcs, x0, 60, digits=30)
+    first = runs[-1].events[0].state_before
+    assert runs[-1].phases[0].phase.taylor and first.centered and not runs[10 ** 9].events[0].state_before.centered
+    for tr in runs.values():
+        assert tr.certified and len(tr.events) == len(spectral.events) >= 20
+        for a, b in zip(tr.events, spectral.events):
+            assert (a.mode_before, a.modes, a.mode_after) == (b.mode_before, b.modes, b.mode_after)
+            assert a.time.decimal(35).split(" ")[0] == b.time.decimal(35).split(" ")[0]
+        for a, b in zip(tr.state(60).ball(30), spectral.state(60).ball(30)):
+            assert a.overlaps(b)

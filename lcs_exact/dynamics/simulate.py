@@ -296,7 +296,7 @@ class _Run:
                     self.stop_at_cascade(None)
             policy.check_deadline(lambda: f" at t = {t.label()}")
             prec = self.event_prec()
-            phase = Phase(mode, homogenized(z), policy)
+            phase = Phase(mode, homogenized(z), policy, self.lost)
             stop = self.stop()  # t_end, or the schedule's next switch before it
             H = stop - t
             if H.sign() == 0:

@@ -50,6 +50,10 @@ TAYLOR_MAX_BITS = 1024
 #: the most units of ||A_I|| t a phase's search steps over (4 units a step; 128 steps cost about
 #: what the spectral data of a mode of n = 128 cost: a longer quiet horizon takes that path)
 TAYLOR_MAX_SPAN = 4 * 128
+#: bits of accuracy a run may lose before its event states on Taylor steps take the centered form
+#: (from the mode's spectral data): plain balls lose ~2.2 bits an event against ~1.2, which a long
+#: run pays in re-anchoring at a growing precision; a short run does not pay for the spectral data
+CENTERED_AFTER_LOST = 64
 
 
 @dataclass(frozen=True)
@@ -121,8 +125,10 @@ class PhaseFunction:
 class Phase:
     """The continuous phase in mode I from the consistent state z (x(t) = e^{A_I t} z)."""
 
-    def __init__(self, mode, z: ExactVector, policy: Policy):
+    def __init__(self, mode, z: ExactVector, policy: Policy, lost: int = 0):
         self.mode = mode
+        # event states on Taylor steps in the centered form once the run lost that many bits
+        self.centered = lost > CENTERED_AFTER_LOST
         self.lcs = mode.lcs
         self.policy = policy
         self.M = mode.closed_loop()
@@ -409,13 +415,15 @@ class EventState(ExpVector):
                          M=phase.M, propagate=phase.propagate if phase.taylor else None)
         self.g = theta.function.g
         self.positive_forms = tuple(positive)
+        self.centered = not phase.taylor or phase.centered
 
     def _compute(self, prec):
         plain = super()._compute(prec)
-        if self._propagate is not None:
-            # Taylor steps: plain balls.  The centered form needs e^{A_I Theta} (FLINT's matrix
-            # exponential: 20 ms at n = 64, 120 ms at n = 128) and cost more than it saved: 4.9 s
-            # against 3.6 s on 191 events of twelve carts, N = 32 and 64 10-20 % slower
+        if not self.centered:
+            # Taylor steps in a run that has kept its accuracy: plain balls.  The centered form
+            # needs the mode's spectral data (or FLINT's arb_mat.exp: 20 ms at n = 64, 120 ms at
+            # n = 128) and cost more than it saved on the chains: 4.9 s against 3.6 s on 191 events
+            # of twelve carts, N = 32 and 64 10-20 % slower (CENTERED_AFTER_LOST)
             return plain
         Z = self.v.arb(prec)
         n = self.n
