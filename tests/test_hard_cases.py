@@ -280,6 +280,10 @@ def test_relations_among_the_components_of_a_start_are_zero_forms():
     assert w.zero_forms == fmpq_mat([[1, fmpq(-1, 3)]])  # the canonical row basis of 3 w_0 - w_1
     assert component_relations([w[0], w[1]]) == fmpq_mat([[1, fmpq(-1, 3)]])
     assert component_relations([a, b]).nrows() == 0
+    # e^{-A} v built twice is one definition: its components relate across the two copies
+    y = L.expm_action(carts.A, -1, [0, -1, -1, 0])
+    assert component_relations([x[1], y[1], x[3], y[3]]) == fmpq_mat([[1, -1, 0, 0], [0, 0, 1, -1]])
+    assert component_relations([x[1], L.expm_action(carts.A, -2, [0, -1, -1, 0])[1]]).nrows() == 0
 
 
 @pytest.mark.parametrize("m", [2, 8])

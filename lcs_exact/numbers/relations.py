@@ -25,7 +25,8 @@ def component_relations(comps: list[Real]) -> fmpq_mat:
     (v, i) however often it was taken, and the zero forms of such a v relate its components
     (rho . (v_0, ..., v_{n-1}) = 0).  w vanishes on c when w . const = 0 and w Q lies in the span of
     those relations: the left kernel of [[Q, const], [R, 0]], restricted to w.  A start x0 given as
-    copies of one exact state (a system of identical blocks) gets the relations x_i = x_j, and a
+    copies of one exact state (a system of identical blocks; the state built once, or twice as
+    e^{M t} q with the same rational M, t, q) gets the relations x_i = x_j, and a
     phase from it their invariant part, so that the copies' simultaneous events are proven equal
     (:meth:`~lcs_exact.phases.phase.Phase.proportional`) instead of refused.
 
@@ -36,15 +37,16 @@ def component_relations(comps: list[Real]) -> fmpq_mat:
     """
     n = len(comps)
     keys: dict = {}  # base key -> column (1 + k)
-    vectors: dict = {}  # id(v) -> v, for the components of one exact vector
+    vectors: dict = {}  # definition of v -> v, for the components of one exact vector
     rows = []
     for c in comps:
         const, terms = linear_terms(c)
         row = {0: const}
         for q, r in terms:
             if isinstance(r, ComponentReal):
-                key = ("component", id(r.vec), r.i)
-                vectors[id(r.vec)] = r.vec
+                vid = _definition(r.vec)
+                key = ("component", vid, r.i)
+                vectors[vid] = r.vec
             else:
                 key = ("real", id(r))
             col = keys.setdefault(key, 1 + len(keys))
@@ -65,3 +67,14 @@ def component_relations(comps: list[Real]) -> fmpq_mat:
     L = left_kernel(m)
     W = fmpq_mat(L.nrows(), n, [L[a, j] for a in range(L.nrows()) for j in range(n)])
     return row_basis(W) if W.nrows() else W
+
+
+def _definition(vec) -> tuple:
+    """A key equal for two vectors with one exact definition e^{M t} q (M, t and q rational: two
+    calls of ``expm_action`` with the same arguments), else the vector's identity."""
+    M, t, v = getattr(vec, "M", None), getattr(vec, "t", None), getattr(vec, "v", None)
+    if isinstance(M, fmpq_mat) and t is not None and v is not None:
+        tq, q = t.known_rational(), v.known_rational()
+        if tq is not None and q is not None:
+            return ("exp", M.nrows(), tuple(M.entries()), tq, tuple(q.entries()))
+    return ("id", id(vec))
