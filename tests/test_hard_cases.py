@@ -447,3 +447,25 @@ def test_two_bridges_switch_together_at_a_closed_form_of_absolute_time():
     assert str(shared.time.closed_form) == "3*pi/4"
     assert set(shared.triggers) == {"u_3", "y_0", "y_5"}  # bridge 0's u_3, y_0 and bridge 1's y_1 (y_5 here)
     assert abs(mp.sin(mp.mpf(4) / 3 * 3 * mp.pi / 4)) < mp.mpf(10) ** -40
+
+
+@pytest.mark.parametrize("k", [4, 6])
+def test_a_touch_of_even_order_four_or_six_is_no_event(k):
+    """An integrator chain q^(k+1) = d feeding from a rotation d' = -s, s' = d that is not excited
+    (d = s = 0): from q^(i)(0) = (-1)^i k!/(k-i)! the stop's function is y = (1 - t)^k exactly,
+    which touches 0 at t = 1 without crossing for k even.  There f'' = k(k-1)(1 - t)^(k-2) vanishes
+    too (no convexity to show): the touch is proven of order k at the closed form 1 (f^(j)(1) = 0,
+    j < k, f^(k) = k! > 0), so there is no event, and x(2) = (1, -k(-1)^(k-1), ...) by the formula."""
+    from math import comb, factorial
+    m, n = k + 1, k + 3
+    A = [[0] * n for _ in range(n)]
+    for i in range(m - 1):
+        A[i][i + 1] = 1
+    A[m - 1][m], A[m][m + 1], A[m + 1][m] = 1, -1, 1
+    lcs = L.LCS(A, [[int(i == 1)] for i in range(n)], [[int(j == 0) for j in range(n)]], [[0]])
+    x0 = [comb(k, i) * (-1) ** i * factorial(i) for i in range(m)] + [0, 0]
+    tr = L.simulate(lcs, x0, 2)
+    assert tr.certified and len(tr.events) == 0
+    x2 = [num(c) for c in tr.state(2)]
+    want = [factorial(k) // factorial(k - i) * (-1) ** i * (1 - 2) ** (k - i) for i in range(m)]  # d^i/dt^i (1-t)^k at 2
+    assert all(close(a, b) for a, b in zip(x2, want + [0, 0]))

@@ -22,7 +22,7 @@ from .reals import AlgebraicReal, as_real, RationalReal, Real
 from .vectors import (algebraic_vector, as_exact_vector, as_state, ca_matvec, ComponentsVector, ExactVector,
                       homogenized, ProjectedVector, RationalVector, ScaledVector)
 from .expvectors import expm_action, ExpVector, orbit_start
-from .closedforms import (candidates, prove_root, prove_root_is, prove_touch, prove_zero_at,
+from .closedforms import (candidates, prove_flat_touch, prove_root, prove_root_is, prove_touch, prove_zero_at,
                           symbolic_candidates)
 from .taylormodels import (Box, interval, ipow, Model, NoProof, positive_on, series_root, shift, Space, terms,
                            truncate, WorkBudget)
@@ -34,5 +34,5 @@ __all__ = ["ACCURACY_HEADROOM", "DEFAULT_POLICY", "MAX_DIGITS", "accuracy_bits",
            "RationalReal", "Real", "algebraic_vector", "as_exact_vector", "as_state", "ca_matvec",
            "ComponentsVector", "ExactVector", "expm_action", "ExpVector", "homogenized", "orbit_start",
            "ProjectedVector", "RationalVector", "ScaledVector", "candidates", "prove_root", "prove_root_is",
-           "prove_touch", "prove_zero_at", "symbolic_candidates", "Box", "interval", "ipow", "Model",
+           "prove_flat_touch", "prove_touch", "prove_zero_at", "symbolic_candidates", "Box", "interval", "ipow", "Model",
            "NoProof", "positive_on", "series_root", "shift", "Space", "terms", "truncate", "WorkBudget"]

@@ -37,7 +37,7 @@ from .vectors import ProjectedVector, RationalVector
 from .expvectors import orbit_start
 from ..algebra import in_row_span, rank, row_basis, solve_any, vstack
 
-__all__ = ["candidates", "observed", "prove_root", "prove_root_is", "prove_zero_at", "function_closed_form", "prove_touch",
+__all__ = ["candidates", "observed", "prove_root", "prove_root_is", "prove_zero_at", "function_closed_form", "prove_touch", "prove_flat_touch",
            "exp_candidates", "solve_candidates", "harmonic_candidates", "symbolic_candidates"]
 
 _MAX_SIMPLIFY_OPS = 400
@@ -92,8 +92,9 @@ def candidates(theta: arb, M: fmpq_mat, factors: list | None = None) -> list[Clo
                 if f > 0:
                     out.append(Closed.pi_over_sqrt(w2) * fmpq(f.numerator, f.denominator))
         for lam in lambdas:
-            if lam != 0:
-                v = mp.exp(mpf(int(lam.p)) / int(lam.q) * x)
+            rate = mpf(int(lam.p)) / int(lam.q) * x
+            if lam != 0 and abs(rate) <= 700:  # e^{lam t} a small-height rational: |lam t| < 700
+                v = mp.exp(rate)
                 for f in approx(v):
                     # log(f) / lam >= 0: f > 1 with lam > 0, or f < 1 with lam < 0
                     if f > 0 and f != 1 and (f > 1) == (lam > 0):
@@ -462,6 +463,41 @@ def _representable(exprs):
             yield Closed.of_sympy(expr)
         except InvalidArgument:
             continue
+
+
+def prove_flat_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, f: Any, lo: fmpq, hi: fmpq, deadline=None) -> bool:
+    """f >= 0 on [lo, hi], touching 0 only at a closed form t* there: f^{(j)}(t*) = 0 for j < m
+    proven and f^{(m)} > 0 on all of [lo, hi] with m even (Taylor: f(t) = f^{(m)}(xi) (t - t*)^m / m!).
+    The touch of (1 - t)^4, where f'' = 12 (1 - t)^2 vanishes too and no convexity is ever shown.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        The spectral data of the phase's matrix M (A_I of its mode).
+    g : fmpq_mat
+        1 x n row: f(t) = g e^{Mt} v.
+    v : ExactVector
+        The phase's start state.
+    f : ExpSum or TaylorSum
+        The balls of f and its derivatives (``sign_enclose(lo, hi, d)``).
+    lo, hi : fmpq
+        The interval.
+    deadline : Deadline, optional
+        The run's ``time_limit``.
+    """
+    if not (f.sign_enclose(lo, hi, 1).contains(0) and f.sign_enclose(lo, hi, 2).contains(0)):
+        return False  # f monotone, or convex/concave there: not a flat touch (the other provers' case)
+    with workprec(128):
+        mid = arb(lo).union(arb(hi))
+    for cand in _shifted_candidates(mid, spectrum, v):
+        if not _inside(cand, lo, hi):
+            continue
+        for m in range(min(spectrum.n, 16) + 1):
+            if m >= 2 and m % 2 == 0 and f.sign_enclose(lo, hi, m) > 0:
+                return True
+            if prove_zero_at(spectrum, g, v, cand, derivative=m, deadline=deadline) is not True:
+                break
+    return False
 
 
 def prove_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, lo: fmpq, hi: fmpq, deadline=None) -> bool | None:

@@ -19,7 +19,7 @@ from flint import arb, fmpq
 
 from ..numbers import Deadline, Policy, ball_sign, dyadic_lower, dyadic_upper, workprec
 from .clock import PhaseClock
-from ..numbers import prove_root, prove_root_is, prove_touch
+from ..numbers import prove_flat_touch, prove_root, prove_root_is, prove_touch
 from ..numbers import sympy_proves_zero
 from ..errors import LCSError, UnresolvedSign
 from ..interfaces import SystemLike
@@ -71,6 +71,18 @@ class _Toucher(_Finder):
             self.touched = True
             return True
         return None
+
+    def flat(self, lo: fmpq, hi: fmpq, f) -> bool:
+        """f >= 0 on [lo, hi] with its one zero a touch of even order at a proven closed form
+        (:func:`~lcs_exact.closedforms.prove_flat_touch`): where f'' vanishes at the touch too,
+        (1 - t)^4, and no convexity can be shown."""
+        ph = self.phase
+        if ph.policy.closed_forms == "off":
+            return False
+        if prove_flat_touch(ph.spectrum, self.c.g, ph.base, f, lo, hi, ph.policy.deadline):
+            self.touched = True
+            return True
+        return False
 
 
 class Immediate:

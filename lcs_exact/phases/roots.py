@@ -258,6 +258,7 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
     stack: list = [(a, b, False)]
     while stack:
         lo, hi, neg = stack.pop()
+        flat_tried = False
         policy.check_deadline(lambda: f" while isolating the roots of {fn.describe()} near t = "
                               f"{float(lo):.6g} (phase time)")
         while True:
@@ -275,6 +276,13 @@ def first_crossing(fn: RootFunction, a: fmpq, b: fmpq, prec: int, *, touch: Touc
             if sp is not None:
                 verdict = "split"
                 break
+            if touch is not None and not neg and not flat_tried and hasattr(touch, "flat"):
+                # no point of the interval has a sign: a touch of even order (4, 6, ...) at a
+                # closed form, where not even f'' has one, is proven once, before more bits
+                flat_tried = True
+                if touch.flat(lo, hi, f):
+                    verdict = "none"
+                    break
             policy.check_deadline(lambda: f" while isolating the roots of {fn.describe()} at {2 * prec} bits")
             if prec >= policy.max_prec:  # undecidable: raise, or assume f >= 0 here (recorded)
                 policy.unresolved(lambda: f"{fn.describe()} on [{float(lo):.17g}, {float(hi):.17g}] "
