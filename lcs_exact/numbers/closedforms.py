@@ -25,7 +25,7 @@ from typing import Any
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
 from . import calcium
-from .balls import closed_form_arb, workprec
+from .balls import ball_sign, closed_form_arb, workprec
 from ..errors import InvalidArgument, LCSError, UnresolvedSign
 from .expm import Spectrum, spectrum_of
 from .laplace import laplace_closed_form, symbolic_expm, t_symbol
@@ -381,13 +381,21 @@ def _only_zero(root: Any, spectrum: Spectrum, g: fmpq_mat, v: Any, cand, deadlin
     zeros in [lo, hi] counted with multiplicity, and cand has m: the crossing (a zero, f(lo) > 0 >
     f(hi)) is cand.  A crossing through a triple root at t = 1 from e^{-A} w is proven so."""
     lo, hi = root.interval()
-    f = root.function.at(max(200, root.anchor_prec))
+    return _zero_order(spectrum, g, v, cand, root.function.at(max(200, root.anchor_prec)), lo, hi, deadline) is not None
+
+
+def _zero_order(spectrum: Spectrum, g: fmpq_mat, v: Any, cand, f: Any, lo: fmpq, hi: fmpq, deadline) -> tuple | None:
+    """(m, sign of f^{(m)} on [lo, hi]): f^{(j)}(cand) = 0 proven for j < m and the enclosure of
+    f^{(m)} over [lo, hi] excludes 0 (m >= 1, at most 16); None when a derivative at cand is not
+    proven zero first."""
     for m in range(min(spectrum.n, 16) + 1):
-        if m and not f.sign_enclose(lo, hi, m).contains(0):
-            return True
+        if m:
+            s = ball_sign(f.sign_enclose(lo, hi, m))
+            if s:
+                return m, s
         if prove_zero_at(spectrum, g, v, cand, derivative=m, deadline=deadline) is not True:
-            return False
-    return False
+            return None
+    return None
 
 
 def symbolic_candidates(spectrum: Spectrum, g: fmpq_mat, v: Any, b: arb, deadline=None,
@@ -490,13 +498,10 @@ def prove_flat_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, f: Any, lo: fmpq, 
     with workprec(128):
         mid = arb(lo).union(arb(hi))
     for cand in _shifted_candidates(mid, spectrum, v):
-        if not _inside(cand, lo, hi):
-            continue
-        for m in range(min(spectrum.n, 16) + 1):
-            if m >= 2 and m % 2 == 0 and f.sign_enclose(lo, hi, m) > 0:
+        if _inside(cand, lo, hi):
+            order = _zero_order(spectrum, g, v, cand, f, lo, hi, deadline)
+            if order is not None and order[0] % 2 == 0 and order[1] > 0:
                 return True
-            if prove_zero_at(spectrum, g, v, cand, derivative=m, deadline=deadline) is not True:
-                break
     return False
 
 
