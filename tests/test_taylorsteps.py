@@ -9,7 +9,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 import lcs_exact.phases.phase as phase_module
 from lcs_exact import simulate
 from lcs_exact.examples import cart_chain
-from lcs_exact.numbers import TaylorSteps, workprec
+from lcs_exact.numbers import TaylorSteps, first_step, workprec
 from lcs_exact.phases.taylorsum import TaylorRows
 
 
@@ -221,3 +221,44 @@ def test_event_states_on_taylor_steps_take_the_centered_form_in_a_run_that_lost_
             assert a.time.decimal(35).split(" ")[0] == b.time.decimal(35).split(" ")[0]
         for a, b in zip(tr.state(60).ball(30), spectral.state(60).ball(30)):
             assert a.overlaps(b)
+
+
+def test_a_geometric_start_of_the_grid_keeps_every_value():
+    """A first step of 1/1000 (rounded down to h / 2^m = 1/1024, h = 4): the grid runs 0, 1/1024,
+    1/512, ..., 2, 4, 8, ...; every point is located in its step, and x(t) = (cos t, -sin t) holds
+    on the short steps, across the switch to the regular length and beyond it."""
+    with workprec(200):
+        st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 200, first=fmpq(1, 1000))
+        assert st.length(0) == fmpq(1, 1024) and st.m == 12
+        assert [st.start(k) for k in (0, 1, 2, 3, 12, 13, 14)] == [0, fmpq(1, 1024), fmpq(1, 512), fmpq(1, 256),
+                                                                   2, 4, 8]
+        for k in range(20):
+            assert st.locate(st.start(k)) == k and st.start(k + 1) - st.start(k) == st.length(k)
+            assert st.locate(st.start(k + 1) - fmpq(1, 10 ** 6)) == k
+        assert st.order(0) < st.order(6) < st.J  # short steps need fewer terms
+        for t in (fmpq(1, 3000), fmpq(1, 700), fmpq(3, 10), fmpq(39, 10), fmpq(10)):
+            x = st.state(arb(t))
+            with workprec(400):
+                assert _contains(x[0, 0], arb(t).cos()) and _contains(x[1, 0], -arb(t).sin())
+            assert x[0, 0].rad() < arb(2) ** -150
+        rows = TaylorRows(st, [fmpq_mat([[1, 0]])])
+        f = rows.function(0)
+        with workprec(400):  # derivatives on a short step: f^(d) = cos(t + d pi / 2)
+            for d, v in enumerate(f.values(fmpq(1, 2000), range(4))):
+                assert _contains(v, (arb(fmpq(1, 2000)) + d * arb.pi() / 2).cos())
+        assert 0 <= rows.guess_crossings(0.0, 10.0)[0] - 1.5707963268 < 1 / 16
+
+
+def test_first_step_of_a_gap_closing_early():
+    """A free particle (x' = v) at 10^-40 from its stop, moving toward it at unit speed: the
+    position crosses zero at t = 10^-40, and the first step is a power of two within a factor 4
+    of it; from an O(1) gap, or moving away, there is no short step."""
+    M = fmpq_mat([[0, 1], [0, 0]])
+    G = fmpq_mat([[1, 0]])
+    with workprec(200):
+        h0 = first_step(M, G, arb_mat([[fmpq(1, 10 ** 40)], [-1]]), 200, fmpq(1))
+        assert fmpq(1, 10 ** 40) < h0 <= fmpq(5, 10 ** 40)
+        st = TaylorSteps(M, fmpq(1), arb_mat([[fmpq(1, 10 ** 40)], [-1]]), 200, first=h0)
+        assert st.length(0) <= h0 and st.order(0) == 2  # x(t) = 10^-40 - t exactly: two terms
+        assert first_step(M, G, arb_mat([[1], [-1]]), 200, fmpq(1)) is None
+        assert first_step(M, G, arb_mat([[fmpq(1, 10 ** 40)], [1]]), 200, fmpq(1)) is None

@@ -16,7 +16,7 @@ from .duals import Dual, norm2_bound, vector_norm2_bound
 from . import calcium
 from .forms import Closed, sympy_proves_zero
 from .expm import Spectrum, spectrum_of
-from .taylorsteps import STEP_NORM, TaylorSteps
+from .taylorsteps import STEP_NORM, TaylorSteps, first_step
 from .algebraics import ca_from_state, ca_state
 from .reals import AlgebraicReal, as_real, RationalReal, Real
 from .vectors import (algebraic_vector, as_exact_vector, as_state, ca_matvec, ComponentsVector, ExactVector,
@@ -30,7 +30,7 @@ from .taylormodels import (Box, interval, ipow, Model, NoProof, positive_on, ser
 __all__ = ["ACCURACY_HEADROOM", "DEFAULT_POLICY", "MAX_DIGITS", "accuracy_bits", "ball_sign", "check_digits", "Deadline",
            "digits_to_bits", "dyadic", "dyadic_lower", "dyadic_upper", "Policy", "workprec", "Dual", "norm2_bound",
            "vector_norm2_bound", "calcium",
-           "Closed", "sympy_proves_zero", "Spectrum", "spectrum_of", "STEP_NORM", "TaylorSteps", "AlgebraicReal", "as_real", "ca_from_state", "ca_state",
+           "Closed", "sympy_proves_zero", "Spectrum", "spectrum_of", "STEP_NORM", "TaylorSteps", "first_step", "AlgebraicReal", "as_real", "ca_from_state", "ca_state",
            "RationalReal", "Real", "algebraic_vector", "as_exact_vector", "as_state", "ca_matvec",
            "ComponentsVector", "ExactVector", "expm_action", "ExpVector", "homogenized", "orbit_start",
            "ProjectedVector", "RationalVector", "ScaledVector", "candidates", "prove_root", "prove_root_is",

@@ -1,16 +1,22 @@
 """x(t) = e^{Mt} x_0 as Taylor steps on balls (Taylor-Krylov): no eigenvalues, no eigenvectors.
 
-Over a step [t_k, t_k + h] of a grid t_k = k h (h a power of two, ``||M h||_inf <= STEP_NORM``):
+Over a step [t_k, t_k + h_k] of a grid (h_k a power of two, ``||M h_k||_inf <= STEP_NORM``):
 
-    x(t_k + theta h) in sum_{j<J} w_j theta^j + [-rho, rho],   w_j = (M h)^j x_k / j!,
+    x(t_k + theta h_k) in sum_{j<J_k} w_j theta^j + [-rho, rho],   w_j = (M h_k)^j x_k / j!,
 
 for |theta| <= 1, where x_k is a ball of x(t_k) (the next one is the sum at theta = 1) and, with
-s = ||M h||_inf, the tail of the series is bounded by ||x_k||_inf s^J e^s / J! (the Lagrange form
+s = ||M h_k||_inf, the tail of the series is bounded by ||x_k||_inf s^J e^s / J! (the Lagrange form
 of sum_{j>=J} (M h theta)^j / j!, each term of norm at most s^j / j!).  Its d-th theta-derivative
 has the truncated sum's derivative and the tail ||x_k||_inf s^J e^s / (J - d)! (d < J; for d >= J
 every term is tail: ||x_k|| s^d e^s).  J products of a ball matrix with a ball vector a step, and
 a monitored row g gives its polynomial in theta from the products g w_j: every constraint of a
 phase (section 4.1) at once.
+
+The grid is t_k = k h (h the largest power of two with ||M h|| <= STEP_NORM), or, given a first
+step h_0 = h / 2^m, the geometric start 0, h_0, 2 h_0, 4 h_0, ..., h followed by h, 2 h, ...: a
+phase whose event comes after 10^-50 (an impact running down a chain of carts) takes a step of
+about that length, whose order J (about bits / log2(1 / ||M h_0||)) is 2 or 3 instead of ~60,
+and a wrong guess of h_0 costs at most m short steps.
 
 The cost grows with ||M|| t (stiff modes need ||M|| t / STEP_NORM steps): the spectral path of
 :mod:`.expm` stays for them, and for small systems whose spectral data is cheap.  Balls only: the
@@ -26,7 +32,7 @@ from flint import arb, arb_mat, fmpq, fmpq_mat
 from .balls import dyadic_lower, dyadic_upper, workprec
 from ..errors import LCSError
 
-__all__ = ["TaylorSteps", "STEP_NORM", "taylor_order"]
+__all__ = ["TaylorSteps", "STEP_NORM", "taylor_order", "first_step"]
 
 #: ||M h||_inf of a step, at most: a larger step costs fewer products a unit of time (measured
 #: at n = 64, 192 bits: 0.82 ms a unit of ||M|| t at 4, 1.4 ms at 2), its polynomials are of
@@ -46,7 +52,8 @@ def taylor_order(s: float, prec: int) -> int:
 
 
 class TaylorSteps:
-    """e^{Mt} x_0 for t >= 0 on the grid of steps t_k = k h, computed as far as asked.
+    """e^{Mt} x_0 for t >= 0 on a grid of steps (see the module docstring), computed as far as
+    asked.
 
     Parameters
     ----------
@@ -60,36 +67,85 @@ class TaylorSteps:
         The working precision of the balls.
     zero : list of int, optional
         Coordinates i with x_i(t) = 0 for all t (proven by the caller): kept exactly 0.
+    first : fmpq, optional
+        A length for the first step (rounded down to a power of two h / 2^m, at most h): the grid
+        starts 0, h_0, 2 h_0, ..., h, then goes on by h.
 
     >>> from flint import fmpq_mat, arb_mat, fmpq
     >>> st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 64)
     >>> x = st.state(arb(3))              # (cos 3, -sin 3)
     >>> abs(x[0, 0] - arb(3).cos()) < 1e-15, abs(x[1, 0] + arb(3).sin()) < 1e-15
     (True, True)
+    >>> st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 64, first=fmpq(1, 100))
+    >>> st.length(0), [st.start(k) for k in range(12)][-5:], st.order(0) < st.order(10) == st.J
+    (1/128, [1/2, 1, 2, 4, 8], True)
     """
 
-    def __init__(self, M: fmpq_mat, norm: fmpq, x0: arb_mat, prec: int, zero: list[int] | tuple = ()):
-        self.n, self.prec, self.zero = M.nrows(), prec, tuple(zero)
+    def __init__(self, M: fmpq_mat, norm: fmpq, x0: arb_mat, prec: int, zero: list[int] | tuple = (),
+                 first: fmpq | None = None):
+        self.n, self.prec, self.zero, self.norm = M.nrows(), prec, tuple(zero), norm
         e = 0
         if norm > 0:  # h = 2^e, the largest with ||M|| h <= STEP_NORM
-            q = fmpq(STEP_NORM) / norm
-            e = q.p.bit_length() - q.q.bit_length()
-            while fmpq(2) ** e > q:
-                e -= 1
-            while fmpq(2) ** (e + 1) <= q:
-                e += 1
+            e = _log2_floor(fmpq(STEP_NORM) / norm)
         self.h = fmpq(2) ** e
-        self.s = norm * self.h
-        self.J = taylor_order(float(self.s), prec)
+        # m doublings from h_0 = h / 2^m up to h (m = 0: the uniform grid)
+        self.m = 0 if first is None or first >= self.h or first <= 0 else e - _log2_floor(first)
         with workprec(prec):
-            self._Mh = arb_mat(M * self.h)
-            self._es = arb(self.s).exp()
-            self._inv = [arb(fmpq(1, j)) for j in range(1, self.J)]
+            self._M = arb_mat(M)
+        self._level: dict[int, tuple] = {}  # step length's exponent -> (J, s, M h, e^s, [1/j])
         # x_k, the ball at t_k (x0 copied before its zero coordinates are set: it is the caller's)
         self._x = [self._clean(arb_mat(self.n, 1, x0.entries()) if self.zero else x0)]
         self._w: list[list[arb_mat]] = []  # the columns w_0 .. w_{J-1} of step k
         self._norms: list[arb] = []  # ||x_k||_inf bounds
         self._tails: dict = {}
+
+    @property
+    def J(self) -> int:
+        """The order of a step of the regular length h."""
+        return self.order(self.m + 1)
+
+    @property
+    def s(self) -> fmpq:
+        """||M h||_inf for the regular step h."""
+        return self.norm * self.h
+
+    def _data(self, k: int) -> tuple:
+        """(J, s, M h_k, e^s, [1/j for 0 < j < J]) of step k (per step length)."""
+        e = self._exponent(k)
+        if e not in self._level:
+            hk = fmpq(2) ** e
+            s = self.norm * hk
+            J = taylor_order(float(s) if e > -1000 else 0.0, self.prec)
+            with workprec(self.prec):
+                self._level[e] = (J, s, self._M * arb(hk), arb(s).exp(), [arb(fmpq(1, j)) for j in range(1, J)])
+        return self._level[e]
+
+    def _exponent(self, k: int) -> int:
+        """log2 of the length of step k."""
+        e = self.h.p.bit_length() - self.h.q.bit_length()
+        if k > self.m:
+            return e
+        return e - self.m + max(k - 1, 0)
+
+    def length(self, k: int) -> fmpq:
+        """h_k, the length of step k.
+
+        Parameters
+        ----------
+        k : int
+            The step.
+        """
+        return fmpq(2) ** self._exponent(k)
+
+    def order(self, k: int) -> int:
+        """J_k, the number of terms of step k's series.
+
+        Parameters
+        ----------
+        k : int
+            The step.
+        """
+        return self._data(k)[0]
 
     def _clean(self, x: arb_mat) -> arb_mat:
         for i in self.zero:
@@ -97,7 +153,7 @@ class TaylorSteps:
         return x
 
     def columns(self, k: int) -> list[arb_mat]:
-        """[w_0, ..., w_{J-1}] of step k (computing the steps before it).
+        """[w_0, ..., w_{J_k - 1}] of step k (computing the steps before it).
 
         Parameters
         ----------
@@ -111,11 +167,12 @@ class TaylorSteps:
     def _advance(self) -> None:
         k = len(self._w)
         x = self._x[k]
+        _, _, Mh, _, invs = self._data(k)
         with workprec(self.prec):
             ws = [x]
             w = x
-            for inv in self._inv:
-                w = self._clean((self._Mh * w) * inv)
+            for inv in invs:
+                w = self._clean((Mh * w) * inv)
                 ws.append(w)
             nxt = ws[0]
             for w in ws[1:]:
@@ -126,14 +183,17 @@ class TaylorSteps:
         self._x.append(self._clean(nxt))
 
     def start(self, k: int) -> fmpq:
-        """t_k = k h.
+        """t_k: k h on the uniform grid; 0, h_0, 2 h_0, ..., h = 2^m h_0, h + h, ... after a first
+        step h_0.
 
         Parameters
         ----------
         k : int
             The step.
         """
-        return self.h * k
+        if k <= self.m:
+            return fmpq(0) if k == 0 else self.length(k)  # t_k = 2^(k-1) h_0 = h_k
+        return self.h * (k - self.m)
 
     def norm_at(self, k: int) -> arb:
         """An upper bound of ||x_k||_inf over its ball.
@@ -163,9 +223,10 @@ class TaylorSteps:
         """
         key = (k, d)
         if key not in self._tails:
-            top = max(self.J, d)
+            J, s, _, es, _ = self._data(k)
+            top = max(J, d)
             with workprec(self.prec):
-                self._tails[key] = self.norm_at(k) * arb(self.s) ** top * self._es / math.factorial(top - d)
+                self._tails[key] = self.norm_at(k) * arb(s) ** top * es / math.factorial(top - d)
         return self._tails[key]
 
     def tail_at(self, k: int, d: int, theta: arb) -> arb:
@@ -188,7 +249,8 @@ class TaylorSteps:
                 return rho
             if m > 2:
                 raise LCSError(f"internal inconsistency: theta = {theta} is outside step {k} of the Taylor steps")
-            return rho * m ** max(self.J, d) * (arb(self.s) * (m - 1)).exp()
+            J, s = self._data(k)[:2]
+            return rho * m ** max(J, d) * (arb(s) * (m - 1)).exp()
 
     def locate(self, t: fmpq) -> int:
         """The step k with t_k <= t < t_{k+1} (t >= 0; t < 0 gives step 0, whose series holds
@@ -200,8 +262,10 @@ class TaylorSteps:
         """
         if t <= 0:
             return 0
+        if self.m and t < self.h:  # the geometric start: t in [2^(k-1) h_0, 2^k h_0)
+            return max(0, _log2_floor(t * 2 ** self.m / self.h) + 1)
         q = t / self.h
-        return int(q.p // q.q)
+        return int(q.p // q.q) + self.m
 
     def pieces(self, lo: fmpq, hi: fmpq) -> list[tuple[int, fmpq, fmpq]]:
         """[(k, a, b)]: [lo, hi] cut at the grid, a piece [a, b] in step k.
@@ -209,11 +273,11 @@ class TaylorSteps:
         Parameters
         ----------
         lo : fmpq
-            At least -h (step 0's series holds back to -h).
+            At least -h_0 (step 0's series holds back to -h_0).
         hi : fmpq
         """
-        if lo < -self.h:
-            raise LCSError(f"internal inconsistency: Taylor steps asked at t = {lo} < -h = {-self.h}")
+        if lo < -self.length(0):
+            raise LCSError(f"internal inconsistency: Taylor steps asked at t = {lo} < -h_0 = {-self.length(0)}")
         out = []
         k = self.locate(lo)
         a = lo
@@ -226,7 +290,7 @@ class TaylorSteps:
             a, k = end, k + 1
 
     def theta(self, k: int, t: arb) -> arb:
-        """(t - t_k) / h, a ball.
+        """(t - t_k) / h_k, a ball.
 
         Parameters
         ----------
@@ -235,7 +299,7 @@ class TaylorSteps:
         t : arb
         """
         with workprec(self.prec):
-            return (t - arb(self.start(k))) / arb(self.h)
+            return (t - arb(self.start(k))) / arb(self.length(k))
 
     def state(self, t: arb) -> arb_mat:
         """A ball of x(t) for a ball t >= 0 (an enclosure over it when wide).
@@ -260,6 +324,69 @@ class TaylorSteps:
             for w in reversed(ws[:-1]):  # Horner in theta
                 acc = acc * th + w
             return self._clean(arb_mat([[acc[i, 0] + arb(0, rho)] for i in range(self.n)]))
+
+
+def first_step(M: fmpq_mat, G: fmpq_mat, x0: arb_mat, prec: int, norm: fmpq) -> fmpq | None:
+    """A first step for :class:`TaylorSteps` when a row of G x(t) turns negative long before
+    STEP_NORM / ||M|| (a gap of 10^-50 closing at unit speed: an impact running down a chain of
+    carts), else None.
+
+    For each row with g x0 > 0 (its ball), the cubic c_0 + c_1 t + c_2 t^2 + c_3 t^3 of the first
+    Taylor coefficients c_j = g M^j x0 / j! (at ``prec`` bits: c_0 may be a 10^-50 difference of
+    O(1) entries) is looked at on t = tau 2^i (tau the scale where a negative term can match c_0),
+    i < 16, from the midpoints; the first point where it is negative, doubled, is that row's step.
+    A guess only: the steps are rigorous whatever their lengths, and a guess too short costs at
+    most log2(h / h_0) short steps of low order.
+
+    Parameters
+    ----------
+    M : fmpq_mat
+        The n x n matrix.
+    G : fmpq_mat
+        The monitored rows (m x n).
+    x0 : arb_mat
+        A ball of the start.
+    prec : int
+    norm : fmpq
+        ||M||_inf: only roots t with ||M|| t < 2^-6 give a step (the cubic is then accurate).
+    """
+    if G.nrows() == 0 or norm <= 0:
+        return None
+    with workprec(prec):
+        Ma, Ga = arb_mat(M), arb_mat(G)
+        v, cs = x0, []
+        for j in range(4):
+            cs.append((Ga * v).entries())
+            v = Ma * v * arb(fmpq(1, j + 1))
+    limit = arb(2) ** -6 / arb(norm)
+    best = None
+    with workprec(64):
+        for i in range(G.nrows()):
+            c = [arb(cs[j][i].mid()) for j in range(4)]
+            if not c[0] > 0:
+                continue
+            tau = min(((c[0] / -c[j]) ** arb(fmpq(1, j)) for j in (1, 2, 3) if c[j] < 0), default=None)
+            if tau is None or not tau < limit:
+                continue
+            t = tau
+            for _ in range(16):
+                if t > limit or (best is not None and t >= best):
+                    break
+                if ((c[3] * t + c[2]) * t + c[1]) * t + c[0] < 0:
+                    best = t
+                    break
+                t = 2 * t
+    return None if best is None else dyadic_upper(2 * best)
+
+
+def _log2_floor(q: fmpq) -> int:
+    """floor(log2 q) for a rational q > 0."""
+    e = q.p.bit_length() - q.q.bit_length()
+    while fmpq(2) ** e > q:
+        e -= 1
+    while fmpq(2) ** (e + 1) <= q:
+        e += 1
+    return e
 
 
 def _bounds(t: arb) -> tuple[fmpq, fmpq]:

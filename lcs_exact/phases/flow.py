@@ -168,7 +168,7 @@ def _start(phase: Phase, c: Constraint, fn, order: int, horizon: fmpq, prec: int
         f = fn.at(prec)
         # f^{(order)}(0) > 0 is proven (exactly, by start_order); its ball may not show it yet.
         # On Taylor steps the bounds are taken over the first step (not up to the horizon)
-        reach = min(horizon, f.steps.h) if phase.taylor else horizon
+        reach = min(horizon, f.steps.length(0)) if phase.taylor else horizon
         eps = positive_step(f, fmpq(0), reach, zero_below=order)
         if eps is not None:
             break

@@ -27,9 +27,9 @@ from ..numbers import calcium
 from ..numbers import Policy, dyadic_lower, workprec
 from ..modes import format_mode
 from ..numbers import RationalReal, as_real, ca_from_state, ca_state
-from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, TaylorSteps, algebraic_vector, ca_matvec, orbit_start
+from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, TaylorSteps, algebraic_vector, ca_matvec, first_step, orbit_start
 from ..algebra import eliminate
-from ..algebra import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, submatrix, to_fmpq, zeros
+from ..algebra import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, submatrix, to_fmpq, vstack, zeros
 from .roots import ExpSum, RootReal, newton_ball
 from .taylorsum import TaylorRows, TaylorSum
 from ..algebra import RowSpan, invariant_forms, orbit_zero_forms, row_basis
@@ -164,6 +164,7 @@ class Phase:
             self.exact_start = q if q is not None else self.base.known_ca()
         self._powers: dict = {}
         self._rows: TaylorRows | None = None
+        self._first: fmpq | None | bool = False  # the Taylor steps' first step (False: not guessed yet)
         self._modal = None
         self._modal_prec = 0
         self._functions: dict = {}
@@ -248,8 +249,11 @@ class Phase:
         if self._rows is None or self._rows.prec < prec:
             self.policy.check_deadline(lambda: f" while isolating events: Taylor steps of mode "
                                        f"{format_mode(self.mode.I)} at {prec} bits")
-            steps = TaylorSteps(self.M, self.mode.closed_loop_norm, self.base.arb(prec), prec,
-                                self.zero_coordinates())
+            x0, norm = self.base.arb(prec), self.mode.closed_loop_norm
+            if self._first is False:  # once a phase: the same grid at every precision
+                self._first = first_step(self.M, vstack(*[c.g for c in self.constraints], ncols=self.M.ncols()),
+                                         x0, prec, norm)
+            steps = TaylorSteps(self.M, norm, x0, prec, self.zero_coordinates(), self._first)
             self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms)
         return self._rows
 

@@ -1,9 +1,9 @@
 """The constraint functions of a phase on Taylor steps: f(t) = g e^{A_I t} z without spectral data.
 
-On step k of :class:`~lcs_exact.numbers.taylorsteps.TaylorSteps` a row g has the polynomial
-p_k(theta) = sum_j (g w_j) theta^j, and
+On step k (of length h_k) of :class:`~lcs_exact.numbers.taylorsteps.TaylorSteps` a row g has the
+polynomial p_k(theta) = sum_j (g w_j) theta^j, and
 
-    f^{(d)}(t_k + theta h) in p_k^{(d)}(theta) / h^d + [-1, 1] ||g||_1 tail_k(d) / h^d,   |theta| <= 1
+    f^{(d)}(t_k + theta h_k) in p_k^{(d)}(theta) / h_k^d + [-1, 1] ||g||_1 tail_k(d) / h_k^d,   |theta| <= 1
 
 (the tail bound of the steps times ||g||_1 >= |g v| / ||v||_inf).  :class:`TaylorRows` holds the
 polynomials of all the monitored rows of a phase (one product of the rows with each column w_j
@@ -84,7 +84,7 @@ class TaylorRows:
         st = self.steps
         with workprec(self.prec):
             v = self.poly(i, k, d)(theta) + arb(0, (self._g1[i] * st.tail_at(k, d, theta)).upper())
-            return v / arb(st.h) ** d if d else v
+            return v / arb(st.length(k)) ** d if d else v
 
     def float_coefficients(self, k: int) -> list[list[float]]:
         """The midpoints of step k's coefficients (guesses only)."""
@@ -110,10 +110,9 @@ class TaylorRows:
         st = self.steps
         out: list[float | None] = [None] * len(self.rows)
         scan = set(range(len(self.rows)) if only is None else only)
-        h = float(st.h)
         k = st.locate(fmpq(a) if isinstance(a, int) else _fmpq_of_float(a))
         while float(st.start(k)) < b:
-            t0 = float(st.start(k))
+            t0, h = float(st.start(k)), float(st.length(k))
             ths = [(p + GUESS_OFFSET) / GUESS_POINTS for p in range(GUESS_POINTS)]
             vals = self._float_grid(k, ths)
             for i in scan:
@@ -145,7 +144,7 @@ class TaylorSum:
         if isinstance(t, fmpq):
             k = st.locate(t)
             with workprec(self.prec):
-                th = arb(t - st.start(k)) / arb(st.h)
+                th = arb(t - st.start(k)) / arb(st.length(k))
             return [self.rows.value(self.i, k, th, d) for d in orders]
         lo, hi = dyadic_lower(t), dyadic_upper(t)
         out = None
@@ -179,11 +178,11 @@ class TaylorSum:
         """A float root in (lo, hi) where f decreases: Newton's method on the midpoints of the
         step's polynomial, safeguarded by bisection (a guess, checked before use)."""
         st = self.steps
-        h = float(st.h)
 
         def f_df(t: float) -> tuple[float, float]:
             k = st.locate(_fmpq_of_float(t))
             row = self.rows.float_coefficients(k)[self.i]
+            h = float(st.length(k))
             th = (t - float(st.start(k))) / h
             return _horner(row, th), _horner_derivative(row, th) / h
 
