@@ -104,3 +104,25 @@ def test_a_label_of_a_ball_around_zero_shows_only_its_bound():
     with mp.workdps(60):
         want = mp.exp(mp.pi * mp.sqrt(163)) - 640320**3 - 744
     assert mp.almosteq(mp.mpf(r.label()), want, rel_eps=mp.mpf("1e-13"))
+
+
+def test_projected_vector_reads_its_values_from_the_inner_ball():
+    """x = P v with v = e^{A} (0, -1, -1, 0) (the carts' matrix): before x has a ball of its own,
+    the balls of F x come from v's ball as (F P) v; each holds F P e^{A} v0 computed here by
+    mpmath at 60 digits (an independent evaluation), and is as tight as v's ball allows."""
+    v = expm_action(A_CARTS, 1, [0, -1, -1, 0])
+    P = fmpq_mat([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, fmpq(1, 2), fmpq(1, 2)], [0, 0, fmpq(1, 2), fmpq(1, 2)]])
+    x = L.vectors.ProjectedVector(P, v)
+    F = fmpq_mat([[1, 0, 0, 0], [0, 0, 1, -1], [2, -3, 1, 5]])
+    assert x.form_balls(F) is None  # no ball anywhere yet: decided by structure, not evaluated
+    v.arb(200)
+    balls, prec = x.form_balls(F)
+    with mp.workdps(60):
+        E = mp.expm(mp.matrix(A_CARTS)) * mp.matrix([0, -1, -1, 0])
+        Pm = mp.matrix([[float(P[i, j]) for j in range(4)] for i in range(4)])  # entries 0, 1, 1/2: exact
+        ref = mp.matrix([[int(F[i, j]) for j in range(4)] for i in range(3)]) * (Pm * E)
+        for i in range(3):
+            b = balls[i, 0]
+            assert b.rad() < 1e-50
+            assert abs(mp.mpf(b.mid().str(60, radius=False)) - ref[i]) < 1e-50
+    assert balls[1, 0].is_zero()  # (F P)_1 = 0: the exact product shows it

@@ -210,24 +210,27 @@ def _first_negative(m: fmpq_mat, q_forms: fmpq_mat, x: Any, values, a: list[int]
                 return _first_negative(m, q_forms, x, None, a)
             for r, i in enumerate(a):
                 u[i] = -ua[r, 0]
+        X: list = []  # M_aa^{-1} Q_a, solved once for the rows whose ball holds 0
         for i in range(k):
             v = u[i] if i in a else q[i, 0] + sum((M[i, j] * u[j] for j in a), 0 * q[i, 0])
             s = (v > 0) - (v < 0)
             if s == 0 and prec is not None and not v.is_zero():  # a ball holding 0: the exact form
-                s = sign_of_form(_row(m, q_forms, a, i), x)
+                s = sign_of_form(_row(m, q_forms, a, i, X), x)
             if s < 0:
                 return i
     return None
 
 
-def _row(m: fmpq_mat, q_forms: fmpq_mat, a: list[int], i: int) -> fmpq_mat:
-    """The form of u_i (i in the basis a) or of y_i (off it): one row, 1 x n."""
+def _row(m: fmpq_mat, q_forms: fmpq_mat, a: list[int], i: int, X: list) -> fmpq_mat:
+    """The form of u_i (i in the basis a) or of y_i (off it): one row, 1 x n (``X``: a cache of
+    M_aa^{-1} Q_a, u_a = -X, filled on first use)."""
     if not a:
         return submatrix(q_forms, [i], None)
-    X = submatrix(m, a, a).solve(submatrix(q_forms, a, None))  # u_a = -X
+    if not X:
+        X.append(submatrix(m, a, a).solve(submatrix(q_forms, a, None)))
     if i in a:
-        return -submatrix(X, [a.index(i)], None)
-    return submatrix(q_forms, [i], None) - submatrix(m, [i], a) * X
+        return -submatrix(X[0], [a.index(i)], None)
+    return submatrix(q_forms, [i], None) - submatrix(m, [i], a) * X[0]
 
 
 def _solution(m: fmpq_mat, q_forms: fmpq_mat, a: list[int]) -> tuple[fmpq_mat, fmpq_mat]:

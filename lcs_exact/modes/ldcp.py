@@ -22,7 +22,7 @@ from ..interfaces import SystemLike
 from ..algebra import murty
 from .mode import format_mode
 from ..algebra import MAX_KAPPA, is_zero, sign_of_form, submatrix, to_int, zeros
-from ..numbers import as_state
+from ..numbers import as_state, ball_sign
 
 __all__ = ["LDCPSolution", "ldcp", "ldcp_modes", "impulse_forms", "lcp_sequence", "stage_lcp", "require_N_P"]
 
@@ -208,7 +208,8 @@ def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
     of the k * kappa^2 / 2 products are zero."""
     n, k = lcs.n, lcs.k
     eta = lcs.leading_column_indices()
-    N = lcs.leading_column_matrix()
+    wp = lcs.well_posedness()  # N, computed once with the report
+    N = wp.N if wp.N is not None else lcs.leading_column_matrix()
     cols: dict[tuple[int, int], fmpq_mat | None] = {}  # (d, l) -> column l of H_d, None if zero
 
     def hcol(d: int, l: int):
@@ -218,31 +219,24 @@ def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
         return cols[d, l]
 
     urows: dict[tuple[int, int], fmpq_mat] = {}
-    cap = lcs.C  # C A^{i-1}
     for i in range(1, kappa + 1):
-        if i > 1:
-            cap = cap * lcs.A
-        z = fmpq_mat(cap)
+        z = lcs.output_map(i - 1)  # C A^{i-1}
         for (l, j), row in urows.items():
             if j < i - eta[l]:
                 col = hcol(i - j, l)
                 if col is not None:
                     z = z + col * row
         v = stage_lcp(N, z, x, sorted(I), sorted(J))
-        vrows = _rows(v)
+        ve = v.entries()
         for l in range(k):
             j = i - eta[l]
-            if j >= -n + 1 and not is_zero(vrows[l]):
-                urows[l, j] = vrows[l]
+            if j >= -n + 1 and any(ve[l * n:(l + 1) * n]):
+                urows[l, j] = fmpq_mat(1, n, ve[l * n:(l + 1) * n])
         y = z + N * v
-        yrows = _rows(y)
-        for l in range(k):
-            if l in I or l in J:
-                continue
-            if sign_of_form(vrows[l], x) > 0:
-                I.add(l)
-            elif sign_of_form(yrows[l], x) > 0:
-                J.add(l)
+        rest = [l for l in range(k) if l not in I and l not in J]
+        vpos = _positive(v, rest, x)
+        I.update(vpos)
+        J.update(_positive(y, [l for l in rest if l not in vpos], x))
         yield i, urows, y
 
 
@@ -274,11 +268,25 @@ def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_m
     return v
 
 
-def _rows(m: fmpq_mat) -> list[fmpq_mat]:
-    """The rows of m as 1 x n matrices (one read of the entries)."""
-    n = m.ncols()
-    e = m.entries()
-    return [fmpq_mat(1, n, e[i * n:(i + 1) * n]) for i in range(m.nrows())]
+def _positive(F: fmpq_mat, rows: list[int], x) -> set[int]:
+    """The rows l of F (of ``rows``) with F_l x > 0: one product of balls for all of them (the
+    state's ball), the exact sign of a row's form only where its ball holds 0."""
+    if not rows:
+        return set()
+    if isinstance(x, fmpq_mat):
+        V = F * x
+        return {l for l in rows if V[l, 0] > 0}
+    vals = x.form_balls(F)
+    n = F.ncols()
+    e = F.entries()
+    out = set()
+    for l in rows:
+        s = ball_sign(vals[0][l, 0]) if vals is not None else 0
+        if s == 0 and any(e[l * n:(l + 1) * n]):  # a zero row is 0 (no form to ask)
+            s = sign_of_form(fmpq_mat(1, n, e[l * n:(l + 1) * n]), x)
+        if s > 0:
+            out.add(l)
+    return out
 
 
 def _scatter(rows: list[int], k: int) -> fmpq_mat:

@@ -207,6 +207,9 @@ class Mode:
     @cached_property
     def _autonomy(self) -> tuple[bool, str]:
         """(autonomous, the reason when it is not)."""
+        wp = self.lcs.well_posedness()
+        if wp.M_is_P or wp.N_is_P:  # Lemma 6.6: M or N with nonzero principal minors
+            return True, ""
         n, m = self.lcs.n, len(self.I)
         V, T = self._V, self._T
         reason = ""

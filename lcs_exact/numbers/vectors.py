@@ -389,6 +389,19 @@ class ProjectedVector(ExactVector):
     def _structural_sign(self, form):
         return self.v.sign_of_form(form * self.P)
 
+    def form_balls(self, forms: fmpq_mat) -> tuple[arb_mat, int] | None:
+        """Its own ball's values, or before it has one, (F P) v from v's ball (one exact product
+        F P: the selection at a re-initialized state reads v's ball instead of evaluating P v;
+        no wider, as P is applied exactly).
+
+        Parameters
+        ----------
+        forms : fmpq_mat, m x n"""
+        own = super().form_balls(forms)
+        if own is not None or self._ball is not None or self.known_rational() is not None:
+            return own
+        return self.v.form_balls(forms * self.P)
+
     def known_ca(self):
         if "_kca" not in self.__dict__:
             if self.known_rational() is not None:

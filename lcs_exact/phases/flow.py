@@ -207,6 +207,7 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
     policy: Policy = phase.policy
     prec = start = max(64, a.anchor_prec, b.anchor_prec)
     tried = False
+    gap = None  # |mid x - mid y| at the previous precision
     while True:
         x, y = a.arb(prec), b.arb(prec)
         if x < y:
@@ -214,9 +215,13 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
         if x > y:
             return 1
         # closed forms after two doublings: roots that are distinct but close (a cluster of
-        # impacts running down a chain, 10^-27 .. 10^-60 apart) separate at 2-4x the start,
-        # and a closed-form attempt costs more than a refinement
-        if not tried and (prec >= 4 * start or prec >= policy.max_prec):
+        # impacts running down a chain, 10^-27 .. 10^-100 apart) separate at 2-8x the start,
+        # and a closed-form attempt costs more than a refinement.  Equal roots' midpoints close
+        # in as fast as the balls shrink; while the midpoints' gap stays (it kept more than
+        # 1/16 of its size over the last doubling) the roots are refined further first
+        was, gap = gap, abs(x.mid() - y.mid())
+        apart = was is not None and gap > was / 16 and gap > 0
+        if not tried and ((prec >= 4 * start and not apart) or prec >= policy.max_prec):
             tried = True
             if policy.closed_forms != "off":
                 fa, fb = a.closed, b.closed

@@ -28,7 +28,7 @@ from ..algebra import (MAX_DIMENSION, MAX_MARKOV_INDEX, adjugate_coefficients, a
                        matrix_to_sympy, to_fmpq, to_int, to_matrix, to_short, to_vector)
 from ..modes import initial_solution, is_regular, ldcp, rcp, select_modes
 from .sources import SourceBlock, source_block
-from .statespace import read_statespace, to_statespace
+from .statespace import read_statespace, to_arrays, to_statespace
 from .wellposedness import WellPosedness, leading_indices
 
 __all__ = ["LCS", "LATEX_MAX_CHARS"]
@@ -153,6 +153,7 @@ class LCS:
         self.embedding = embedding
         self._markov: list[fmpq_mat] = [self.D]
         self._apow_b: list[fmpq_mat] = [self.B]  # A^i B
+        self._output_maps: list[fmpq_mat] = [self.C]  # C A^i
         self._modes: dict[frozenset, Any] = {}
         self.restitution = self._restitution(restitution)
         self.roles = self._roles(roles)
@@ -241,6 +242,18 @@ class LCS:
                                       f"positive diagonal; entry ({i}, {i}) of constraint "
                                       f"{self.constraint_names[i]!r} is {W[i, i]}")
         return es
+
+    def output_map(self, i: int) -> fmpq_mat:
+        """C A^i (k x n, exact, kept): the first term of stage i + 1 of the LCP sequence (Theorem 6.9).
+
+        Parameters
+        ----------
+        i : int
+        """
+        i = to_int(i, "power i of A", 0, MAX_MARKOV_INDEX)
+        while len(self._output_maps) <= i:
+            self._output_maps.append(self._output_maps[-1] * self.A)
+        return self._output_maps[i]
 
     def markov(self, i: int) -> fmpq_mat:
         """H_i (5.8): H_0 = D, H_i = C A^{i-1} B (exact, k x k); 0 <= i <= MAX_MARKOV_INDEX (4096).
@@ -422,19 +435,7 @@ class LCS:
         >>> [m.shape for m in LCS([[0, 1], [-1, 0]], [[0], [1]], [[1, 0]], [[0]]).to_numpy()]
         [(2, 2), (2, 1), (1, 2), (1, 1)]
         """
-        from fractions import Fraction
-        import numpy as np
-        out = []
-        for key in "ABCD":
-            m = getattr(self, key)
-            try:
-                out.append(np.array([[float(Fraction(int(e.p), int(e.q))) for e in row] for row in mat_rows(m)],
-                                    dtype=np.float64).reshape(m.nrows(), m.ncols()))
-            except OverflowError:
-                big = next(e for row in mat_rows(m) for e in row if abs(e) > 2**1023)
-                raise InvalidArgument(f"{key} has an entry {to_short(big)} beyond the range of float64: it has "
-                                      "no float (to_numpy and to_statespace round to float64)") from None
-        return tuple(out)
+        return to_arrays(self)
 
     def embed(self, x: Any) -> fmpq_mat:
         """The full initial state (n x 1) for a state x of the modelled system.

@@ -21,13 +21,14 @@ their public attributes only.
 from __future__ import annotations
 
 import re
+from fractions import Fraction
 from typing import Any
 
 from ..errors import InvalidArgument, ShapeError
 from ..display import pair_label
-from ..algebra import as_list, to_fmpq
+from ..algebra import as_list, mat_rows, to_fmpq, to_short
 
-__all__ = ["signal_names", "to_statespace", "read_statespace", "time_response"]
+__all__ = ["signal_names", "to_statespace", "read_statespace", "time_response", "to_arrays"]
 
 _SUFFIX = re.compile(r"\(([^()]+)\)\s*\Z")  # the name in "force (stop)", "i(D1)", "u (stop)"
 
@@ -164,3 +165,25 @@ def time_response(traj: Any, t: Any):
         np.array([float(q) for q in ts]), X[:, n + k:].T, X[:, :n].T, X[:, n:n + k].T, issiso=k == 1,
         output_labels=list(outputs), state_labels=list(states), input_labels=list(inputs),
         sysname=getattr(lcs, "name", None), success=not traj.partial, message=traj.stop_reason)
+
+
+def to_arrays(lcs: Any) -> tuple:
+    """(A, B, C, D) of an LCS as float64 arrays (``LCS.to_numpy``); an entry beyond float64's range
+    is an InvalidArgument naming it (not infinity).
+
+    Parameters
+    ----------
+    lcs : LCS
+    """
+    import numpy as np  # lazy: `import lcs_exact` stays without numpy
+    out = []
+    for key in "ABCD":
+        m = getattr(lcs, key)
+        try:
+            out.append(np.array([[float(Fraction(int(e.p), int(e.q))) for e in row] for row in mat_rows(m)],
+                                dtype=np.float64).reshape(m.nrows(), m.ncols()))
+        except OverflowError:
+            big = next(e for row in mat_rows(m) for e in row if abs(e) > 2**1023)
+            raise InvalidArgument(f"{key} has an entry {to_short(big)} beyond the range of float64: it has "
+                                  "no float (to_numpy and to_statespace round to float64)") from None
+    return tuple(out)
