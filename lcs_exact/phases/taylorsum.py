@@ -92,14 +92,19 @@ class TaylorRows:
             self._floats[k] = [[float(c.mid()) for c in row] for row in self.coefficients(k)]
         return self._floats[k]
 
-    def _float_grid(self, k: int, pts: list[float]):
-        """The midpoint polynomials of step k's rows at the points theta (a rows x points array;
-        numpy: a system this large has imported it for its guesses anyway)."""
-        import numpy as np  # only for the guesses of large systems (`import lcs_exact` stays without)
-        C = np.array(self.float_coefficients(k))
-        V = np.vander(np.array(pts), C.shape[1], increasing=True)
-        with np.errstate(all="ignore"):
-            return C @ V.T
+    def _grid_signs(self, k: int) -> list[list[bool]]:
+        """[[p_k,i(theta_p) < 0 for the GUESS_POINTS points theta_p] for each row i]: the midpoints
+        of the coefficients times a Vandermonde matrix, one product of 53-bit balls (no float
+        underflow for a row of 10^-400, and no numpy import)."""
+        coeffs = self.coefficients(k)
+        if not coeffs:
+            return []
+        J = len(coeffs[0])
+        with workprec(53):
+            C = arb_mat([[c.mid() for c in row] for row in coeffs])
+            vals = (C * _vandermonde(J)).entries()
+        P = GUESS_POINTS
+        return [[vals[i * P + p].mid() < 0 for p in range(P)] for i in range(len(coeffs))]
 
     def guess_crossings(self, a: float, b: float, only: list[int] | None = None) -> list[float | None]:
         """Float guesses of the first t in (a, b] where each row (of ``only``, default all) turns
@@ -113,14 +118,13 @@ class TaylorRows:
         k = st.locate(fmpq(a) if isinstance(a, int) else _fmpq_of_float(a))
         while float(st.start(k)) < b:
             t0, h = float(st.start(k)), float(st.length(k))
-            ths = [(p + GUESS_OFFSET) / GUESS_POINTS for p in range(GUESS_POINTS)]
-            vals = self._float_grid(k, ths)
+            neg = self._grid_signs(k)
             for i in scan:
                 if out[i] is not None:
                     continue
-                for p, th in enumerate(ths):
+                for p, th in enumerate(_GUESS_THETAS):
                     t = t0 + h * th
-                    if a < t <= b and vals[i, p] < 0:
+                    if a < t <= b and neg[i][p]:
                         out[i] = t
                         break
             if any(o is not None for o in out):
@@ -187,6 +191,19 @@ class TaylorSum:
             return _horner(row, th), _horner_derivative(row, th) / h
 
         return newton_in_bracket(f_df, lo, hi, 100)
+
+
+#: the points of a step the guesses look at (theta in (0, 1))
+_GUESS_THETAS = [(p + GUESS_OFFSET) / GUESS_POINTS for p in range(GUESS_POINTS)]
+_VANDERMONDE: dict[int, arb_mat] = {}
+
+
+def _vandermonde(J: int) -> arb_mat:
+    """[theta_p^j] (J x GUESS_POINTS, 53-bit balls), kept per J."""
+    if J not in _VANDERMONDE:
+        with workprec(53):
+            _VANDERMONDE[J] = arb_mat([[arb(th) ** j for th in _GUESS_THETAS] for j in range(J)])
+    return _VANDERMONDE[J]
 
 
 def _stack(rows: list[fmpq_mat]) -> fmpq_mat:
