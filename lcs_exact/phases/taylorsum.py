@@ -92,19 +92,16 @@ class TaylorRows:
             self._floats[k] = [[float(c.mid()) for c in row] for row in self.coefficients(k)]
         return self._floats[k]
 
-    def _grid_signs(self, k: int) -> list[list[bool]]:
-        """[[p_k,i(theta_p) < 0 for the GUESS_POINTS points theta_p] for each row i]: the midpoints
-        of the coefficients times a Vandermonde matrix, one product of 53-bit balls (no float
-        underflow for a row of 10^-400, and no numpy import)."""
+    def _grid_values(self, k: int, rows: list[int]) -> list:
+        """The midpoint polynomials of step k's ``rows`` at the GUESS_POINTS points theta_p (53-bit
+        balls, row after row): one product of the midpoints with a Vandermonde matrix (no float
+        underflow for a row of 10^-400, and no numpy import).  Every term is kept: a row near 0
+        (10^-20 where the state is O(1)) needs all of them."""
         coeffs = self.coefficients(k)
-        if not coeffs:
-            return []
         J = len(coeffs[0])
         with workprec(53):
-            C = arb_mat([[c.mid() for c in row] for row in coeffs])
-            vals = (C * _vandermonde(J)).entries()
-        P = GUESS_POINTS
-        return [[vals[i * P + p].mid() < 0 for p in range(P)] for i in range(len(coeffs))]
+            C = arb_mat([[c.mid() for c in coeffs[i]] for i in rows])
+            return (C * _vandermonde(J)).entries()
 
     def guess_crossings(self, a: float, b: float, only: list[int] | None = None) -> list[float | None]:
         """Float guesses of the first t in (a, b] where each row (of ``only``, default all) turns
@@ -118,15 +115,16 @@ class TaylorRows:
         k = st.locate(fmpq(a) if isinstance(a, int) else _fmpq_of_float(a))
         while float(st.start(k)) < b:
             t0, h = float(st.start(k)), float(st.length(k))
-            neg = self._grid_signs(k)
-            for i in scan:
-                if out[i] is not None:
-                    continue
+            todo = sorted(i for i in scan if out[i] is None)
+            vals = self._grid_values(k, todo) if todo else []
+            P = GUESS_POINTS
+            for r, i in enumerate(todo):
                 for p, th in enumerate(_GUESS_THETAS):
-                    t = t0 + h * th
-                    if a < t <= b and neg[i][p]:
-                        out[i] = t
-                        break
+                    if vals[r * P + p].mid() < 0:
+                        t = t0 + h * th
+                        if a < t <= b:
+                            out[i] = t
+                            break
             if any(o is not None for o in out):
                 return out
             k += 1
