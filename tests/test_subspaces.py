@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from lcs_exact.errors import ShapeError
 from lcs_exact.algebra.subspaces import (complement, contains, image, intersection, kernel, left_kernel,
-                                 projection, rref, same_subspace, solve_any, subspace_sum)
+                                 projection, rref, RowSpan, same_subspace, solve_any, subspace_sum)
 from lcs_exact.algebra.subspaces import rank as lib_rank
 
 from reference.linalg import eye, mm, rank
@@ -310,3 +310,15 @@ def test_two_carts_V_T_P_by_hand():
     assert mat(m.consistent_subspace()) == mat(V)
     assert mat(m.jump_space()) == mat(T)
     assert mat(m.projection()) == mat(P)
+
+
+def test_units_of_a_row_span_are_the_coordinates_it_holds():
+    """e_i in rowspan(R) exactly for the unit rows of rref(R): R = [[1, 1, 0, 0], [1, -1, 0, 0],
+    [0, 0, 1, 1]] holds e_0 and e_1 (sums and differences of its first two rows), not e_2 or e_3
+    (only e_2 + e_3); checked against membership of each e_i."""
+    Z = RowSpan(fmpq_mat([[1, 1, 0, 0], [1, -1, 0, 0], [0, 0, 1, 1]]))
+    assert Z.units() == {0, 1}
+    for i in range(4):
+        e = fmpq_mat(1, 4, [int(j == i) for j in range(4)])
+        assert (e in Z) == (i in Z.units()) == Z.has_unit(i)
+    assert RowSpan(fmpq_mat(0, 4, [])).units() == frozenset()

@@ -241,7 +241,7 @@ class RowSpan:
     (True, False, 2)
     """
 
-    __slots__ = ("rows", "pivots", "n")
+    __slots__ = ("rows", "pivots", "n", "_units")
 
     def __init__(self, R: fmpq_mat):
         self.n = n = R.ncols()
@@ -249,6 +249,7 @@ class RowSpan:
         e = r.entries()
         self.rows = [e[i * n:(i + 1) * n] for i in range(len(piv))]
         self.pivots = piv
+        self._units = None
 
     @property
     def dim(self) -> int:
@@ -304,7 +305,16 @@ class RowSpan:
         i : int
             A coordinate (0-based).
         """
-        return fmpq_mat(1, self.n, [int(j == i) for j in range(self.n)]) in self
+        return i in self.units()
+
+    def units(self) -> frozenset:
+        """{i : e_i in the span}: in reduced row echelon form e_i reduces to 0 exactly when i is a
+        pivot whose row is e_i itself (any other entry of that row stays in the reduction), so
+        one pass over the rows finds them all."""
+        if self._units is None:
+            self._units = frozenset(p for row, p in zip(self.rows, self.pivots)
+                                    if sum(1 for e in row if e != 0) == 1)
+        return self._units
 
 
 def in_row_span(form: fmpq_mat, R: fmpq_mat) -> bool:

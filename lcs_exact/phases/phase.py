@@ -292,7 +292,7 @@ class Phase:
         are replaced by exact zeros (a constrained cart's position samples as exactly 0)."""
         if "_zero_coords" not in self.__dict__:
             span = self.zero_span
-            self._zero_coords = [i for i in range(self.M.nrows()) if span.dim and span.has_unit(i)]
+            self._zero_coords = sorted(span.units())
         return self._zero_coords
 
     @property
