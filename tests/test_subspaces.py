@@ -5,6 +5,7 @@ spans, matrix products), and the two-carts values of section 7 are derived by ha
 """
 from __future__ import annotations
 
+import random
 from fractions import Fraction
 
 import pytest
@@ -17,6 +18,8 @@ from lcs_exact.errors import ShapeError
 from lcs_exact.algebra.subspaces import (complement, contains, image, intersection, kernel, left_kernel,
                                  projection, rref, RowSpan, same_subspace, solve_any, subspace_sum)
 from lcs_exact.algebra.subspaces import rank as lib_rank
+from lcs_exact.algebra import projected_forms, pulled_back_forms, row_basis
+from lcs_exact.examples import cart_chain
 
 from reference.linalg import eye, mm, rank
 from reference.linalg import span_le as ref_span_le
@@ -322,3 +325,24 @@ def test_units_of_a_row_span_are_the_coordinates_it_holds():
         e = fmpq_mat(1, 4, [int(j == i) for j in range(4)])
         assert (e in Z) == (i in Z.units()) == Z.has_unit(i)
     assert RowSpan(fmpq_mat(0, 4, [])).units() == frozenset()
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2 ** 6 - 1), st.integers(0, 8), st.integers(0, 10 ** 6))
+def test_projected_forms_are_the_forms_pulled_back_through_P_I(mask, z, seed):
+    """For P_I of a mode of six coupled carts (n = 12) and random forms Z vanishing on v, the
+    forms r with r P_I in rowspan(Z), computed from the small matrix Z T_I, span the same space as
+    the kernel of [P^T, -Z^T] gives (the general pulled-back forms), and each vanishes on P_I v
+    for a v with Z v = 0 (a rational v from the kernel of Z)."""
+    rnd = random.Random(seed)
+    lcs = cart_chain(6)
+    mode = lcs.mode({i for i in range(lcs.k) if mask >> i & 1})
+    n = lcs.n
+    Z = fmpq_mat(z, n, [rnd.randint(-2, 2) for _ in range(z * n)])
+    P = mode.projection()
+    got = projected_forms(mode.annihilator(), mode.jump_space(), Z)
+    assert got == row_basis(pulled_back_forms(P, Z))
+    K = kernel(Z) if z else fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)])
+    if K.ncols():
+        v = K * fmpq_mat(K.ncols(), 1, [rnd.randint(-3, 3) for _ in range(K.ncols())])
+        assert all(e == 0 for e in (got * (P * v)).entries())

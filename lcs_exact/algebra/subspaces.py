@@ -15,6 +15,7 @@ __all__ = [
     "rref", "rank", "kernel", "image", "left_kernel", "subspace_sum", "intersection",
     "complement", "contains", "same_subspace", "solve_any", "projection",
     "row_basis", "in_row_span", "RowSpan", "orbit_zero_forms", "invariant_forms", "pulled_back_forms",
+    "projected_forms",
 ]
 
 
@@ -375,6 +376,36 @@ def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
             return U
         U = newU
     return U
+
+
+def projected_forms(W: fmpq_mat, T: fmpq_mat, Z: fmpq_mat) -> fmpq_mat:
+    """:func:`pulled_back_forms` for P the projection onto V = Ker W along T (P_I of section 4.2,
+    V_I = Ker W, T = T_I): r P is the form equal to r on V and 0 on T, so r P in rowspan(Z) exactly
+    when r is in rowspan(W) + (rowspan(Z) ∩ T^⊥), and rowspan(Z) ∩ T^⊥ = {a Z : a Z T = 0} comes
+    from the left kernel of the small matrix Z T (no kernel of an n x (n + m) matrix).
+
+    Parameters
+    ----------
+    W : fmpq_mat
+        Rows with Ker W = V.
+    T : fmpq_mat
+        A basis (columns) of T, V ⊕ T = Q^n.
+    Z : fmpq_mat
+        Forms (rows) vanishing on v.
+
+    Examples
+    --------
+    >>> W, T = fmpq_mat([[1, 0, 0]]), fmpq_mat([[1], [1], [0]])   # P (x, y, z) = (0, y - x, z)
+    >>> projected_forms(W, T, fmpq_mat([[0, 0, 1]]))  # z = 0 on v: P v = (0, y - x, 0)
+    [1, 0, 0]
+    [0, 0, 1]
+    """
+    n = W.ncols()
+    if Z.nrows() == 0:
+        return row_basis(W) if W.nrows() else zeros(0, n)
+    A = left_kernel(Z * T) if T.ncols() else identity(Z.nrows())
+    ZT = A * Z if A.nrows() else zeros(0, n)
+    return row_basis(W, ZT) if W.nrows() or ZT.nrows() else zeros(0, n)
 
 
 def pulled_back_forms(P: fmpq_mat, Z: fmpq_mat) -> fmpq_mat:

@@ -31,7 +31,7 @@ from ..algebra import as_list, format_form, is_zero, matrix_to_sympy, to_vector,
 from .algebraics import ca_from_state, ca_state, radical_form, rational_ca
 from .reals import ComponentReal, Real, ScaledReal, as_real, is_sympy
 from .relations import component_relations
-from ..algebra import RowSpan, kernel, pulled_back_forms, row_basis
+from ..algebra import RowSpan, kernel, projected_forms, pulled_back_forms, row_basis
 
 __all__ = ["ExactVector", "RationalVector", "ScaledVector", "ProjectedVector", "ComponentsVector", "AlgebraicVector",
            "algebraic_vector", "ca_matvec", "as_exact_vector", "as_state", "homogenized"]
@@ -364,11 +364,14 @@ class ProjectedVector(ExactVector):
         Default: v's.
     zero_forms : fmpq_mat, optional
         Further forms (rows, m columns) known to vanish on P v, added to those pulled back from v.
+    split : (W, T), optional
+        P is the projection onto Ker W along Im T (P_I: W the annihilator of V_I, T a basis of
+        T_I): the pulled-back forms come from the small matrix Z T (:func:`projected_forms`).
     """
 
     def __init__(self, P: fmpq_mat, v: ExactVector, policy: Policy | None = None,
-                 zero_forms: fmpq_mat | None = None):
-        zf = pulled_back_forms(P, v.zero_forms)
+                 zero_forms: fmpq_mat | None = None, split: tuple | None = None):
+        zf = pulled_back_forms(P, v.zero_forms) if split is None else projected_forms(*split, v.zero_forms)
         if zero_forms is not None and zero_forms.nrows():
             zf = row_basis(zf, zero_forms) if zf.nrows() else zero_forms
         super().__init__(P.nrows(), zf, policy or v.policy)

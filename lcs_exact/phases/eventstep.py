@@ -164,10 +164,11 @@ def selection_verdict(arith: StepArithmetic, mode, z) -> str | None:
 # ---------------------------------------------------------------------------------------------
 
 
-def apply_forms(P: fmpq_mat, z):
-    """P z for a rational matrix P and an exact vector z (rational stays rational)."""
+def apply_forms(P: fmpq_mat, z, split: tuple | None = None):
+    """P z for a rational matrix P and an exact vector z (rational stays rational); ``split`` =
+    (W, T) when P projects onto Ker W along Im T (its zero forms from the small matrix Z T)."""
     q = z.known_rational()
-    return RationalVector(P * q, z.policy) if q is not None else ProjectedVector(P, z)
+    return RationalVector(P * q, z.policy) if q is not None else ProjectedVector(P, z, split=split)
 
 
 def _point(z):
@@ -218,7 +219,7 @@ class ExactStates:
     def project(self, mode, z, first: bool):
         if first:
             self.impulse = Impulse(mode, z)
-        return apply_forms(mode.projection(), z)
+        return apply_forms(mode.projection(), z, (mode.annihilator(), mode.jump_space()))
 
     def endless(self, cap: int):
         raise ZenoDetected(f"re-initialization at {self.when()} did not end after {cap} jumps "
