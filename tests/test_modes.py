@@ -6,9 +6,10 @@ from fractions import Fraction
 import pytest
 from helpers import carts, columns, hook, mat
 
-from reference.linalg import mv, same_span
+from reference.linalg import mv, rank, same_span
 
 from lcs_exact import LCS, NotAutonomous
+from lcs_exact.examples import cart_chain
 
 
 def test_two_carts_mode_1_section_7():
@@ -95,3 +96,22 @@ def test_projection_is_idempotent_and_splits():
         for j in range(V.ncols()):
             v = [V[i, j] for i in range(4)]
             assert mv(P, v) == [Fraction(int(x.p), int(x.q)) for x in v]
+
+
+@pytest.mark.parametrize("mask", [0b1, 0b101, 0b11, 0b1110, 0b11111, 0b10010])
+def test_feedback_of_chain_modes_keeps_the_state_in_V_and_y_I_at_zero(mask):
+    """F_I on modes of six coupled carts (n = 12): F T_I = 0, and for each basis vector x of V_I
+    the input u = F x keeps y_I = C_I x + D_II u = 0 along the motion (C_I (A x + B_I u) = 0) and
+    (A + B_I F) x lies in V_I (checked here with the reference's exact rank)."""
+    lcs = cart_chain(6)
+    I = [i for i in range(lcs.k) if mask >> i & 1]
+    m = lcs.mode(I)
+    A, B, C = mat(lcs.A), mat(lcs.B), mat(lcs.C)
+    F, V, T = mat(m.feedback()), columns(m.consistent_subspace()), columns(m.jump_space())
+    for t in T:
+        assert mv(F, t) == [0] * len(I)
+    for x in V:
+        u = mv(F, x)
+        dx = [a + sum(B[r][i] * u[j] for j, i in enumerate(I)) for r, a in enumerate(mv(A, x))]
+        assert all(mv([C[i] for i in I], dx)[j] == 0 for j in range(len(I)))
+        assert rank(V + [dx]) == len(V)

@@ -294,8 +294,11 @@ class Mode:
         U = solve_any(lhs, rhs)
         if U is None:
             raise LCSError(f"internal inconsistency: V_I of mode {format_mode(self.I)} is not invariant")
-        coords = hstack(V, T).solve(identity(n))
-        return U * submatrix(coords, range(V.ncols()), None) if V.ncols() else zeros(m, n)
+        if not V.ncols():
+            return zeros(m, n)
+        # x = V a + T b with a = (P_I x) at the pivot rows of V (V is a canonical basis: its
+        # column c is 1 at row piv_c, where the other columns are 0): F_I = U P_I[piv, :]
+        return U * submatrix(self._P, _pivot_rows(V), None)
 
     def closed_loop(self) -> fmpq_mat:
         """A_I = ``A + B_.I F_I``: x' = A_I x on V_I."""
@@ -351,3 +354,9 @@ class Mode:
         if self.is_autonomous:
             s += rf",\ P_I = {f(self.projection())}"
         return f"${s}$"
+
+
+def _pivot_rows(V: fmpq_mat) -> list[int]:
+    """The row of each column's leading 1 in a canonical basis (columns of rref rows, transposed)."""
+    n, e, d = V.nrows(), V.entries(), V.ncols()
+    return [next(i for i in range(n) if e[i * d + c] != 0) for c in range(d)]
