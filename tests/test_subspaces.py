@@ -18,10 +18,10 @@ from lcs_exact.errors import ShapeError
 from lcs_exact.algebra.subspaces import (complement, contains, image, intersection, kernel, left_kernel,
                                  projection, rref, RowSpan, same_subspace, solve_any, subspace_sum)
 from lcs_exact.algebra.subspaces import rank as lib_rank
-from lcs_exact.algebra import projected_forms, pulled_back_forms, row_basis
+from lcs_exact.algebra import invariant_forms, projected_forms, pulled_back_forms, row_basis
 from lcs_exact.examples import cart_chain
 
-from reference.linalg import eye, mm, rank
+from reference.linalg import eye, mm, nullspace, rank, same_span
 from reference.linalg import span_le as ref_span_le
 
 PROP = settings(derandomize=True, deadline=None, max_examples=50)
@@ -346,3 +346,31 @@ def test_projected_forms_are_the_forms_pulled_back_through_P_I(mask, z, seed):
     if K.ncols():
         v = K * fmpq_mat(K.ncols(), 1, [rnd.randint(-3, 3) for _ in range(K.ncols())])
         assert all(e == 0 for e in (got * (P * v)).entries())
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(2, 6), st.integers(0, 5), st.integers(0, 10 ** 6))
+def test_invariant_forms_are_the_largest_invariant_part(n, r, seed):
+    """invariant_forms(R, M) = {u : u M^j in rowspan(R) for every j}, computed here as the forms
+    vanishing on the Krylov space K + M K + ... + M^(n-1) K of K = Ker R (reference rational
+    arithmetic); M with small entries, R random rows, sometimes an invariant part planted (R
+    holds e, e M, ..., e M^(n-1) for its first row e)."""
+    rnd = random.Random(seed)
+    Mr = [[Fraction(rnd.randint(-2, 2)) if rnd.random() < 0.6 else Fraction(0) for _ in range(n)] for _ in range(n)]
+    Rr = [[Fraction(rnd.randint(-2, 2)) for _ in range(n)] for _ in range(r)]
+    if r and rnd.random() < 0.5:  # plant an M-invariant row span: e and e M, ..., e M^(n-1)
+        e = Rr[0]
+        for _ in range(n - 1):
+            e = [sum(e[i] * Mr[i][j] for i in range(n)) for j in range(n)]
+            Rr.append(e)
+    M = fmpq_mat(n, n, [fmpq(int(x)) for row in Mr for x in row])
+    R = fmpq_mat(len(Rr), n, [fmpq(x.numerator, x.denominator) for row in Rr for x in row]) if Rr else fmpq_mat(0, n)
+    got = [[Fraction(int(U[i, j].p), int(U[i, j].q)) for j in range(n)] for U in [invariant_forms(R, M)]
+           for i in range(U.nrows())]
+    K = nullspace(Rr, n)
+    krylov, layer = list(K), list(K)
+    for _ in range(n - 1):
+        layer = [[sum(Mr[i][j] * v[j] for j in range(n)) for i in range(n)] for v in layer]
+        krylov += layer
+    want = nullspace(krylov, n) if krylov else [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
+    assert same_span(got, want)

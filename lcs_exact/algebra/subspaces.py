@@ -9,7 +9,7 @@ from __future__ import annotations
 from flint import fmpq_mat
 
 from ..errors import ShapeError
-from .rational import hstack, identity, submatrix, vstack, zeros
+from .rational import hstack, identity, is_zero, submatrix, vstack, zeros
 
 __all__ = [
     "rref", "rank", "kernel", "image", "left_kernel", "subspace_sum", "intersection",
@@ -366,16 +366,30 @@ def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
         n x n.
     """
     n = M.nrows()
-    U = row_basis(R) if R.nrows() else zeros(0, n)
+    U = R
     while U.nrows():
-        d = U.nrows()
-        k = kernel(hstack((U * M).transpose(), -U.transpose()))  # a U M in span(U)
-        a = submatrix(k, range(d), None) if k.ncols() else zeros(d, 0)
-        newU = row_basis(a.transpose() * U) if a.ncols() else zeros(0, n)
-        if newU.nrows() == U.nrows():
+        # U in reduced row echelon form: a row y reduces modulo span(U) to y - y[:, piv] U, so
+        # the residual of U M says which combinations a U stay in span(U) under M (a Res = 0);
+        # no kernel when span(U) is invariant already (the constraints of the mode, mostly)
+        r, piv = rref(U)
+        U = submatrix(r, range(len(piv)), None) if piv else zeros(0, n)
+        if not piv:
             return U
-        U = newU
+        Y = U * M
+        Res = Y - (Y * _selection(piv, n)) * U
+        if is_zero(Res):
+            return U
+        a = left_kernel(Res)
+        U = a * U if a.nrows() else zeros(0, n)
     return U
+
+
+def _selection(cols: list[int], n: int) -> fmpq_mat:
+    """The n x len(cols) 0/1 matrix with X S = X[:, cols] (one product in C)."""
+    S = fmpq_mat(n, len(cols))
+    for c, i in enumerate(cols):
+        S[i, c] = 1
+    return S
 
 
 def projected_forms(W: fmpq_mat, T: fmpq_mat, Z: fmpq_mat) -> fmpq_mat:

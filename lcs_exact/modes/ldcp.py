@@ -270,20 +270,21 @@ def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_m
 
 def _positive(F: fmpq_mat, rows: list[int], x) -> set[int]:
     """The rows l of F (of ``rows``) with F_l x > 0: one product of balls for all of them (the
-    state's ball), the exact sign of a row's form only where its ball holds 0."""
+    state's ball), the exact sign of a row's form only where its ball holds 0 with a radius (a
+    ball of radius 0 is the exact value: a zero row, mostly)."""
     if not rows:
         return set()
     if isinstance(x, fmpq_mat):
         V = F * x
         return {l for l in rows if V[l, 0] > 0}
     vals = x.form_balls(F)
-    n = F.ncols()
-    e = F.entries()
     out = set()
     for l in rows:
-        s = ball_sign(vals[0][l, 0]) if vals is not None else 0
-        if s == 0 and any(e[l * n:(l + 1) * n]):  # a zero row is 0 (no form to ask)
-            s = sign_of_form(fmpq_mat(1, n, e[l * n:(l + 1) * n]), x)
+        v = vals[0][l, 0] if vals is not None else None
+        s = ball_sign(v) if v is not None else 0
+        if s == 0 and (v is None or not v.is_zero()):  # an exact 0 (a zero row) is proven 0
+            row = submatrix(F, [l], None)  # else the row's form decides
+            s = 0 if is_zero(row) else sign_of_form(row, x)
         if s > 0:
             out.add(l)
     return out
