@@ -69,8 +69,9 @@ def test_a_modes_data_are_computed_once_in_typed_attributes(monkeypatch):
     h = hook()
     m = h.mode({1})
     calls = []
-    real = mode_module.projection
+    real, along = mode_module.projection, mode_module.projection_along  # P_I by either route
     monkeypatch.setattr(mode_module, "projection", lambda V, T: calls.append(1) or real(V, T))
+    monkeypatch.setattr(mode_module, "projection_along", lambda W, T: calls.append(1) or along(W, T))
     first = [m.annihilator(), m.consistent_subspace(), m.jump_space(), m.projection(), m.feedback(),
              m.closed_loop(), m.spectrum(), m.free_inputs()]
     again = [m.annihilator(), m.consistent_subspace(), m.jump_space(), m.projection(), m.feedback(),

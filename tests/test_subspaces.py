@@ -16,9 +16,10 @@ from hypothesis import strategies as st
 
 from lcs_exact.errors import ShapeError
 from lcs_exact.algebra.subspaces import (complement, contains, image, intersection, kernel, left_kernel,
-                                 projection, rref, RowSpan, same_subspace, solve_any, subspace_sum)
+                                 projection, projection_along, rref, RowSpan, same_subspace, solve_any,
+                                 subspace_sum)
 from lcs_exact.algebra.subspaces import rank as lib_rank
-from lcs_exact.algebra import invariant_forms, projected_forms, pulled_back_forms, row_basis
+from lcs_exact.algebra import invariant_forms, projected_forms, pulled_back_forms, row_basis, submatrix, vstack
 from lcs_exact.examples import cart_chain
 
 from reference.linalg import eye, mm, nullspace, rank, same_span
@@ -374,3 +375,25 @@ def test_invariant_forms_are_the_largest_invariant_part(n, r, seed):
         krylov += layer
     want = nullspace(krylov, n) if krylov else [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
     assert same_span(got, want)
+
+
+@pytest.mark.parametrize("mask", [0, 0b1, 0b11, 0b101, 0b11111, 0b111111])
+def test_projection_along_the_annihilator_is_P_I(mask):
+    """I - T (W T)^{-1} W with W a row basis of V_I's annihilator and T a basis of T_I, on modes
+    of six carts (n = 12), is the projection built from bases of V_I and T_I: idempotent, the
+    identity on V_I, zero on T_I (reference arithmetic); W with a dependent row, or a T that does
+    not split with Ker W, gives None."""
+    lcs = cart_chain(6)
+    m = lcs.mode({i for i in range(lcs.k) if mask >> i & 1})
+    W, T = row_basis(m.annihilator()), m.jump_space()
+    P = projection_along(W, T)
+    assert P == projection(m.consistent_subspace(), T)
+    Pr = [[Fraction(int(P[i, j].p), int(P[i, j].q)) for j in range(12)] for i in range(12)]
+    assert mm(Pr, Pr) == Pr
+    for v in columns(m.consistent_subspace()):
+        assert [sum(Pr[i][j] * v[j] for j in range(12)) for i in range(12)] == v
+    for t in columns(T):
+        assert all(sum(Pr[i][j] * t[j] for j in range(12)) == 0 for i in range(12))
+    if W.nrows():
+        assert projection_along(vstack(W, submatrix(W, [0], None)), T) is None  # dependent rows
+        assert projection_along(W, fmpq_mat(12, T.ncols())) is None  # W T singular

@@ -15,7 +15,7 @@ __all__ = [
     "rref", "rank", "kernel", "image", "left_kernel", "subspace_sum", "intersection",
     "complement", "contains", "same_subspace", "solve_any", "projection",
     "row_basis", "in_row_span", "RowSpan", "orbit_zero_forms", "invariant_forms", "pulled_back_forms",
-    "projected_forms",
+    "projected_forms", "projection_along",
 ]
 
 
@@ -198,6 +198,38 @@ def projection(v: fmpq_mat, t: fmpq_mat) -> fmpq_mat:
         return v * C if d else zeros(n, n)
     return identity(n) - t * C
 
+
+
+def projection_along(w: fmpq_mat, t: fmpq_mat) -> fmpq_mat | None:
+    """The projection onto Ker W along Im T, P = I - T (W T)^{-1} W, or None when W T is not square
+    and invertible (then Ker W and Im T do not split Q^n, or W has dependent rows: the caller
+    goes through bases, :func:`projection`).  One d x d solve (d = dim T) instead of n x n.
+
+    Parameters
+    ----------
+    w : fmpq_mat
+        d x n rows with Ker W = V (the annihilator of V_I).
+    t : fmpq_mat
+        n x d, a basis of T (T_I).
+
+    Examples
+    --------
+    >>> projection_along(fmpq_mat([[1, 0, 0, 0], [0, 0, 1, 0]]), fmpq_mat([[0, 1], [0, 0], [1, 0], [0, 0]])
+    ...                  ) * fmpq_mat([[0], [-1], [-1], [0]])
+    [ 0]
+    [-1]
+    [ 0]
+    [ 0]
+    """
+    n, d = t.nrows(), t.ncols()
+    if w.nrows() != d:
+        return None
+    if d == 0:
+        return identity(n)
+    try:
+        return identity(n) - t * (w * t).solve(w)
+    except ZeroDivisionError:
+        return None
 
 
 # ---------------------------------------------------------------------------------------------

@@ -33,7 +33,7 @@ from ..errors import LCSError, NotAutonomous
 from ..numbers import Spectrum
 from ..interfaces import SystemLike
 from ..algebra import hstack, identity, matrix_to_sympy, norm_inf, submatrix, vstack, zeros
-from ..algebra import image, intersection, kernel, left_kernel, projection, rank, solve_any
+from ..algebra import image, intersection, kernel, left_kernel, projection, projection_along, rank, row_basis, solve_any
 
 __all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
 
@@ -274,7 +274,9 @@ class Mode:
     @cached_property
     def _P(self) -> fmpq_mat:
         self.require_state_determined()  # raises: nothing is cached
-        return projection(self._V, self._T)
+        # I - T (W T)^{-1} W (W a row basis of V_I's annihilator): a d x d solve, d = dim T_I
+        P = projection_along(row_basis(self._W), self._T)
+        return P if P is not None else projection(self._V, self._T)
 
     def feedback(self) -> fmpq_mat:
         """F_I (``|I| x n``): u_I = F_I x keeps x in V_I and y_I = 0 (section 4.1); F_I T_I = 0."""

@@ -19,7 +19,7 @@ from __future__ import annotations
 from flint import arb, arb_mat, arb_poly, fmpq, fmpq_mat
 
 from ..numbers import TaylorSteps, dyadic_lower, dyadic_upper, workprec
-from ..algebra import norm_inf
+from ..algebra import norm_inf, vstack
 from .guesses import newton_in_bracket
 from .roots import taylor_form
 
@@ -51,7 +51,7 @@ class TaylorRows:
         if norms is None:
             norms = [norm_inf(g.transpose()) for g in self.rows]
         with workprec(self.prec):
-            self._G = arb_mat(_stack(self.rows)) if self.rows else None
+            self._G = arb_mat(vstack(*self.rows)) if self.rows else None
             self._g1 = [arb(q) for q in norms]  # ||g||_1
         self._coeffs: list[list[list[arb]]] = []  # step -> row -> [c_0 .. c_{J-1}]
         self._polys: dict = {}
@@ -202,11 +202,6 @@ def _vandermonde(J: int) -> arb_mat:
         with workprec(53):
             _VANDERMONDE[J] = arb_mat([[arb(th) ** j for th in _GUESS_THETAS] for j in range(J)])
     return _VANDERMONDE[J]
-
-
-def _stack(rows: list[fmpq_mat]) -> fmpq_mat:
-    n = rows[0].ncols()
-    return fmpq_mat(len(rows), n, [g[0, j] for g in rows for j in range(n)])
 
 
 def _horner(row: list[float], x: float) -> float:
