@@ -96,7 +96,9 @@ class DerivedData:
     * ``state_response``: X_I(s) with B u(s) = X_I(s) x0, or None when the free inputs move the
       state, so that ``state_response_known`` says whether it was computed;
     * ``input_rows``: (U(s), free): u(s) = U(s) x0 on the rows the family fixes, and the inputs a
-      free direction moves.
+      free direction moves;
+    * ``constraints``: the monitored functions of a phase in the mode and their rows' norms
+      (``phase.Phase``: a tuple of ``Constraint`` and a list of ||g||_1).
     """
 
     family: Any = None
@@ -105,6 +107,7 @@ class DerivedData:
     state_response: Any = None
     state_response_known: bool = False
     input_rows: Any = None
+    constraints: Any = None
 
 
 class Mode:

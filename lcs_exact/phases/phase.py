@@ -150,7 +150,10 @@ class Phase:
             W = mode.annihilator()
             inv = invariant_forms(self.base.zero_forms, self.M) if self.base.zero_forms.nrows() else W
             self.zero_forms = row_basis(W, inv) if W.nrows() or inv.nrows() else zeros(0, self.M.nrows())
-        self.constraints = self._constraints()
+        if mode.derived.constraints is None:  # the same for every phase of the mode
+            cons = tuple(self._constraints())
+            mode.derived.constraints = (cons, [sum((abs(e) for e in c.g.entries() if e), fmpq(0)) for c in cons])
+        self.constraints = list(mode.derived.constraints[0])
         q0 = self.base.known_rational()
         # A_I z = 0, proven: x(t) = z throughout, so every monitored function is constant (no
         # event ever, at any horizon).  Exact for a rational start; for another, when every row
@@ -163,6 +166,7 @@ class Phase:
             q = self.base.known_rational()
             self.exact_start = q if q is not None else self.base.known_ca()
         self._powers: dict = {}
+        self._orders: dict = {}
         self._rows: TaylorRows | None = None
         self._first: fmpq | None | bool = False  # the Taylor steps' first step (False: not guessed yet)
         self._modal = None
@@ -209,6 +213,7 @@ class Phase:
 
     def __setstate__(self, state):
         self.__dict__.update(state)
+        self.__dict__.setdefault("_orders", {})
         if isinstance(self.exact_start, tuple):
             self.exact_start = [ca_from_state(c) for c in self.exact_start[1]]
 
@@ -257,10 +262,10 @@ class Phase:
             self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms)
         return self._rows
 
-    @cached_property
+    @property
     def row_norms(self) -> list[fmpq]:
-        """||g||_1 of each constraint's row (the tails of Taylor steps; once per phase)."""
-        return [sum((abs(e) for e in c.g.entries()), fmpq(0)) for c in self.constraints]
+        """||g||_1 of each constraint's row (the tails of Taylor steps; once per mode)."""
+        return self.mode.derived.constraints[1]
 
     def taylor_sum(self, g: fmpq_mat, prec: int) -> TaylorSum:
         """f = g x(t) on Taylor steps: a constraint's row from the phase's rows, another (a
@@ -318,7 +323,13 @@ class Phase:
     # --- the start of the phase (Lemma 5.1) ----------------------------------------------------
     def start_order(self, c: Constraint) -> tuple[int, int]:
         """(sign, order) of f at t = 0+: the first nonzero f^{(j)}(0) = g A_I^j z; (0, -1) if f = 0
-        identically (Cayley-Hamilton: n zeros suffice)."""
+        identically (Cayley-Hamilton: n zeros suffice).  Kept per constraint."""
+        key = (c.kind, c.index, c.label)
+        if key not in self._orders:
+            self._orders[key] = self._start_order(c)
+        return self._orders[key]
+
+    def _start_order(self, c: Constraint) -> tuple[int, int]:
         for j in range(self.lcs.n):
             form = self.gM(c, j)
             if form in self.zero_span:
