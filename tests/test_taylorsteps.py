@@ -262,3 +262,22 @@ def test_first_step_of_a_gap_closing_early():
         assert st.length(0) <= h0 and st.order(0) == 2  # x(t) = 10^-40 - t exactly: two terms
         assert first_step(M, G, arb_mat([[1], [-1]]), 200, fmpq(1)) is None
         assert first_step(M, G, arb_mat([[fmpq(1, 10 ** 40)], [1]]), 200, fmpq(1)) is None
+
+
+def test_positive_until_proves_rows_positive_without_a_search():
+    """cos t > 0 on (0, 1] but not on (0, 2] (it crosses at pi/2); sin t (order 1 at 0) > 0 on
+    (0, 3]; on the shift x1' = x2, x2' = x3, x3' = x4: 10^-30 + t^3 > 0 on (0, 1/2] (every
+    coefficient positive: Horner on a ball of theta would lose the sign) and t^2 - t^3 (order 2)
+    > 0 on (0, 1/2], not on (0, 2] (it crosses at 1)."""
+    with workprec(128):
+        st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 128)
+        rows = TaylorRows(st, [fmpq_mat([[1, 0]]), fmpq_mat([[0, -1]])])
+        assert rows.positive_until(0, 0, fmpq(1)) and not rows.positive_until(0, 0, fmpq(2))
+        assert rows.positive_until(1, 1, fmpq(3))
+        M = fmpq_mat([[0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]])
+        st = TaylorSteps(M, fmpq(1), arb_mat([[fmpq(1, 10 ** 30)], [0], [0], [6]]), 128, first=fmpq(1, 2))
+        rows = TaylorRows(st, [fmpq_mat([[1, 0, 0, 0]])])
+        assert rows.positive_until(0, 0, fmpq(1, 2))
+        st = TaylorSteps(M, fmpq(1), arb_mat([[0], [0], [2], [-6]]), 128)
+        rows = TaylorRows(st, [fmpq_mat([[1, 0, 0, 0]])])
+        assert rows.positive_until(0, 2, fmpq(1, 2)) and not rows.positive_until(0, 2, fmpq(2))

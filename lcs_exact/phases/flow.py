@@ -295,7 +295,11 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
     strict: list = []  # constraints whose search proved them > 0 up to the first event (see Hit)
     limit = hb
     search = min(prec, SEARCH_PREC)
+    index = {id(c): i for i, c in enumerate(phase.constraints)}
     for est, c in _by_estimate(phase, hb, search):
+        if est is None and limit < hb and _positive_until(phase, index[id(c)], c, limit, search):
+            strict.append(c)  # proven > 0 up to the first event on the steps, no search
+            continue
         r, positive = _search(phase, c, limit, search, est, clock)
         if r is None:
             if positive:  # > 0 on (0, limit], and the first event is before limit
@@ -324,6 +328,16 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
     simultaneous = [first_c] + [c for c, r in found if r is not first and
                                 compare_roots(phase, r, c, first, first_c, clock) == 0]
     return Hit(first, simultaneous, at, tuple(c for c in strict if c not in simultaneous))
+
+
+def _positive_until(phase: Phase, i: int, c: Constraint, end: fmpq, prec: int) -> bool:
+    """c's function proven > 0 on (0, end] by enclosures on the Taylor steps' polynomials
+    (:meth:`~lcs_exact.phases.taylorsum.TaylorRows.positive_until`): a constraint far from 0 up
+    to the first event needs no search of its own.  False: not proven (or not on Taylor steps)."""
+    if not phase.taylor or phase.policy.allow_unresolved:
+        return False
+    sign, order = phase.start_order(c)
+    return sign > 0 and phase.taylor_rows(prec).positive_until(i, order, end)
 
 
 def _before(first: Real, H: Real) -> bool:

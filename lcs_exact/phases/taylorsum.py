@@ -86,6 +86,31 @@ class TaylorRows:
             v = self.poly(i, k, d)(theta) + arb(0, (self._g1[i] * st.tail_at(k, d, theta)).upper())
             return v / arb(st.length(k)) ** d if d else v
 
+    def positive_until(self, i: int, order: int, end: fmpq, max_steps: int = 4) -> bool:
+        """f_i > 0 on (0, end], proven on the steps' polynomials (False: not proven), where
+        f_i^{(j)}(0) = 0 exactly for j < ``order`` and f_i > 0 just after 0 (Lemma 5.1, the
+        caller's).  On a piece [theta_a, theta_b] of step k, f_i lies in p_k(Theta) plus the tail
+        bound; on step 0 with order o > 0, f_i / theta^o lies in sum_{j >= o} c_j Theta^(j - o) plus the
+        same bound (the tail is O(theta^J), J > o).  A piece the bound of :func:`_positive_on` does
+        not show positive is halved, three times at most; more than ``max_steps`` steps: not tried
+        (the search's)."""
+        st = self.steps
+        pieces = st.pieces(fmpq(0), end)
+        if len(pieces) > max_steps:
+            return False
+        for k, a, b in pieces:
+            cs = self.coefficients(k)[i]
+            o = order if k == 0 else 0
+            if o >= len(cs):
+                return False
+            h, t0 = st.length(k), st.start(k)
+            with workprec(self.prec):
+                p = arb_poly(cs[o:])
+                rho = arb(0, (self._g1[i] * st.tail(k, 0)).upper())
+                if not _positive_on(p, (a - t0) / h, (b - t0) / h, rho, 3):
+                    return False
+        return True
+
     def float_coefficients(self, k: int) -> list[list[float]]:
         """The midpoints of step k's coefficients (guesses only)."""
         if k not in self._floats:
@@ -202,6 +227,24 @@ def _vandermonde(J: int) -> arb_mat:
         with workprec(53):
             _VANDERMONDE[J] = arb_mat([[arb(th) ** j for th in _GUESS_THETAS] for j in range(J)])
     return _VANDERMONDE[J]
+
+
+def _positive_on(p: arb_poly, lo: fmpq, hi: fmpq, rho: arb, depth: int) -> bool:
+    """p + rho > 0 on [lo, hi] (rho a ball around 0): with q(u) = p(lo + (hi - lo) u), u in [0, 1],
+    q >= q_0 + sum_{j >= 1} min(0, q_j) (a ball's product with a wide ball of theta would lose the
+    signs: c_0 + c_3 theta^3 with every c_j > 0 is not shown positive by Horner on [0, 0.34]);
+    the interval is halved ``depth`` times at most where that bound does not show it."""
+    q = p(arb_poly([arb(lo), arb(hi - lo)])).coeffs()
+    low = q[0] + rho
+    for c in q[1:]:
+        if not c > 0:
+            low += arb(c.lower())
+    if low > 0:
+        return True
+    if depth == 0:
+        return False
+    m = (lo + hi) / 2
+    return _positive_on(p, lo, m, rho, depth - 1) and _positive_on(p, m, hi, rho, depth - 1)
 
 
 def _horner(row: list[float], x: float) -> float:
