@@ -80,6 +80,8 @@ def image(m: fmpq_mat) -> fmpq_mat:
     if m.ncols() == 0:
         return zeros(n, 0)
     r, piv = rref(m.transpose())
+    if len(piv) == r.nrows():  # independent columns (a kernel's basis): no zero rows to drop
+        return r.transpose()
     return submatrix(r, range(len(piv)), None).transpose() if piv else zeros(n, 0)
 
 
@@ -254,7 +256,7 @@ def row_basis(*ms: fmpq_mat) -> fmpq_mat:
     nonempty = [m for m in ms if m.nrows()]
     if not nonempty:
         return zeros(0, ms[0].ncols() if ms else 0)
-    m = vstack(*nonempty)
+    m = vstack(*nonempty) if len(nonempty) > 1 else nonempty[0]
     return image(m.transpose()).transpose()
 
 

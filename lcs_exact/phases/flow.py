@@ -29,7 +29,7 @@ from ..numbers import RationalReal, Real, as_real
 from ..numbers import ExactVector, ProjectedVector, RationalVector, as_exact_vector
 from .polyroots import exact_first_crossing
 from .guesses import float_crossing
-from .roots import RootReal, first_crossing, positive_step
+from .roots import ROOT_GUARD, RootReal, first_crossing, positive_step
 
 __all__ = ["Hit", "first_root", "next_event", "compare_roots", "theta", "horizon_bound", "IMMEDIATE", "Immediate"]
 
@@ -295,6 +295,8 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
     strict: list = []  # constraints whose search proved them > 0 up to the first event (see Hit)
     limit = hb
     search = min(prec, SEARCH_PREC)
+    if phase.taylor:  # the steps at the bits the event's root is refined to as well (one set, not two)
+        phase.taylor_rows(search + ROOT_GUARD)
     index = {id(c): i for i, c in enumerate(phase.constraints)}
     for est, c in _by_estimate(phase, hb, search):
         if est is None and limit < hb and _positive_until(phase, index[id(c)], c, limit, search):
