@@ -299,7 +299,7 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
         phase.taylor_rows(search + ROOT_GUARD)
     index = {id(c): i for i, c in enumerate(phase.constraints)}
     for est, c in _by_estimate(phase, hb, search):
-        if est is None and limit < hb and _positive_until(phase, index[id(c)], c, limit, search):
+        if est is None and _positive_until(phase, index[id(c)], c, limit, search):
             strict.append(c)  # proven > 0 up to the first event on the steps, no search
             continue
         r, positive = _search(phase, c, limit, search, est, clock)

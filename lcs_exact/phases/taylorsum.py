@@ -86,7 +86,7 @@ class TaylorRows:
             v = self.poly(i, k, d)(theta) + arb(0, (self._g1[i] * st.tail_at(k, d, theta)).upper())
             return v / arb(st.length(k)) ** d if d else v
 
-    def positive_until(self, i: int, order: int, end: fmpq, max_steps: int = 4) -> bool:
+    def positive_until(self, i: int, order: int, end: fmpq, max_steps: int = 16) -> bool:
         """f_i > 0 on (0, end], proven on the steps' polynomials (False: not proven), where
         f_i^{(j)}(0) = 0 exactly for j < ``order`` and f_i > 0 just after 0 (Lemma 5.1, the
         caller's).  On a piece [theta_a, theta_b] of step k, f_i lies in p_k(Theta) plus the tail
