@@ -117,23 +117,23 @@ class TaylorRows:
             self._floats[k] = [[float(c.mid()) for c in row] for row in self.coefficients(k)]
         return self._floats[k]
 
-    def _grid_values(self, k: int, rows: list[int]) -> list:
-        """The midpoint polynomials of step k's ``rows`` at the GUESS_POINTS points theta_p (53-bit
-        balls, row after row): one product of the midpoints with a Vandermonde matrix (no float
-        underflow for a row of 10^-400, and no numpy import).  Every term is kept: a row near 0
-        (10^-20 where the state is O(1)) needs all of them."""
+    def _grid_values(self, k: int, rows: list[int], points: tuple) -> list:
+        """Step k's ``rows`` at the grid ``points`` (indices into the GUESS_POINTS thetas), as
+        53-bit balls, row after row: one product of the coefficients with a Vandermonde matrix (no
+        float underflow for a row of 10^-400, and no numpy import).  Every term is kept: a row
+        near 0 (10^-20 where the state is O(1)) needs all of them."""
         coeffs = self.coefficients(k)
-        J = len(coeffs[0])
         with workprec(53):
-            C = arb_mat([[c.mid() for c in coeffs[i]] for i in rows])
-            return (C * _vandermonde(J)).entries()
+            C = arb_mat([coeffs[i] for i in rows])
+            return (C * _vandermonde(len(coeffs[0]), points)).entries()
 
     def guess_crossings(self, a: float, b: float, only: list[int] | None = None) -> list[float | None]:
         """Float guesses of the first t in (a, b] where each row (of ``only``, default all) turns
         negative (None: not seen), step by step from a; the scan stops at the end of the first step
         where a row crosses (a later crossing of another row can only be an event if it is
         certified before the first, which the certified search of the others up to that root
-        decides)."""
+        decides).  Every fourth point of the grid is looked at first; the three before the first
+        such point where a row is negative, for that row only."""
         st = self.steps
         out: list[float | None] = [None] * len(self.rows)
         scan = set(range(len(self.rows)) if only is None else only)
@@ -141,15 +141,18 @@ class TaylorRows:
         while float(st.start(k)) < b:
             t0, h = float(st.start(k)), float(st.length(k))
             todo = sorted(i for i in scan if out[i] is None)
-            vals = self._grid_values(k, todo) if todo else []
-            P = GUESS_POINTS
+            vals = self._grid_values(k, todo, _COARSE) if todo else []
+            Q = len(_COARSE)
             for r, i in enumerate(todo):
-                for p, th in enumerate(_GUESS_THETAS):
-                    if vals[r * P + p].mid() < 0:
-                        t = t0 + h * th
-                        if a < t <= b:
+                for c, p in enumerate(_COARSE):
+                    if vals[r * Q + c] < 0 and a < t0 + h * _GUESS_THETAS[p]:
+                        fine = tuple(range(p - _STRIDE + 1, p))
+                        before = [q for q, v in zip(fine, self._grid_values(k, [i], fine))
+                                  if v < 0 and a < t0 + h * _GUESS_THETAS[q]]
+                        t = t0 + h * _GUESS_THETAS[before[0] if before else p]
+                        if t <= b:
                             out[i] = t
-                            break
+                        break
             if any(o is not None for o in out):
                 return out
             k += 1
@@ -218,15 +221,19 @@ class TaylorSum:
 
 #: the points of a step the guesses look at (theta in (0, 1))
 _GUESS_THETAS = [(p + GUESS_OFFSET) / GUESS_POINTS for p in range(GUESS_POINTS)]
-_VANDERMONDE: dict[int, arb_mat] = {}
+#: the coarse points looked at first (every fourth), the fine ones only before a negative one
+_STRIDE = 4
+_COARSE = tuple(range(_STRIDE - 1, GUESS_POINTS, _STRIDE))
+_VANDERMONDE: dict[tuple, arb_mat] = {}
 
 
-def _vandermonde(J: int) -> arb_mat:
-    """[theta_p^j] (J x GUESS_POINTS, 53-bit balls), kept per J."""
-    if J not in _VANDERMONDE:
+def _vandermonde(J: int, points: tuple) -> arb_mat:
+    """[theta_p^j] (J x len(points), 53-bit balls), kept per (J, points)."""
+    key = (J, points)
+    if key not in _VANDERMONDE:
         with workprec(53):
-            _VANDERMONDE[J] = arb_mat([[arb(th) ** j for th in _GUESS_THETAS] for j in range(J)])
-    return _VANDERMONDE[J]
+            _VANDERMONDE[key] = arb_mat([[arb(_GUESS_THETAS[p]) ** j for p in points] for j in range(J)])
+    return _VANDERMONDE[key]
 
 
 def _positive_on(p: arb_poly, lo: fmpq, hi: fmpq, rho: arb, depth: int) -> bool:
