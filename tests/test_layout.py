@@ -36,7 +36,7 @@ SUBPACKAGES = ["algebra", "numbers", "modes", "display", "system", "phases", "ac
 #: each subpackage's modules, bottom up: each imports only modules before it (and lower doors)
 LAYERS = {
     "algebra": ["rational", "matrixfunctions", "ratfunc", "subspaces", "lcp", "polyhedra"],
-    "numbers": ["balls", "duals", "flintlib", "calcium", "forms", "algebraics", "krylov", "expm", "laplace", "rootforms", "taylorsteps", "nodes", "reals", "relations", "vectors",
+    "numbers": ["balls", "duals", "flintlib", "calcium", "forms", "algebraics", "krylov", "expm", "laplace", "rootforms", "taylorsteps", "nodes", "reals", "relations", "vectors", "algebraicvectors",
                 "expvectors", "closedforms", "taylormodels"],
     "modes": ["mode", "ldcp", "rcpfamily", "selection"],
     "display": ["convergence", "mapplot", "figlabels", "canvas", "plotting"],

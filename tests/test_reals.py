@@ -126,3 +126,20 @@ def test_projected_vector_reads_its_values_from_the_inner_ball():
             assert b.rad() < 1e-50
             assert abs(mp.mpf(b.mid().str(60, radius=False)) - ref[i]) < 1e-50
     assert balls[1, 0].is_zero()  # (F P)_1 = 0: the exact product shows it
+
+
+def test_signs_of_rows_agree_with_sign_of_form_row_by_row():
+    """signs_of_rows (one product of balls, exact forms only where a ball holds 0) gives the
+    signs sign_of_form gives row by row: on e^{A} v0 of the carts (before and after it has a
+    ball), on P v (P the projection onto x1 = 0 along e1, rows that vanish by the pull-back), and
+    on a rational vector; rows listed out of order come back in that order."""
+    v = expm_action(A_CARTS, 1, [0, -1, -1, 0])
+    P = fmpq_mat([[0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+    F = fmpq_mat([[1, 0, 0, 0], [0, 0, 1, -1], [2, -3, 1, 5], [0, 0, 0, 0], [-1, 0, 0, 0]])
+    for x in (v, L.vectors.ProjectedVector(P, v), RationalVector(fmpq_mat([[1], [0], [-2], [3]]))):
+        want = [x.sign_of_form(fmpq_mat(1, 4, [F[r, j] for j in range(4)])) for r in range(5)]
+        assert list(x.signs_of_rows(F)) == want
+        assert list(x.signs_of_rows(F, [4, 0, 2])) == [want[4], want[0], want[2]]
+        x.arb(128)
+        assert list(x.signs_of_rows(F)) == want
+    assert list(L.vectors.ProjectedVector(P, v).signs_of_rows(F))[0] == 0  # x1 = 0 on P v: exact

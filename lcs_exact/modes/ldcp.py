@@ -22,7 +22,7 @@ from ..interfaces import SystemLike
 from ..algebra import murty
 from .mode import format_mode
 from ..algebra import MAX_KAPPA, is_zero, sign_of_form, submatrix, to_int, zeros
-from ..numbers import as_state, ball_sign
+from ..numbers import as_state
 
 __all__ = ["LDCPSolution", "ldcp", "ldcp_modes", "impulse_forms", "lcp_sequence", "stage_lcp", "require_N_P"]
 
@@ -270,24 +270,16 @@ def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_m
 
 def _positive(F: fmpq_mat, rows: list[int], x) -> set[int]:
     """The rows l of F (of ``rows``) with F_l x > 0: one product of balls for all of them (the
-    state's ball), the exact sign of a row's form only where its ball holds 0 with a radius (a
-    ball of radius 0 is the exact value: a zero row, mostly)."""
+    state's ball), the exact sign of a row's form only where its ball holds 0 with a radius
+    (:meth:`~lcs_exact.vectors.ExactVector.signs_of_rows`)."""
     if not rows:
         return set()
     if isinstance(x, fmpq_mat):
         V = F * x
         return {l for l in rows if V[l, 0] > 0}
-    vals = x.form_balls(F)
-    out = set()
-    for l in rows:
-        v = vals[0][l, 0] if vals is not None else None
-        s = ball_sign(v) if v is not None else 0
-        if s == 0 and (v is None or not v.is_zero()):  # an exact 0 (a zero row) is proven 0
-            row = submatrix(F, [l], None)  # else the row's form decides
-            s = 0 if is_zero(row) else sign_of_form(row, x)
-        if s > 0:
-            out.add(l)
-    return out
+    batch = getattr(x, "signs_of_rows", None)  # an exact vector; a family of states asks row by row
+    signs = batch(F, rows) if batch is not None else (sign_of_form(submatrix(F, [l], None), x) for l in rows)
+    return {l for l, s in zip(rows, signs) if s > 0}
 
 
 def _scatter(rows: list[int], k: int) -> fmpq_mat:

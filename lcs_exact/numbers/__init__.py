@@ -19,8 +19,9 @@ from .expm import Spectrum, spectrum_of
 from .taylorsteps import STEP_NORM, TaylorSteps, first_step
 from .algebraics import ca_from_state, ca_state
 from .reals import AlgebraicReal, as_real, RationalReal, Real
-from .vectors import (algebraic_vector, as_exact_vector, as_state, ca_matvec, ComponentsVector, ExactVector,
+from .vectors import (as_exact_vector, as_state, ca_matvec, ComponentsVector, ExactVector,
                       homogenized, ProjectedVector, RationalVector, ScaledVector)
+from .algebraicvectors import algebraic_vector
 from .expvectors import expm_action, ExpVector, orbit_start
 from .closedforms import (candidates, prove_flat_touch, prove_root, prove_root_is, prove_touch, prove_zero_at,
                           symbolic_candidates)

@@ -28,13 +28,12 @@ from ..errors import ShapeError, UnresolvedSign
 from ..interfaces import SystemLike
 from .nodes import Node
 from ..algebra import as_list, format_form, is_zero, matrix_to_sympy, to_vector, vector_entries, zeros
-from .algebraics import ca_from_state, ca_state, radical_form, rational_ca
 from .reals import ComponentReal, Real, ScaledReal, as_real, is_sympy
 from .relations import component_relations
 from ..algebra import RowSpan, kernel, projected_forms, pulled_back_forms, row_basis
 
-__all__ = ["ExactVector", "RationalVector", "ScaledVector", "ProjectedVector", "ComponentsVector", "AlgebraicVector",
-           "algebraic_vector", "ca_matvec", "as_exact_vector", "as_state", "homogenized"]
+__all__ = ["ExactVector", "RationalVector", "ScaledVector", "ProjectedVector", "ComponentsVector",
+           "ca_matvec", "as_exact_vector", "as_state", "homogenized"]
 
 
 class ExactVector(Node):
@@ -56,6 +55,8 @@ class ExactVector(Node):
     #: rows g proven g . x > 0 where x was made (an event state: constraints its phase's search
     #: proved positive up to the event); a form that is a positive multiple of one is positive
     positive_forms: tuple = ()
+    #: every sign is decided exactly without balls (algebraic components): nothing to homogenize
+    exact_signs: bool = False
 
     def __init__(self, n: int, zero_forms: fmpq_mat | None = None, policy: Policy | None = None):
         super().__init__(policy)
@@ -132,7 +133,7 @@ class ExactVector(Node):
 
     def known_ca(self) -> list | None:
         """The components as Calcium numbers when the vector is already known exactly (rational,
-        or algebraic: :class:`AlgebraicVector`); cheap, never derives a closed form."""
+        or algebraic: :class:`~lcs_exact.numbers.algebraicvectors.AlgebraicVector`); cheap, never derives a closed form."""
         q = self.known_rational()
         if q is None:
             return None
@@ -181,6 +182,29 @@ class ExactVector(Node):
         return decide_sign(lambda p: (arb_mat(form) * self.arb(p))[0, 0], policy=self.policy,
                            what=lambda: f"the form {format_form(form)} at {self!r}",
                            start=max(64, self._prec), prove_zero=lambda: self.prove_zero(form))
+
+    def signs_of_rows(self, F: fmpq_mat, rows: list[int] | None = None) -> Iterator[int]:
+        """The signs of the rows of F (of ``rows``, in that order; default all) at the vector, each
+        certified as :meth:`sign_of_form` certifies it and computed when it is asked for: one
+        product of balls for all of them (:meth:`form_balls`), a row's exact form only where its
+        ball holds 0 with a radius (a ball of radius 0 is the exact value: a zero row is 0).
+
+        Parameters
+        ----------
+        F : fmpq_mat, m x n
+        rows : list of int, optional
+        """
+        rows = range(F.nrows()) if rows is None else rows
+        q = self.known_rational()
+        if q is not None:
+            V = F * q
+            yield from ((V[r, 0] > 0) - (V[r, 0] < 0) for r in rows)
+            return
+        vals = self.form_balls(F)
+        for r in rows:
+            v = vals[0][r, 0] if vals is not None else None
+            s = ball_sign(v) if v is not None else 0
+            yield s if s or (v is not None and v.is_zero()) else self.sign_of_form(_row(F, r))
 
     def form_balls(self, forms: fmpq_mat) -> tuple[arb_mat, int] | None:
         """(balls of forms . x, their precision) from the ball of x already computed, or None (no
@@ -518,95 +542,6 @@ def ca_matvec(P: fmpq_mat, xs: list | None) -> list | None:
     return out
 
 
-class AlgebraicVector(ExactVector):
-    """A vector of exact real algebraic numbers (Calcium numbers): the state at an event of a
-    polynomial phase (a free fall, a relay's constant field) whose time is algebraic.  Every sign
-    of a rational form is decided exactly (Calcium decides algebraic numbers); balls come from
-    Calcium's enclosures at any precision.  Rational components stay rational
-    (``known_rational`` when all are).
-
-    >>> from lcs_exact.calcium import Ca
-    >>> x = AlgebraicVector([Ca(2).sqrt(), Ca(1)])
-    >>> x.sign_of_form(fmpq_mat([[1, -2]])), x[0].closed_form
-    (-1, sqrt(2))
-    """
-
-    def __init__(self, comps: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None,
-                 rationals: list | None = None):
-        super().__init__(len(comps), zero_forms, policy)
-        # (see Ca.compact: expressions outgrow numbers); ``rationals``: [c.to_fmpq()] of the
-        # compacted components when the caller has them (a proof of rationality can take ms)
-        self.comps = [c.compact() for c in comps] if rationals is None else list(comps)
-        qs = [c.to_fmpq() for c in self.comps] if rationals is None else rationals
-        self._q = fmpq_mat(self.n, 1, qs) if all(q is not None for q in qs) else None
-
-    def _compute(self, prec):
-        if self._q is not None:
-            return arb_mat(self._q)
-        return arb_mat([[c.enclosure(prec + 8).real] for c in self.comps])
-
-    def known_rational(self):
-        return self._q if self._q is not None else super().known_rational()
-
-    def known_ca(self):
-        return self.comps
-
-    def _to_ca(self):
-        return self.comps
-
-    def _structural_sign(self, form):
-        acc = calcium.Ca(0)
-        for j in range(self.n):
-            if form[0, j] != 0:
-                acc = acc + self.comps[j] * calcium.Ca(form[0, j])
-        return acc.sign(real=True)
-
-    def proven_zero(self, i: int) -> bool:
-        return self.comps[i].is_zero() is True or super().proven_zero(i)
-
-    def closed_form(self, derive: bool = True):
-        if self._q is not None:
-            return RationalVector(self._q).closed_form()
-        if not derive:
-            return None
-        cs = [radical_form(c) for c in self.comps]
-        if any(c is None for c in cs):
-            return None
-        import sympy
-        return sympy.Matrix(cs)
-
-    def __getstate__(self):
-        state = super().__getstate__()
-        state["comps"] = None if self._q is not None else [ca_state(c) for c in self.comps]
-        return state
-
-    def __setstate__(self, state):
-        self.__dict__.update(state)
-        if state["comps"] is None:
-            self.comps = [rational_ca(self._q[i, 0]) for i in range(self.n)]
-        else:
-            self.comps = [ca_from_state(c) for c in state["comps"]]
-
-
-def algebraic_vector(xs: list, zero_forms: fmpq_mat | None = None, policy: Policy | None = None) -> ExactVector:
-    """A RationalVector when every Calcium number of xs is rational, else an AlgebraicVector.
-
-    Parameters
-    ----------
-    xs : list of Ca
-        The components: real algebraic numbers (:class:`~lcs_exact.numbers.calcium.Ca`).
-    zero_forms : fmpq_mat, optional
-        Forms proven to vanish on the vector (kept by an AlgebraicVector, see :class:`ExactVector`).
-    policy : Policy, optional
-        The precision policy (default ``DEFAULT_POLICY``).
-    """
-    cs = [c.compact() for c in xs]
-    qs = [c.to_fmpq() for c in cs]
-    if all(q is not None for q in qs):
-        return RationalVector(fmpq_mat(len(xs), 1, qs), policy)
-    return AlgebraicVector(cs, zero_forms, policy, rationals=qs)
-
-
 def tidy(e):
     """Light SymPy clean-up of a closed-form entry (no simplify: it costs seconds)."""
     import sympy
@@ -674,7 +609,7 @@ def homogenized(x: ExactVector) -> ExactVector:
     """
     if x.known_rational() is None and x.zero_forms.nrows() and x.zero_span.dim == x.n:
         return RationalVector(zeros(x.n, 1), x.policy)
-    if x.known_rational() is not None or isinstance(x, (ScaledVector, AlgebraicVector)) or \
+    if x.known_rational() is not None or isinstance(x, ScaledVector) or x.exact_signs or \
             x.zero_forms.nrows() != x.n - 1:
         return x
     q = kernel(x.zero_forms)
@@ -688,3 +623,7 @@ def homogenized(x: ExactVector) -> ExactVector:
     return ScaledVector(c, RationalVector(q, x.policy), x.policy)
 
 
+def _row(F: fmpq_mat, r: int) -> fmpq_mat:
+    """Row r of F as a 1 x n matrix (entry by entry: one row of a wide matrix)."""
+    n = F.ncols()
+    return fmpq_mat(1, n, [F[r, j] for j in range(n)])

@@ -34,7 +34,7 @@ from typing import Any, Callable, Iterator, Protocol
 
 from flint import fmpq_mat
 
-from ..algebra import image, is_zero, sign_of_form, submatrix, vstack
+from ..algebra import image, is_zero, submatrix, vstack
 from ..errors import Deadlock, UnresolvedSign, ZenoDetected
 from ..modes import admissibility_forms, impulse_forms, mode_order, rcp_data, select_modes
 from ..numbers import NoProof, ProjectedVector, RationalVector
@@ -194,11 +194,7 @@ class ExactStates:
         return f"t = {self.t.label()}" if self.t is not None else "the event"
 
     def signs(self, M: fmpq_mat, z) -> Iterator[int]:
-        q = z.known_rational()
-        if q is not None:  # one product for all the rows
-            yield from ((v > 0) - (v < 0) for v in (M * q).entries())
-        else:
-            yield from (sign_of_form(submatrix(M, [r], None), z) for r in range(M.nrows()))
+        return z.signs_of_rows(M)  # one product for all the rows (exact, or balls first)
 
     def undecided(self, what: str):
         raise UnresolvedSign(f"{what} at {self.when()}")
