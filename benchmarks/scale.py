@@ -100,7 +100,7 @@ WHERE_THE_TIME_GOES = (
     'lcs_exact/phases/taylorsum.py: J ball '
     'matrix-vector products a step, the polynomials of all monitored rows from one product a column, '
     'no eigenvalues), the modes of small systems, stiff modes and long quiet horizons keep the '
-    'spectral data. Measured on 2026-12-07 (lcs_exact at 79a4e52, after the geometric start of the '
+    'spectral data. Measured on 2026-12-07 (lcs_exact at a0bb40b, after the geometric start of the '
     'grids, rows certified on the steps, LDCP signs a stage at a time, P_I and F_I from W and T): at '
     'N = 16 the root search takes 64 % of the CPU time (the last phase, no event up to t = 10, '
     'certifies its 8 rows over 9 steps: a fifth of the run), mode selection, the LDCP and the '
