@@ -199,6 +199,11 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
     closed form)."""
     if phase.proportional(ca.g, cb.g):
         return 0
+    if isinstance(a, RootReal) and isinstance(b, RootReal):  # disjoint brackets (lo, hi]: no refinement
+        if a.hi <= b.lo:
+            return -1
+        if b.hi <= a.lo:
+            return 1
     xa, xb = a.known_ca(), b.known_ca()
     if xa is not None and xb is not None:  # exact roots (polynomial phases): decided exactly
         s = (xa - xb).sign(real=True)
