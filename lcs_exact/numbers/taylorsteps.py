@@ -115,7 +115,10 @@ class TaylorSteps:
         if e not in self._level:
             hk = fmpq(2) ** e
             s = self.norm * hk
-            J = taylor_order(float(s) if e > -1000 else 0.0, self.prec)
+            if e > -1000:
+                J = taylor_order(float(s), self.prec)
+            else:  # s below float range: s^J / J! <= 2^(J log2 s), log2 s = e + log2 ||M||
+                J = max(2, -(-(self.prec + 8) // max(1, -(e + math.ceil(math.log2(max(float(self.norm), 1e-300)))))))
             with workprec(self.prec):
                 self._level[e] = (J, s, self._M * arb(hk), arb(s).exp(), [arb(fmpq(1, j)) for j in range(1, J)])
         return self._level[e]

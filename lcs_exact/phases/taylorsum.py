@@ -242,6 +242,8 @@ def _positive_on(p: arb_poly, lo: fmpq, hi: fmpq, rho: arb, depth: int) -> bool:
     signs: c_0 + c_3 theta^3 with every c_j > 0 is not shown positive by Horner on [0, 0.34]);
     the interval is halved ``depth`` times at most where that bound does not show it."""
     q = p(arb_poly([arb(lo), arb(hi - lo)])).coeffs()
+    if not q:  # p = 0 exactly: nothing shows p + rho > 0
+        return False
     low = q[0] + rho
     for c in q[1:]:
         if not c > 0:
