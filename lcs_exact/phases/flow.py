@@ -223,10 +223,11 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
         # impacts running down a chain, 10^-27 .. 10^-100 apart) separate at 2-8x the start,
         # and a closed-form attempt costs more than a refinement.  Equal roots' midpoints close
         # in as fast as the balls shrink; while the midpoints' gap stays (it kept more than
-        # 1/16 of its size over the last doubling) the roots are refined further first
+        # 1/16 of its size over the last doubling) the roots are refined further first, up to
+        # 16x the start (a root whose ball stops shrinking, a touch, keeps its midpoint too)
         was, gap = gap, abs(x.mid() - y.mid())
         apart = was is not None and gap > was / 16 and gap > 0
-        if not tried and ((prec >= 4 * start and not apart) or prec >= policy.max_prec):
+        if not tried and ((prec >= 4 * start and not apart) or prec >= 16 * start or prec >= policy.max_prec):
             tried = True
             if policy.closed_forms != "off":
                 fa, fb = a.closed, b.closed
