@@ -230,3 +230,45 @@ def test_float_crossing_without_numpy_matches_numpy(monkeypatch, terms, a, b, fi
     monkeypatch.setattr(guesses, "SCALAR_TERM_POINTS", 10 ** 9)                 # Python for every chunk
     assert guesses.float_crossing(f, a, b) == ref
     assert bool(numpy_chunks) == (terms[0][0] == 1000)                          # numpy only after an overflow
+
+
+class Toucher:
+    """A touch prover for the search: ``flat`` records its intervals and proves a touch of even
+    order exactly when the interval holds ``at`` (None: never)."""
+
+    def __init__(self, at=None):
+        self.at, self.flats = at, []
+
+    def __call__(self, lo, hi, convex_lo, convex_hi):
+        return None
+
+    def flat(self, lo, hi, f):
+        self.flats.append((lo, hi))
+        return self.at is not None and lo <= self.at <= hi
+
+
+class TinyFn(Fn):
+    """10^-60 (2 + cos t) with a radius 2^-(prec - 20) (a phase start's ball): below the balls'
+    resolution until about 230 bits, positive all along."""
+
+    def at(self, prec):
+        f = super().at(prec)
+        with workprec(prec + 16):
+            lam, w, cs = f.terms[1]
+            f.terms[1] = (lam, w, [acb(arb(cs[0].real, arb(2) ** -(prec - 20)))])
+        return f
+
+
+def test_flat_touches_are_looked_for_on_narrow_intervals_only():
+    """A function below the balls' resolution over all of [0, 10] gets more bits (no crossing,
+    found at ~256 bits), never a flat-touch proof over the wide interval; the touch of (1 - t)^4
+    at 1 is still proven on the narrow interval around it: no ball shows a sign within about
+    (2^-128)^(1/4) = 2^-32 of the touch at 128 bits, and the interval asked is a few times that
+    (below 2^-20; the search tries flat touches on intervals up to 2^-8 wide at 128 bits)."""
+    touch = Toucher()
+    fn = TinyFn([(acb(0, 1), 2, [fmpq(1, 2 * 10 ** 60)]), (0, 1, [fmpq(2, 10 ** 60)])])
+    assert first_crossing(fn, fmpq(0), fmpq(10), 128, touch=touch) is None
+    assert touch.flats == []
+    touch = Toucher(at=fmpq(1))
+    assert first_crossing(poly(1, -4, 6, -4, 1), fmpq(0), fmpq(3), 128, touch=touch) is None
+    assert touch.flats and all(hi - lo <= fmpq(1, 2 ** 20) for lo, hi in touch.flats)
