@@ -5,9 +5,11 @@ these tests check both that the closed form is found and that it is the right on
 """
 import mpmath as mp
 import sympy as sp
+from flint import arb, fmpq
 
 import lcs_exact as L
 from lcs_exact.numbers.closedforms import exp_candidates as _exp_candidates, solve_candidates as _solve_candidates
+from lcs_exact.numbers.closedforms import prove_flat_touch
 from lcs_exact.numbers.laplace import t_symbol
 
 _t = t_symbol()
@@ -224,3 +226,27 @@ def test_a_slow_symbolic_candidate_search_is_cut_off_by_the_safety_net_and_marke
     monkeypatch.setattr(closedforms, "harmonic_candidates", lambda sym, b: [])
     tr = L.simulate(lcs, lcs.embed([0]), 5, closed_forms=True)
     assert tr.events[0].time.closed_form is None and tr.events[0].time.closed_form_status == "none"
+
+
+def test_flat_touch_proof_asks_no_candidate_when_no_derivative_has_a_sign():
+    """prove_flat_touch needs f^(m) > 0 on the interval for an even m (the first derivative with a
+    sign there): a function below the balls' resolution (every enclosure holds 0), or one whose
+    first signed derivative is odd, is refused before any candidate is looked at (the spectrum
+    here has nothing but its size: a candidate would fail the test)."""
+    class Blur:  # f^(d) on [lo, hi]: [+/- 1e-60] for d < signed, then 1 (d even) or -1
+        def __init__(self, signed=None, value=1):
+            self.signed, self.value = signed, value
+
+        def sign_enclose(self, lo, hi, d):
+            return arb(self.value) if self.signed is not None and d >= self.signed else arb(0, 1e-60)
+
+    class SizeOnly:
+        n = 8
+
+        def __getattr__(self, name):
+            raise AssertionError(f"candidate work: spectrum.{name}")
+
+    lo, hi = fmpq(1), fmpq(1) + fmpq(1, 2 ** 40)
+    assert prove_flat_touch(SizeOnly(), None, None, Blur(), lo, hi) is False  # nothing has a sign
+    assert prove_flat_touch(SizeOnly(), None, None, Blur(5), lo, hi) is False  # odd order
+    assert prove_flat_touch(SizeOnly(), None, None, Blur(4, -1), lo, hi) is False  # f'''' < 0: a maximum
