@@ -38,13 +38,17 @@ def component_relations(comps: list[Real]) -> fmpq_mat:
     n = len(comps)
     keys: dict = {}  # base key -> column (1 + k)
     vectors: dict = {}  # definition of v -> v, for the components of one exact vector
+    defs: dict = {}  # definition -> a small number (a definition holds M's n^2 entries: hashed once a vector)
+    ids: dict = {}  # id(v) -> that number
     rows = []
     for c in comps:
         const, terms = linear_terms(c)
         row = {0: const}
         for q, r in terms:
             if isinstance(r, ComponentReal):
-                vid = _definition(r.vec)
+                if id(r.vec) not in ids:
+                    ids[id(r.vec)] = defs.setdefault(_definition(r.vec), len(defs))
+                vid = ids[id(r.vec)]
                 key = ("component", vid, r.i)
                 vectors[vid] = r.vec
             else:
