@@ -162,6 +162,33 @@ def test_a_ball_on_a_spring_bouncing_on_a_resting_ball():
         assert abs(mid(y[1], 25) - (-10 * (1 - mp.cos(s_)) + v * mp.sin(s_))) < mp.mpf(10) ** -25
 
 
+def test_two_masses_on_a_spring_hitting_their_stops_together():
+    """Two unit masses joined by a spring (K = [[1, -1], [-1, 1]]), stops q_i >= 0, force -2 on
+    each, e = 1/2, from q = (1, 1), v = (-1, -1): by symmetry the spring never acts and both are
+    a ball with g = 2 thrown down from 1 at speed 1: 1 - t - t^2 = 0 gives the first impact at
+    t1 = (sqrt 5 - 1)/2, at speed sqrt 5; the k-th flight after it lasts 2 (sqrt 5 / 2^k) / 2 =
+    sqrt 5 / 2^k, so impact k is at t1 + sqrt 5 (1 - 2^-k) and T* = t1 + sqrt 5 = (3 sqrt 5 - 1)/2;
+    then both rest, each stop carrying 2.  Every event closes both contacts at once; the accumulation is
+    proven on the subspace where the two gaps agree.  An asymmetric start (q = (1, 11/10)) is not
+    such a cycle: its events are not simultaneous."""
+    lcs = L.models.mechanical([[1, 0], [0, 1]], [[1, -1], [-1, 1]], [[1, 0], [0, 1]], force=[-2, -2],
+                              restitution=F(1, 2))
+    tr = L.simulate(lcs, lcs.embed([1, 1, -1, -1]), 4)
+    assert tr.certified and len(tr.accumulations) == 1
+    assert all(e.modes == (frozenset({0, 1}),) and sorted(e.triggers) == ["y_0", "y_1"] for e in tr.events)
+    acc = tr.accumulations[0]
+    with mp.workdps(50):
+        t1 = (mp.sqrt(5) - 1) / 2
+        assert abs(mid(tr.events[0].time, 40) - t1) < mp.mpf(10) ** -38
+        for k, e in enumerate(tr.events[1:], start=1):
+            assert abs(mid(e.time, 40) - (t1 + mp.sqrt(5) * (1 - mp.mpf(1) / 2 ** k))) < mp.mpf(10) ** -38
+        assert abs(mid(acc.time) - (3 * mp.sqrt(5) - 1) / 2) < mp.mpf(10) ** -35
+    assert acc.state.known_rational() == fmpq_mat([[0], [0], [0], [0], [1]])
+    assert tr.u(4).known_rational() == fmpq_mat([[2], [2]])
+    cyc = bounces.bounce_cycle(lcs, L.simulate(lcs, lcs.embed([1, F(11, 10), -1, -1]), 2).events)
+    assert cyc is None
+
+
 def test_fixtures_carry_the_implied_impacts_and_compare_windows_them(tmp_path):
     """A fixture of a law-less accumulation lists its implied impacts (up to float resolution of T*,
     each the certified ball of the live run) and reads them back; compare() leaves a window around

@@ -43,7 +43,7 @@ LAYERS = {
     "system": ["modemap", "signals", "sources", "modelformat", "statespace", "wellposedness", "lcs", "impacts"],
     "phases": ["guesses", "roots", "taylorsum", "polyroots", "eventstep", "phase", "clock", "flow", "fixnumbers", "fixture", "events",
                "timeline", "undetermined", "exports", "trajectory"],
-    "accumulations": ["symmetry", "accumulation", "cascade", "zeno", "bounces", "collapsecycles", "collapses"],
+    "accumulations": ["symmetry", "accumulation", "cascade", "zeno", "bouncecycles", "bounces", "collapsecycles", "collapses"],
     "dynamics": ["schedule", "options", "simulate", "sweep"],
     "builders": ["exosystems", "mechanics", "circuits", "relays", "examples"],
     "io": ["fixturereader", "modelfile"],

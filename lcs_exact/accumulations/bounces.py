@@ -6,8 +6,8 @@ the impacts still accumulate (Siconos' LinearOscillatorED: a mass on a spring wh
 below the floor), each flight about e times the previous, but no law holds exactly.  Such an
 accumulation is proven here by induction over a family of states, with certified balls only.
 
-* The cycle.  One contact b, one mode J of resting contacts between impacts (J = {}: every contact
-  open), Newton's law with restitution 0 < e_b < 1 at each impact, pushing the resting contacts
+* The cycle.  One contact b (or several hitting together where their gaps agree, :func:`bounce_cycle`),
+  one mode J of resting contacts between impacts (J = {}: every contact open), Newton's law with restitution 0 < e_b < 1 at each impact, pushing the resting contacts
   too (x+ = R x-, R = I - (1 + e_b) r (C A)_b, r = B_C W_CC^-1 e_b, C = J + {b}, W_CC^-1 e_b > 0);
   the last events of the run repeat it; A below is the flights' closed loop A_J.
 * The family.  After an impact the gap c x = 0 (c = C_b) and its speed c A x = sigma > 0.  With
@@ -41,11 +41,11 @@ from typing import Any, Sequence
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
-from ..algebra import hstack, identity, kernel, norm_inf, rank, submatrix, vstack, zeros
+from ..algebra import hstack, kernel, norm_inf, rank, submatrix, vstack, zeros
 from ..errors import LimitExceeded, UnresolvedSign
 from ..interfaces import AccumulationWindow
 from ..numbers import ExactVector, ProjectedVector, RationalVector, Real, as_real, dyadic_lower, dyadic_upper, workprec
-from .accumulation import event_signature
+from .bouncecycles import BounceCycle, bounce_cycle
 
 __all__ = ["BOUNCE_PATIENCE", "flight_holding", "BounceCycle", "BounceProof", "BounceWindow", "bounce_cycle", "prove_bounces", "bounce_window"]
 
@@ -57,128 +57,6 @@ BOUNCE_PATIENCE = 400
 #: cycles of the ball iteration before it gives up (a contraction this slow is not an accumulation
 #: this method serves: kappa = 0.999 needs ~90,000 cycles for 128 bits)
 MAX_CYCLES = 200_000
-
-
-def _row(M: fmpq_mat, i: int) -> fmpq_mat:
-    return submatrix(M, [i], None)
-
-
-@dataclass(frozen=True)
-class BounceCycle:
-    """The exact data of one flight-and-impact cycle of contact ``b`` (the module docstring)."""
-
-    lcs: Any
-    b: int
-    e: fmpq
-    A: fmpq_mat  # the flight's closed loop (mode {}: A itself)
-    c: fmpq_mat  # C_b
-    r: fmpq_mat  # B_b / W_bb: c r = 0, c A r = 1
-    V: fmpq_mat  # the background {c x = 0, c A x = 0}, n x m
-    L: fmpq_mat  # m x n: w = L x on {c x = 0}
-    R: fmpq_mat  # the impact's jump
-    others: tuple  # rows C_i of the other contacts (their gaps stay positive)
-    nu: fmpq  # ||A^j|| <= C nu^j
-    C: fmpq
-    powers: list  # A^j, j = 0, 1, ... (extended on demand)
-
-    @property
-    def m(self) -> int:
-        return self.V.ncols()
-
-    def power(self, j: int) -> fmpq_mat:
-        while len(self.powers) <= j:
-            self.powers.append(self.A * self.powers[-1])
-        return self.powers[j]
-
-    def coefficients(self, J: int, prec: int) -> dict:
-        """The series' rational coefficients as balls, j < J (cached per (J, prec))."""
-        cache = self.__dict__.setdefault("_coeffs", {})
-        key = (J, prec)
-        if key not in cache:
-            LR = self.L * self.R
-            with workprec(prec):
-                cr = [arb((self.c * self.power(j + 1) * self.r)[0, 0]) for j in range(J + 1)]
-                cw = [arb_mat(self.c * self.power(j + 2) * self.V) for j in range(J + 1)]
-                Ar = [arb_mat(self.power(j) * self.r) for j in range(J + 1)]
-                AV = [arb_mat(self.power(j + 1) * self.V) for j in range(J + 1)]
-                LRr = [arb_mat(LR) * a for a in Ar]
-                LRV = [arb_mat(LR) * a for a in AV]
-                facts = [arb(math.factorial(j)) for j in range(J + 3)]
-            cache[key] = dict(cr=cr, cw=cw, Ar=Ar, AV=AV, LRr=LRr, LRV=LRV, f=facts)
-        return cache[key]
-
-
-def bounce_cycle(lcs, events: Sequence) -> BounceCycle | None:
-    """The cycle the last events repeat when they are Newton impacts of one contact b between
-    flights in one mode J of resting contacts (each event: J before and after, the chain
-    (J + {b},), trigger y_b; J = {} for a lone ball), with 0 < e_b < 1, D = 0 on those rows,
-    Theorem 6.3, and every resting contact pushed by the impact (W_CC^-1 e_b > 0, C = J + {b}:
-    the jump is then r = B_C W_CC^-1 e_b times -(1 + e_b) c A x for every state); else None."""
-    rest = getattr(lcs, "restitution", None)
-    if rest is None or len(events) < 3:
-        return None
-    sig = event_signature(events[-1])
-    if any(event_signature(ev) != sig for ev in events[-3:]):
-        return None
-    J, chain, after, triggers = sig
-    J = frozenset(J or ())
-    if after != J or len(chain) != 1 or len(chain[0] - J) != 1 or not J <= chain[0]:
-        return None
-    b = next(iter(chain[0] - J))
-    closed = sorted(chain[0])
-    if triggers != (f"y_{b}",) or not 0 < rest[b] < 1 or any(lcs.D[i, j] != 0 for i in closed for j in range(lcs.k)):
-        return None
-    if not lcs.well_posedness():
-        return None
-    n, mode = lcs.n, lcs.mode(J)
-    A = mode.closed_loop() if J else lcs.A
-    c = _row(lcs.C, b)
-    W = submatrix(lcs.C * lcs.A * lcs.B, closed, closed)
-    if W.det() == 0:
-        return None
-    z = W.inv() * fmpq_mat([[int(i == b)] for i in closed])
-    if any(z[i, 0] <= 0 for i in range(len(closed))):
-        return None
-    r = submatrix(lcs.B, None, closed) * z  # c A r = 1, the resting contacts' speeds unmoved
-    G = vstack(c, c * A, *[_row(lcs.C, i) for i in J], *[_row(lcs.C * lcs.A, i) for i in J])
-    if (c * r)[0, 0] != 0 or rank(G) != G.nrows() or (G * r)[1, 0] != 1:
-        return None
-    V = kernel(G)
-    basis = hstack(V, r, nrows=n)
-    if rank(basis) != V.ncols() + 1:
-        return None
-    # w = L x on {c x = 0} inside V_J: the coordinates of x in the basis [V, r] (exact left inverse)
-    L = submatrix((basis.transpose() * basis).inv() * basis.transpose(), range(V.ncols()), None)
-    R = identity(n) - (1 + rest[b]) * r * (c * lcs.A)
-    # monitored on the flights: the resting contacts' forces u_J = F_J x, the other gaps y_i
-    F, I = (mode.feedback(), list(mode.I)) if J else (None, [])
-    others = tuple(_row(F, k) for k in range(len(I))) + tuple(
-        _row(lcs.C, i) + submatrix(lcs.D, [i], I) * F if I else _row(lcs.C, i)
-        for i in range(lcs.k) if i != b and i not in J)
-    nu, C = _growth(A)
-    return BounceCycle(lcs, b, rest[b], A, c, r, V, L, R, others, nu, C, [identity(n)])
-
-
-def _growth(A: fmpq_mat) -> tuple[fmpq, fmpq]:
-    """(nu, C) with ||A^j||_inf <= C nu^j for every j (nu from the best of ||A^p||^(1/p),
-    p = 1, 2, 4, 8, rounded up; C = max_{i<p} ||A^i|| / nu^i)."""
-    powers = [identity(A.nrows()), A]
-    best = None
-    p = 1
-    while p <= 8:
-        while len(powers) <= p:
-            powers.append(A * powers[-1])
-        norm = norm_inf(powers[p])
-        if norm == 0:  # nilpotent: A^j = 0 for j >= p, any nu > 0 serves
-            nu = fmpq(1, 2 ** 30)
-        else:
-            with workprec(64):
-                nu = max(dyadic_upper(arb(norm).root(p) * arb(1 + 2 ** -40)) if p > 1 else norm, fmpq(1, 2 ** 30))
-        C = max(norm_inf(powers[i]) / nu ** i for i in range(p))
-        if best is None or nu < best[0]:
-            best = (nu, C)
-        p *= 2
-    return best
 
 
 def _tail(u: arb, J: int) -> arb:
@@ -307,6 +185,8 @@ def _start(cyc: BounceCycle, x: ExactVector, prec: int) -> tuple[arb_mat, arb] |
     proven 0 or its speed not certified positive."""
     if x.sign_of_form(cyc.c) != 0:
         return None
+    if cyc.same is not None and any(s != 0 for s in x.signs_of_rows(cyc.same)):
+        return None  # not on the subspace where the contacts' gaps agree (exactly)
     with workprec(prec):
         xb = x.arb(prec)
         w = arb_mat(cyc.L) * xb
@@ -578,7 +458,7 @@ class BounceWindow(AccumulationWindow):
         cyc = self.proof.cycle
         lcs, n = cyc.lcs, cyc.lcs.n
         vanish = kernel(cyc.V.transpose()).transpose()  # x* = V w*: gaps and speeds of b and J are 0
-        rows, sources = [_row(vanish, i) for i in range(vanish.nrows())], []
+        rows, sources = [submatrix(vanish, [i], None) for i in range(vanish.nrows())], []
         zero = self.zero_forms()
         for keep, z in ((hstack(lcs.A, lcs.B, nrows=n), self.origin), (hstack(cyc.A, cyc.r, nrows=n), self.z)):
             if z is None:
@@ -587,8 +467,8 @@ class BounceWindow(AccumulationWindow):
             if z is self.origin and zero.nrows():
                 Q = vstack(zero, Q) if Q.nrows() else zero
             for i in range(Q.nrows()):
-                if rank(vstack(*rows, _row(Q, i))) > len(rows):
-                    rows.append(_row(Q, i))
+                if rank(vstack(*rows, submatrix(Q, [i], None))) > len(rows):
+                    rows.append(submatrix(Q, [i], None))
                     sources.append((len(rows) - 1, z))
         if len(rows) < n:
             return BounceLimitState(self, vstack(vanish, zero, ncols=n))
