@@ -185,8 +185,11 @@ def _start(cyc: BounceCycle, x: ExactVector, prec: int) -> tuple[arb_mat, arb] |
     proven 0 or its speed not certified positive."""
     if x.sign_of_form(cyc.c) != 0:
         return None
-    if cyc.same is not None and any(s != 0 for s in x.signs_of_rows(cyc.same)):
-        return None  # not on the subspace where the contacts' gaps agree (exactly)
+    try:
+        if cyc.same is not None and any(s != 0 for s in x.signs_of_rows(cyc.same)):
+            return None  # not on the subspace where the contacts' gaps agree (exactly)
+    except UnresolvedSign:
+        return None  # agreement not proven: no proof (the run goes on event by event)
     with workprec(prec):
         xb = x.arb(prec)
         w = arb_mat(cyc.L) * xb
