@@ -97,8 +97,8 @@ class DerivedData:
       state, so that ``state_response_known`` says whether it was computed;
     * ``input_rows``: (U(s), free): u(s) = U(s) x0 on the rows the family fixes, and the inputs a
       free direction moves;
-    * ``constraints``: the monitored functions of a phase in the mode and their rows' norms
-      (``phase.Phase``: a tuple of ``Constraint`` and a list of ||g||_1).
+    * ``constraints``: the monitored functions of a phase in the mode, their rows' norms and the
+      rows stacked (``phase.Phase``: a tuple of ``Constraint``, a list of ||g||_1, an fmpq_mat).
     """
 
     family: Any = None

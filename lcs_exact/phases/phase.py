@@ -152,7 +152,8 @@ class Phase:
             self.zero_forms = row_basis(W, inv) if W.nrows() or inv.nrows() else zeros(0, self.M.nrows())
         if mode.derived.constraints is None:  # the same for every phase of the mode
             cons = tuple(self._constraints())
-            mode.derived.constraints = (cons, [sum((abs(e) for e in c.g.entries() if e), fmpq(0)) for c in cons])
+            mode.derived.constraints = (cons, [sum((abs(e) for e in c.g.entries() if e), fmpq(0)) for c in cons],
+                                        vstack(*[c.g for c in cons], ncols=self.M.ncols()))
         self.constraints = list(mode.derived.constraints[0])
         q0 = self.base.known_rational()
         # A_I z = 0, proven: x(t) = z throughout, so every monitored function is constant (no
@@ -255,11 +256,11 @@ class Phase:
             self.policy.check_deadline(lambda: f" while isolating events: Taylor steps of mode "
                                        f"{format_mode(self.mode.I)} at {prec} bits")
             x0, norm = self.base.arb(prec), self.mode.closed_loop_norm
+            G = self.mode.derived.constraints[2]  # the constraints' rows, stacked once a mode
             if self._first is False:  # once a phase: the same grid at every precision
-                self._first = first_step(self.M, vstack(*[c.g for c in self.constraints], ncols=self.M.ncols()),
-                                         x0, prec, norm)
+                self._first = first_step(self.M, G, x0, prec, norm)
             steps = TaylorSteps(self.M, norm, x0, prec, self.zero_coordinates(), self._first)
-            self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms)
+            self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms, G)
         return self._rows
 
     @property
