@@ -32,7 +32,7 @@ from flint import fmpq_mat
 from ..errors import LCSError, NotAutonomous
 from ..numbers import Spectrum
 from ..interfaces import SystemLike
-from ..algebra import hstack, identity, matrix_to_sympy, norm_inf, submatrix, vstack, zeros
+from ..algebra import hstack, matrix_to_sympy, norm_inf, submatrix, vstack, zeros
 from ..algebra import image, intersection, kernel, left_kernel, projection, projection_along, rank, row_basis, solve_any
 
 __all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
@@ -289,7 +289,7 @@ class Mode:
     def _F(self) -> fmpq_mat:
         self.require_state_determined()
         n, m = self.lcs.n, len(self.I)
-        V, T, W = self._V, self._T, self._W
+        V, W = self._V, self._W
         if m == 0:
             return zeros(0, n)
         # for each basis vector v of V: [W L; N] u = -[W A; M] v (unique when the mode is

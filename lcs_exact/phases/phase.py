@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import decimal
 from dataclasses import dataclass
-from functools import cached_property
 from typing import Any
 
 from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
