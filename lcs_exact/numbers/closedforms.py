@@ -498,8 +498,9 @@ def prove_flat_touch(spectrum: Spectrum, g: fmpq_mat, v: Any, f: Any, lo: fmpq, 
     # the order _zero_order would stop at is the first derivative with a sign on [lo, hi], the same
     # for every candidate: none, an odd one or a negative one and no candidate can be proven (a
     # function below the balls' resolution: nothing to prove, only bits to add)
-    m = next((m for m in range(3, min(spectrum.n, 16) + 1) if ball_sign(f.sign_enclose(lo, hi, m))), None)
-    if m is None or m % 2 or ball_sign(f.sign_enclose(lo, hi, m)) < 0:
+    signed = next((s for s in ((m, ball_sign(f.sign_enclose(lo, hi, m))) for m in range(3, min(spectrum.n, 16) + 1))
+                   if s[1]), None)
+    if signed is None or signed[0] % 2 or signed[1] < 0:
         return False
     with workprec(128):
         mid = arb(lo).union(arb(hi))

@@ -27,7 +27,7 @@ from .balls import Policy, ball_sign, check_digits, decide_sign, workprec
 from ..errors import ShapeError, UnresolvedSign
 from ..interfaces import SystemLike
 from .nodes import Node
-from ..algebra import as_list, format_form, is_zero, matrix_to_sympy, to_vector, vector_entries, zeros
+from ..algebra import as_list, format_form, is_zero, matrix_to_sympy, submatrix, to_vector, vector_entries, zeros
 from .reals import ComponentReal, Real, ScaledReal, as_real, is_sympy
 from .relations import component_relations
 from ..algebra import RowSpan, kernel, projected_forms, pulled_back_forms, row_basis
@@ -204,7 +204,7 @@ class ExactVector(Node):
         for r in rows:
             v = vals[0][r, 0] if vals is not None else None
             s = ball_sign(v) if v is not None else 0
-            yield s if s or (v is not None and v.is_zero()) else self.sign_of_form(_row(F, r))
+            yield s if s or (v is not None and v.is_zero()) else self.sign_of_form(submatrix(F, [r], None))
 
     def form_balls(self, forms: fmpq_mat) -> tuple[arb_mat, int] | None:
         """(balls of forms . x, their precision) from the ball of x already computed, or None (no
@@ -622,8 +622,3 @@ def homogenized(x: ExactVector) -> ExactVector:
         c, q = -c, -q
     return ScaledVector(c, RationalVector(q, x.policy), x.policy)
 
-
-def _row(F: fmpq_mat, r: int) -> fmpq_mat:
-    """Row r of F as a 1 x n matrix (entry by entry: one row of a wide matrix)."""
-    n = F.ncols()
-    return fmpq_mat(1, n, [F[r, j] for j in range(n)])
