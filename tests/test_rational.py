@@ -699,3 +699,33 @@ def test_scalar_transfer_function_from_markov_parameters(n, entries, vecs):
     for j in range(n):
         want = want + full[0, j] * RationalFunction(col[j, 0])
     assert resolvent(A, row, col)[0, 0] == want
+
+
+# ---------------------------------------------------------------------------------------------
+# submatrix: entry by entry or by 0/1 selection products (both against the definition)
+# ---------------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("shape", [(3, 4), (16, 32), (40, 70)])
+def test_submatrix_is_the_entries_it_names(shape):
+    """m[rows, cols] read from a list of lists (the definition), for small parts (entry by entry)
+    and large ones (selection products), rows out of order and repeated, with big entries."""
+    import random
+    from lcs_exact.algebra import selection_matrix, submatrix
+    rng = random.Random(7)
+    r, c = shape
+    table = [[Fraction(rng.randint(-9, 9) * 10 ** rng.choice([0, 30]), rng.randint(1, 5)) for _ in range(c)]
+             for _ in range(r)]
+    m = fmpq_mat(r, c, [fmpq(x.numerator, x.denominator) for row in table for x in row])
+    for rows in (None, [0], list(range(r - 1, -1, -2)), [r - 1, 0, r - 1]):
+        for cols in (None, [c - 1], sorted(rng.sample(range(c), c // 2 + 1))):
+            rs = range(r) if rows is None else rows
+            cs = range(c) if cols is None else cols
+            got = submatrix(m, rows, cols)
+            assert (got.nrows(), got.ncols()) == (len(rs), len(cs))
+            assert [[Fraction(int(e.p), int(e.q)) for e in row] for row in got.tolist()] == \
+                [[table[i][j] for j in cs] for i in rs]
+    assert selection_matrix((2, 0), 3).tolist() == [[0, 0, 1], [1, 0, 0]]
+    with pytest.raises(IndexError):
+        selection_matrix((0, 3), 3)
+    with pytest.raises(IndexError):
+        submatrix(m, [r], None)

@@ -34,6 +34,25 @@ def test_rotation_over_several_steps_holds_cos_and_sin():
         assert st.locate(fmpq(10)) == 2 and st.start(2) == 8
 
 
+def test_zero_coordinates_stay_exactly_zero():
+    """zero = [2]: the caller's proof that x_3(t) = 0 (here x_3' = x_3, x_3(0) = 0).  A start
+    ball with a radius in x_3 still gives exact zeros in every column and state, and (x_1, x_2)
+    is the rotation (cos t, -sin t) of a start (1, 0), the start's radius 10^-30 grown at most as
+    e^{||M|| t}."""
+    M = fmpq_mat([[0, 1, 0], [-1, 0, 0], [0, 0, 1]])
+    with workprec(200):
+        x0 = arb_mat([[arb(1, fmpq(1, 10 ** 30))], [arb(0, fmpq(1, 10 ** 30))], [arb(0, fmpq(1, 10 ** 30))]])
+        st = TaylorSteps(M, fmpq(1), x0, 200, zero=[2])
+        assert x0[2, 0].rad() > 0  # the caller's ball is not changed
+        for k in range(3):
+            assert all(w[2, 0].is_exact() and w[2, 0] == 0 for w in st.columns(k))
+        for t in (fmpq(1, 3), fmpq(10)):
+            x = st.state(arb(t))
+            assert x[2, 0].is_exact() and x[2, 0] == 0
+            assert x[0, 0].contains(arb(t).cos()) and x[1, 0].contains(-arb(t).sin())
+            assert x[0, 0].rad() < 2e-30 * arb(t).exp()  # the start's radius, grown at most as e^{||M|| t}
+
+
 def test_jordan_block_at_a_point_and_over_an_interval():
     """M = -I + N (N the 3 x 3 shift): e^{Mt} x = e^{-t} (x1 + t x2 + t^2/2 x3, x2 + t x3, x3)."""
     M = fmpq_mat([[-1, 1, 0], [0, -1, 1], [0, 0, -1]])

@@ -21,7 +21,7 @@ from ..errors import IllPosed
 from ..interfaces import SystemLike
 from ..algebra import murty
 from .mode import format_mode
-from ..algebra import MAX_KAPPA, is_zero, sign_of_form, submatrix, to_int, zeros
+from ..algebra import MAX_KAPPA, is_zero, selection_matrix, sign_of_form, submatrix, to_int, zeros
 from ..numbers import as_state
 
 __all__ = ["LDCPSolution", "ldcp", "ldcp_modes", "impulse_forms", "lcp_sequence", "stage_lcp", "require_N_P"]
@@ -260,11 +260,11 @@ def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_m
             vK = -q / M[0, 0] if sign_of_form(q, x) < 0 else zeros(1, n)
         else:
             _, vK, _ = murty(M, q, x)
-        v = _scatter(K, k) * vK
+        v = selection_matrix(tuple(K), k).transpose() * vK
     if I:
         NII = submatrix(N, I, I)
         rhs = submatrix(z, I, None) + (submatrix(N, I, K) * vK if K else zeros(len(I), n))
-        v = v + _scatter(I, k) * (-NII.solve(rhs))
+        v = v - selection_matrix(tuple(I), k).transpose() * NII.solve(rhs)
     return v
 
 
@@ -280,9 +280,3 @@ def _positive(F: fmpq_mat, rows: list[int], x) -> set[int]:
     batch = getattr(x, "signs_of_rows", None)  # an exact vector; a family of states asks row by row
     signs = batch(F, rows) if batch is not None else (sign_of_form(submatrix(F, [l], None), x) for l in rows)
     return {l for l, s in zip(rows, signs) if s > 0}
-
-
-def _scatter(rows: list[int], k: int) -> fmpq_mat:
-    """The k x len(rows) 0/1 matrix that puts row r of a block at row rows[r] (one product in C
-    instead of k n entries set from Python)."""
-    return fmpq_mat(k, len(rows), [int(rows[c] == i) for i in range(k) for c in range(len(rows))])

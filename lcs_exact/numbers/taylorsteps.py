@@ -26,6 +26,7 @@ ball x_0 comes from an exact start at a precision, and a precision asked later r
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 from flint import arb, arb_mat, fmpq, fmpq_mat
 
@@ -40,6 +41,7 @@ __all__ = ["TaylorSteps", "STEP_NORM", "taylor_order", "first_step"]
 STEP_NORM = 4
 
 
+@lru_cache(maxsize=1024)
 def taylor_order(s: float, prec: int) -> int:
     """The order J with s^J e^s / J! below 2^-(prec + 8) (s = ||M h||): the tail of a step at the
     precision's resolution.  Any J is rigorous (the tail is bounded whatever it is); this one
@@ -120,7 +122,7 @@ class TaylorSteps:
             else:  # s below float range: s^J / J! <= 2^(J log2 s), log2 s = e + log2 ||M||
                 J = max(2, -(-(self.prec + 8) // max(1, -(e + math.ceil(math.log2(max(float(self.norm), 1e-300)))))))
             with workprec(self.prec):
-                self._level[e] = (J, s, self._M * arb(hk), arb(s).exp(), [arb(fmpq(1, j)) for j in range(1, J)])
+                self._level[e] = (J, s, self._M * arb(hk), arb(s).exp(), _inverses(J, self.prec))
         return self._level[e]
 
     def _exponent(self, k: int) -> int:
@@ -380,6 +382,13 @@ def first_step(M: fmpq_mat, G: fmpq_mat, x0: arb_mat, prec: int, norm: fmpq) -> 
                     break
                 t = 2 * t
     return None if best is None else dyadic_upper(2 * best)
+
+
+@lru_cache(maxsize=64)
+def _inverses(J: int, prec: int) -> list[arb]:
+    """[1/j for 0 < j < J] as balls of ``prec`` bits (shared by the steps of every phase)."""
+    with workprec(prec):
+        return [arb(fmpq(1, j)) for j in range(1, J)]
 
 
 def _log2_floor(q: fmpq) -> int:
