@@ -729,3 +729,14 @@ def test_submatrix_is_the_entries_it_names(shape):
         selection_matrix((0, 3), 3)
     with pytest.raises(IndexError):
         submatrix(m, [r], None)
+
+
+def test_norm_inf_is_the_largest_absolute_row_sum():
+    """||m||_inf = max_i sum_j |m_ij|, against the definition on Fractions (zeros, signs, big
+    entries, empty shapes)."""
+    from lcs_exact.algebra import norm_inf
+    rows = [[Fraction(-7, 2), 0, Fraction(1, 3)], [1, -1, 10 ** 40], [0, 0, 0]]
+    m = fmpq_mat(3, 3, [fmpq(Fraction(x).numerator, Fraction(x).denominator) for r in rows for x in r])
+    assert norm_inf(m) == fmpq(2 + 10 ** 40)  # row 1: 1 + 1 + 10^40
+    assert norm_inf(fmpq_mat(1, 3, [fmpq(-7, 2), 0, fmpq(1, 3)])) == fmpq(23, 6)
+    assert norm_inf(fmpq_mat(0, 0, [])) == 0 and norm_inf(fmpq_mat(2, 0, [])) == 0
