@@ -113,6 +113,7 @@ WHERE_THE_TIME_GOES = (
     'spread over per-row steps of the search; the remaining factors to the targets (2x at N = 16, '
     '2x at N = 32, 4x at N = 64) need the LDCP on values with forms only for undecided rows and a '
     'search that treats all rows of a step at once.'
+    " Where the instructions go (callgrind, 32 carts, lcs_exact at 81fc222, the interpreter's start-up subtracted: ~4.5e9 instructions): half inside FLINT (exact products fmpq_mat_mul 17 %, of which half is clearing denominators column by column; ball products arb_mat_mul of the Taylor steps 13 %; fmpq_mat from Python lists 7 %; rref 4 %), a quarter in the interpreter, the rest in allocation and python-flint's wrappers. Compiling all the Python around FLINT would give at most ~2x: the targets at N = 32 and 64 need less arithmetic as well (fewer exact k x n forms, fewer products per step), not only less overhead. Taking large submatrices by products with kept 0/1 selection matrices instead of reading entries into Python took 11 % of the instructions at N = 32 (`rational.submatrix`, 81fc222)."
 )
 
 # one lcs_exact point in a fresh interpreter: warm-up, then the timed run; prints one JSON line
