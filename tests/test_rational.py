@@ -740,3 +740,17 @@ def test_norm_inf_is_the_largest_absolute_row_sum():
     assert norm_inf(m) == fmpq(2 + 10 ** 40)  # row 1: 1 + 1 + 10^40
     assert norm_inf(fmpq_mat(1, 3, [fmpq(-7, 2), 0, fmpq(1, 3)])) == fmpq(23, 6)
     assert norm_inf(fmpq_mat(0, 0, [])) == 0 and norm_inf(fmpq_mat(2, 0, [])) == 0
+
+
+def test_submatrix_and_selection_matrix_return_fresh_matrices():
+    """The selection matrices are kept per index set: what the caller gets is its own copy (a
+    change to it changes neither the kept matrix nor m)."""
+    from lcs_exact.algebra import selection_matrix, submatrix
+    m = fmpq_mat(10, 10, list(range(100)))
+    whole = submatrix(m)
+    whole[0, 0] = 99
+    assert m[0, 0] == 0 and whole == fmpq_mat(10, 10, [99] + list(range(1, 100)))
+    s = selection_matrix([1, 0], 3)
+    s[0, 0] = 5
+    assert selection_matrix([1, 0], 3).tolist() == [[0, 1, 0], [1, 0, 0]]
+    assert submatrix(m, list(range(9, -1, -1)), None) == fmpq_mat(10, 10, [10 * (9 - i) + j for i in range(10) for j in range(10)])

@@ -491,10 +491,12 @@ def submatrix(m: fmpq_mat, rows: Sequence[int] | None = None, cols: Sequence[int
         rs = range(r) if rows is None else rows
         cs = range(c) if cols is None else cols
         return fmpq_mat(nr, nc, [m[i, j] for i in rs for j in cs])
+    if rows is None and cols is None:
+        return fmpq_mat(m)  # a copy, as every other part
     if rows is not None:
-        m = selection_matrix(rows, r) * m
+        m = _selection(rows, r) * m
     if cols is not None:
-        m = m * selection_matrix(cols, c).transpose()
+        m = m * _selection(cols, c).transpose()
     return m
 
 
@@ -503,20 +505,25 @@ def submatrix(m: fmpq_mat, rows: Sequence[int] | None = None, cols: Sequence[int
 _SELECT_MIN = 64
 
 
-@lru_cache(maxsize=128)
-def selection_matrix(rows: tuple, r: int) -> fmpq_mat:
+def selection_matrix(rows: Sequence[int], r: int) -> fmpq_mat:
     """The len(rows) x r 0/1 matrix S with S m = m[rows, :] (its transpose puts the rows of a
-    block at ``rows``), kept per (rows, r).
+    block at ``rows``).
 
     Parameters
     ----------
-    rows : tuple of int
+    rows : sequence of int
         Indices in range(r).
     r : int
 
     >>> selection_matrix((2, 0), 3).tolist()
     [[0, 0, 1], [1, 0, 0]]
     """
+    return fmpq_mat(_selection(tuple(rows), r))  # a copy: the kept one is shared
+
+
+@lru_cache(maxsize=128)
+def _selection(rows: tuple, r: int) -> fmpq_mat:
+    """:func:`selection_matrix`, kept per (rows, r) (shared: never modified)."""
     if any(not 0 <= i < r for i in rows):
         raise IndexError(f"selection: an index of {rows} is outside range({r})")
     e = [0] * (len(rows) * r)

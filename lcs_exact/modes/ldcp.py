@@ -260,11 +260,11 @@ def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_m
             vK = -q / M[0, 0] if sign_of_form(q, x) < 0 else zeros(1, n)
         else:
             _, vK, _ = murty(M, q, x)
-        v = selection_matrix(tuple(K), k).transpose() * vK
+        v = selection_matrix(K, k).transpose() * vK
     if I:
         NII = submatrix(N, I, I)
         rhs = submatrix(z, I, None) + (submatrix(N, I, K) * vK if K else zeros(len(I), n))
-        v = v - selection_matrix(tuple(I), k).transpose() * NII.solve(rhs)
+        v = v - selection_matrix(I, k).transpose() * NII.solve(rhs)
     return v
 
 

@@ -385,10 +385,10 @@ def first_step(M: fmpq_mat, G: fmpq_mat, x0: arb_mat, prec: int, norm: fmpq) -> 
 
 
 @lru_cache(maxsize=64)
-def _inverses(J: int, prec: int) -> list[arb]:
-    """[1/j for 0 < j < J] as balls of ``prec`` bits (shared by the steps of every phase)."""
+def _inverses(J: int, prec: int) -> tuple[arb, ...]:
+    """(1/j for 0 < j < J) as balls of ``prec`` bits (shared by the steps of every phase)."""
     with workprec(prec):
-        return [arb(fmpq(1, j)) for j in range(1, J)]
+        return tuple(arb(fmpq(1, j)) for j in range(1, J))
 
 
 def _log2_floor(q: fmpq) -> int:
