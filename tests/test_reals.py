@@ -143,3 +143,35 @@ def test_signs_of_rows_agree_with_sign_of_form_row_by_row():
         x.arb(128)
         assert list(x.signs_of_rows(F)) == want
     assert list(L.vectors.ProjectedVector(P, v).signs_of_rows(F))[0] == 0  # x1 = 0 on P v: exact
+
+
+def test_projected_vector_applies_a_split_projection_in_low_rank():
+    """times_P(F) = F P exactly, where P = I - T (W T)^{-1} W is given as its split (W, T): on
+    the carts' projection onto x3 = x4 along (0, 0, 1, -1) (P written out here), on random
+    splits of Q^6 (d = 1, 2, 3; P built here from the definition), and with W of dependent rows
+    (no low rank: the plain product).  The balls read through the split equal those read
+    through P."""
+    import random
+    v = expm_action(A_CARTS, 1, [0, -1, -1, 0])
+    P = fmpq_mat([[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, fmpq(1, 2), fmpq(1, 2)], [0, 0, fmpq(1, 2), fmpq(1, 2)]])
+    W, T = fmpq_mat([[0, 0, 1, -1]]), fmpq_mat([[0], [0], [1], [-1]])
+    F = fmpq_mat([[1, 0, 0, 0], [0, 0, 1, -1], [2, -3, 1, 5]])
+    x = L.vectors.ProjectedVector(P, v, split=(W, T))
+    assert x.times_P(F) == F * P
+    v.arb(200)
+    a, b = x.form_balls(F)[0], L.vectors.ProjectedVector(P, v).form_balls(F)[0]
+    assert all(a[i, 0].mid() == b[i, 0].mid() and a[i, 0].rad() == b[i, 0].rad() for i in range(3))
+    rng = random.Random(3)
+    for d in (1, 2, 3):
+        while True:
+            W = fmpq_mat(d, 6, [rng.randint(-3, 3) for _ in range(6 * d)])
+            T = fmpq_mat(6, d, [rng.randint(-3, 3) for _ in range(6 * d)])
+            if (W * T).det() != 0:
+                break
+        P6 = fmpq_mat(6, 6, [int(i == j) for i in range(6) for j in range(6)]) - T * (W * T).inv() * W
+        assert P6 * P6 == P6 and W * P6 == fmpq_mat(d, 6, [0] * (6 * d))  # the projection onto Ker W
+        F6 = fmpq_mat(4, 6, [fmpq(rng.randint(-9, 9), rng.randint(1, 4)) for _ in range(24)])
+        z = L.vectors.ProjectedVector(P6, RationalVector(fmpq_mat(6, 1, [1, 2, 3, 4, 5, 6])), split=(W, T))
+        assert z.times_P(F6) == F6 * P6
+    Wdep = fmpq_mat([[0, 0, 1, -1], [0, 0, 2, -2]])  # dependent rows: W T is not square
+    assert L.vectors.ProjectedVector(P, v, split=(Wdep, fmpq_mat([[0], [0], [1], [-1]]))).times_P(F) == F * P

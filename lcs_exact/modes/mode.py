@@ -98,7 +98,9 @@ class DerivedData:
     * ``input_rows``: (U(s), free): u(s) = U(s) x0 on the rows the family fixes, and the inputs a
       free direction moves;
     * ``constraints``: the monitored functions of a phase in the mode, their rows' norms and the
-      rows stacked (``phase.Phase``: a tuple of ``Constraint``, a list of ||g||_1, an fmpq_mat).
+      rows stacked (``phase.Phase``: a tuple of ``Constraint``, a list of ||g||_1, an fmpq_mat);
+    * ``balls``: (prec, A_I, the stacked rows) as ``arb_mat`` balls of ``prec`` bits, kept at the
+      highest precision asked (``phase.Phase``'s Taylor steps: balls of more bits serve fewer).
     """
 
     family: Any = None
@@ -108,6 +110,7 @@ class DerivedData:
     state_response_known: bool = False
     input_rows: Any = None
     constraints: Any = None
+    balls: Any = None
 
 
 class Mode:

@@ -72,6 +72,8 @@ class TaylorSteps:
     first : fmpq, optional
         A length for the first step (rounded down to a power of two h / 2^m, at most h): the grid
         starts 0, h_0, 2 h_0, ..., h, then goes on by h.
+    balls : arb_mat, optional
+        M as balls of ``prec`` bits or more (a caller's kept conversion); computed when not given.
 
     >>> from flint import fmpq_mat, arb_mat, fmpq
     >>> st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 64)
@@ -84,7 +86,7 @@ class TaylorSteps:
     """
 
     def __init__(self, M: fmpq_mat, norm: fmpq, x0: arb_mat, prec: int, zero: list[int] | tuple = (),
-                 first: fmpq | None = None):
+                 first: fmpq | None = None, balls: arb_mat | None = None):
         self.n, self.prec, self.zero, self.norm = M.nrows(), prec, tuple(zero), norm
         e = 0
         if norm > 0:  # h = 2^e, the largest with ||M|| h <= STEP_NORM
@@ -92,8 +94,10 @@ class TaylorSteps:
         self.h = fmpq(2) ** e
         # m doublings from h_0 = h / 2^m up to h (m = 0: the uniform grid)
         self.m = 0 if first is None or first >= self.h or first <= 0 else e - _log2_floor(first)
-        with workprec(prec):
-            self._M = arb_mat(M)
+        if balls is None:
+            with workprec(prec):
+                balls = arb_mat(M)
+        self._M = balls
         self._level: dict[int, tuple] = {}  # step length's exponent -> (J, s, M h, e^s, [1/j])
         # x_k, the ball at t_k (x0 copied before its zero coordinates are set: it is the caller's)
         self._x = [self._clean(arb_mat(self.n, 1, x0.entries()) if self.zero else x0)]

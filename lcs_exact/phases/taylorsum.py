@@ -45,16 +45,20 @@ class TaylorRows:
         ||g||_1 of each row, exactly or an upper bound (computed when not given).
     stacked : fmpq_mat, optional
         The rows stacked (m x n), when the caller keeps them (computed when not given).
+    balls : arb_mat, optional
+        The stacked rows as balls of the steps' precision or more (a caller's kept conversion).
     """
 
     def __init__(self, steps: TaylorSteps, rows: list[fmpq_mat], norms: list | None = None,
-                 stacked: fmpq_mat | None = None):
+                 stacked: fmpq_mat | None = None, balls: arb_mat | None = None):
         self.steps, self.rows = steps, list(rows)
         self.prec = steps.prec
         if norms is None:
             norms = [norm_inf(g.transpose()) for g in self.rows]
         with workprec(self.prec):
-            self._G = arb_mat(stacked if stacked is not None else vstack(*self.rows)) if self.rows else None
+            if balls is None and self.rows:
+                balls = arb_mat(stacked if stacked is not None else vstack(*self.rows))
+            self._G = balls if self.rows else None
             self._g1 = [arb(q) for q in norms]  # ||g||_1
         self._coeffs: list[list[list[arb]]] = []  # step -> row -> [c_0 .. c_{J-1}]
         self._polys: dict = {}
