@@ -34,6 +34,18 @@ def test_rotation_over_several_steps_holds_cos_and_sin():
         assert st.locate(fmpq(10)) == 2 and st.start(2) == 8
 
 
+def test_high_precision_steps_divide_and_stay_accurate():
+    """At DIVIDE_PREC bits and more the columns are divided by j: the rotation's state at t = 10
+    (third step) still holds (cos 10, -sin 10) to ~2^-590 at 600 bits."""
+    from lcs_exact.numbers.taylorsteps import DIVIDE_PREC
+    assert DIVIDE_PREC <= 600
+    with workprec(600):
+        st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 600)
+        x = st.state(arb(10))
+        assert x[0, 0].contains(arb(10).cos()) and x[1, 0].contains(-arb(10).sin())
+        assert x[0, 0].rad() < arb(2) ** -580 and x[1, 0].rad() < arb(2) ** -580
+
+
 def test_zero_coordinates_stay_exactly_zero():
     """zero = [2]: the caller's proof that x_3(t) = 0 (here x_3' = x_3, x_3(0) = 0).  A start
     ball with a radius in x_3 still gives exact zeros in every column and state, and (x_1, x_2)

@@ -39,6 +39,10 @@ __all__ = ["TaylorSteps", "STEP_NORM", "taylor_order", "first_step"]
 #: at n = 64, 192 bits: 0.82 ms a unit of ||M|| t at 4, 1.4 ms at 2), its polynomials are of
 #: higher degree (about 70 at 192 bits)
 STEP_NORM = 4
+#: from this precision on, a step's columns are divided by j (linear in the words of a ball)
+#: instead of multiplied by the ball 1/j (quadratic): 18 against 37 us for 128 entries at 1200
+#: bits, 10 against 9 at 200
+DIVIDE_PREC = 512
 
 
 @lru_cache(maxsize=1024)
@@ -180,9 +184,14 @@ class TaylorSteps:
         with workprec(self.prec):
             ws = [x]
             w = x
-            for inv in invs:
-                w = self._clean((Mh * w) * inv)
-                ws.append(w)
+            if self.prec >= DIVIDE_PREC:  # w_j = M h w_{j-1} / j: a division by a word is cheaper
+                for j in range(1, len(invs) + 1):
+                    w = self._clean((Mh * w) / j)
+                    ws.append(w)
+            else:
+                for inv in invs:
+                    w = self._clean((Mh * w) * inv)
+                    ws.append(w)
             nxt = ws[0]
             for w in ws[1:]:
                 nxt = nxt + w
