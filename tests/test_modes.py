@@ -116,3 +116,23 @@ def test_feedback_of_chain_modes_keeps_the_state_in_V_and_y_I_at_zero(mask):
         dx = [a + sum(B[r][i] * u[j] for j, i in enumerate(I)) for r, a in enumerate(mv(A, x))]
         assert all(mv([C[i] for i in I], dx)[j] == 0 for j in range(len(I)))
         assert rank(V + [dx]) == len(V)
+
+
+@pytest.mark.parametrize("A, nilpotent", [
+    ([[0, 1], [0, 0]], True),                                   # the double integrator: A^2 = 0
+    ([[0, 1, 0], [0, 0, 1], [0, 0, 0]], True),                  # a chain of integrators: A^3 = 0
+    ([[Fraction(1, 2), Fraction(1, 4)], [-1, Fraction(-1, 2)]], True),  # A^2 = 0, rational entries
+    ([[0, 1], [-1, 0]], False),                                 # a rotation
+    ([[0, 2 ** 61 - 1], [1, 0]], False),  # det(sI - A) = s^2 - (2^61 - 1): s^2 modulo that prime
+])
+def test_closed_loop_nilpotent_against_the_powers(A, nilpotent):
+    """Mode.closed_loop_nilpotent (the characteristic polynomial modulo a prime first) against
+    A^n = 0 computed here with Fractions; the last matrix is nilpotent modulo the prime the test
+    reads first, so its answer comes from the polynomial over Q."""
+    n = len(A)
+    P = [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
+    for _ in range(n):
+        P = [[sum(Fraction(P[i][k]) * Fraction(A[k][j]) for k in range(n)) for j in range(n)] for i in range(n)]
+    assert all(x == 0 for row in P for x in row) == nilpotent
+    lcs = LCS(A, [[1]] + [[0]] * (n - 1), [[1] + [0] * (n - 1)], [[1]])
+    assert lcs.mode(set()).closed_loop_nilpotent == nilpotent

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
 
-from flint import fmpq_mat
+from flint import fmpq_mat, nmod_mat
 
 from ..errors import LCSError, NotAutonomous
 from ..numbers import Spectrum
@@ -36,6 +36,9 @@ from ..algebra import hstack, matrix_to_sympy, norm_inf, submatrix, vstack, zero
 from ..algebra import image, intersection, kernel, left_kernel, projection, projection_along, rank, row_basis, solve_any
 
 __all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
+
+#: a prime for the characteristic polynomial modulo p (a proof that A_I is not nilpotent)
+_PRIME = 2 ** 61 - 1
 
 #: ``_repr_latex_`` of a mode (and of results showing n x n matrices) returns None above this n
 LATEX_MAX_N = 12
@@ -324,7 +327,12 @@ class Mode:
     @cached_property
     def closed_loop_nilpotent(self) -> bool:
         """A_I nilpotent (its characteristic polynomial is s^n), decided exactly without the
-        spectral data."""
+        spectral data.  A_I = Z / d (Z integer) is nilpotent with Z; a coefficient of det(sI - Z)
+        that is nonzero modulo a prime is nonzero: most modes are told apart by the polynomial
+        modulo 2^61 - 1 (2 ms at n = 128, against 7 ms and more over Q)."""
+        Z, _ = self._A_I.numer_denom()
+        if any(c != 0 for c in nmod_mat(Z, _PRIME).charpoly().coeffs()[:-1]):
+            return False
         return all(c == 0 for c in self._A_I.charpoly().coeffs()[:-1])
 
     def spectrum(self) -> Spectrum:
