@@ -344,7 +344,8 @@ class TaylorSteps:
             return self._clean(arb_mat([[acc[i, 0] + arb(0, rho)] for i in range(self.n)]))
 
 
-def first_step(M: fmpq_mat, G: fmpq_mat, x0: arb_mat, prec: int, norm: fmpq) -> fmpq | None:
+def first_step(M: fmpq_mat, G: fmpq_mat, x0: arb_mat, prec: int, norm: fmpq,
+               balls: tuple[arb_mat, arb_mat] | None = None) -> fmpq | None:
     """A first step for :class:`TaylorSteps` when a row of G x(t) turns negative long before
     STEP_NORM / ||M|| (a gap of 10^-50 closing at unit speed: an impact running down a chain of
     carts), else None.
@@ -367,11 +368,13 @@ def first_step(M: fmpq_mat, G: fmpq_mat, x0: arb_mat, prec: int, norm: fmpq) -> 
     prec : int
     norm : fmpq
         ||M||_inf: only roots t with ||M|| t < 2^-6 give a step (the cubic is then accurate).
+    balls : (arb_mat, arb_mat), optional
+        M and G as balls of ``prec`` bits or more (a caller's kept conversion).
     """
     if G.nrows() == 0 or norm <= 0:
         return None
     with workprec(prec):
-        Ma, Ga = arb_mat(M), arb_mat(G)
+        Ma, Ga = balls if balls is not None else (arb_mat(M), arb_mat(G))
         v, cs = x0, []
         for j in range(4):
             cs.append((Ga * v).entries())

@@ -405,8 +405,8 @@ class ProjectedVector(ExactVector):
 
     def times_P(self, forms: fmpq_mat) -> fmpq_mat:
         """forms P, exactly.  For P_I = I - T (W T)^{-1} W (a ``split`` with W T invertible) as
-        forms - (forms T) K, K = (W T)^{-1} W: 2 k n d products instead of k n^2 (d = dim T_I;
-        a stage of the LDCP asks k = 64 forms of a 128-state system whose jumps span d = 16).
+        forms - (forms T) K, K = (W T)^{-1} W: 2 k n d products instead of k n^2 (d = dim T_I:
+        the LDCP stages of a chain of 64 carts ask k = 32 forms of its 128 states, d = 2 to 32).
 
         Parameters
         ----------

@@ -256,9 +256,9 @@ class Phase:
                                        f"{format_mode(self.mode.I)} at {prec} bits")
             x0, norm = self.base.arb(prec), self.mode.closed_loop_norm
             G = self.mode.derived.constraints[2]  # the constraints' rows, stacked once a mode
-            if self._first is False:  # once a phase: the same grid at every precision
-                self._first = first_step(self.M, G, x0, prec, norm)
             Ma, Ga = self._mode_balls(prec, G)
+            if self._first is False:  # once a phase: the same grid at every precision
+                self._first = first_step(self.M, G, x0, prec, norm, (Ma, Ga))
             steps = TaylorSteps(self.M, norm, x0, prec, self.zero_coordinates(), self._first, balls=Ma)
             self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms, G, balls=Ga)
         return self._rows
