@@ -1,11 +1,11 @@
-"""docs/performance.md is written by four scripts: run.py (the head), scaling.py (from
-``<!-- scaling -->``), scale.py (from ``<!-- scale -->``) and sweep_hook.py (from
-``<!-- sweeps -->``); each replaces only its part."""
+"""docs/performance.md is written by five scripts: run.py (the head), scaling.py (from
+``<!-- scaling -->``), scale.py (from ``<!-- scale -->``), sweep_hook.py (from
+``<!-- sweeps -->``) and battery.py (from ``<!-- battery -->``); each replaces only its part."""
 from __future__ import annotations
 
 from pathlib import Path
 
-MARKERS = ["<!-- head -->", "<!-- scaling -->", "<!-- scale -->", "<!-- sweeps -->"]
+MARKERS = ["<!-- head -->", "<!-- scaling -->", "<!-- scale -->", "<!-- sweeps -->", "<!-- battery -->"]
 
 
 def write_section(path: Path, marker: str, text: str) -> None:
