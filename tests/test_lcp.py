@@ -408,3 +408,26 @@ def test_murty_on_the_balls_of_an_exact_point_agrees_with_the_forms(m, data):
         assert su >= 0 and sy >= 0 and su * sy == 0
         assert (i in basis) or su == 0
         assert not u[i, 0] < 0 and not y[i, 0] < 0
+
+
+def test_p_matrix_test_of_interleaved_blocks_above_the_enumeration_limit():
+    """k = 24 (above MAX_P_TEST_K = 20), nonsymmetric, symmetric part not positive definite: twelve
+    2 x 2 blocks [[1, 2], [0, 1]] (P: minors 1, 1, 1) on interleaved indices (block b on {b, b +
+    12}).  Tested block by block (det M[S] is the product of the blocks' minors): P.  One block
+    replaced by [[1, 2], [1, 1]] (det -1): the violation is that block's index pair, and its
+    minor, computed here with Fractions, is <= 0."""
+    k = 24
+
+    def build(bad_block=None):
+        rows = [[Fraction(0)] * k for _ in range(k)]
+        for b in range(12):
+            i, j = b, b + 12
+            blk = [[1, 2], [1, 1]] if b == bad_block else [[1, 2], [0, 1]]
+            rows[i][i], rows[i][j], rows[j][i], rows[j][j] = map(Fraction, (blk[0][0], blk[0][1], blk[1][0], blk[1][1]))
+        return rows
+
+    assert p_matrix_violation(build()) is None
+    rows = build(bad_block=5)
+    bad = p_matrix_violation(rows)
+    assert bad == (5, 17)
+    assert det([[rows[i][j] for j in bad] for i in bad]) <= 0

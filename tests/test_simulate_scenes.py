@@ -195,3 +195,33 @@ def test_impact_cascade_stops_with_a_certified_enclosure():
     assert 1.3654 < float(e.lower) < 1.3655
     gaps = [b.time.ball(30) - a.time.ball(30) for a, b in zip(tr.events[-4:], tr.events[-3:])]
     assert all(b < a / 2 for a, b in zip(gaps, gaps[1:]))
+
+
+def test_eleven_independent_blocks_above_the_p_test_limit():
+    """Eleven uncoupled 2-state systems x' = [[0, 1], [-(i + 1), 0]] x + u, y = x + D u with the
+    nonsymmetric P-matrix D = [[1, 2], [0, 1]] (its symmetric part is not positive definite): k =
+    22, above the enumeration limit of the P-matrix test, which now goes block by block.  The
+    run is certified and its events are the union of the eleven systems' own runs: as many, at
+    the same times (30-digit balls overlap), the block's constraint 2i + l at copy i's l."""
+    from fractions import Fraction as Fr
+    from flint import fmpq_mat as M
+    from lcs_exact import LCS, simulate
+    c = 11
+    bases = [LCS([[0, 1], [-(i + 1), 0]], [[1, 0], [0, 1]], [[1, 0], [0, 1]], [[1, 2], [0, 1]]) for i in range(c)]
+    A, B, C, D = (M(2 * c, 2 * c, [0] * (4 * c * c)) for _ in range(4))
+    for i, s in enumerate(bases):
+        for r in range(2):
+            for q in range(2):
+                A[2 * i + r, 2 * i + q], B[2 * i + r, 2 * i + q] = s.A[r, q], s.B[r, q]
+                C[2 * i + r, 2 * i + q], D[2 * i + r, 2 * i + q] = s.C[r, q], s.D[r, q]
+    x0 = [v for i in range(c) for v in (Fr(1, i + 2), Fr(-1, 3))]
+    tr = simulate(LCS(A, B, C, D), x0, 2)
+    assert tr.certified and tr.status.name == "COMPLETE"
+    single = []
+    for i, s in enumerate(bases):
+        for e in simulate(s, x0[2 * i:2 * i + 2], 2).events:
+            single.append((e.time.ball(30), {f"{t[0]}_{2 * i + int(t[2:])}" for t in e.triggers}))
+    single.sort(key=lambda p: p[0].mid())
+    assert len(tr.events) == len(single) == 33
+    for e, (t, trig) in zip(tr.events, single):
+        assert e.time.ball(30).overlaps(t) and set(e.triggers) == trig
