@@ -251,9 +251,9 @@ def _chain_K(N, wall=1):
     K[0][0] = 1 + wall
     return K
 
-def s7a_quiet_long_coupled():
-    """slow oscillator q'' = -q/6400 (stop on y = q + eps*c0) + a chain of 15 carts (no stops):
-    one long quiet phase of ~126 time units (~503 units of ||A|| t) on Taylor steps."""
+def _quiet_coupled(eps, amplitude):
+    """slow oscillator q'' = -q/6400 (stop on y = q + eps*c0) + a chain of 15 carts (no stops),
+    the carts started at +-amplitude."""
     N = 15
     n = 2 + 2 * N
     A = [[F(0)] * n for _ in range(n)]
@@ -264,9 +264,16 @@ def s7a_quiet_long_coupled():
         for j in range(N):
             A[2 + N + i][2 + j] = -K[i][j]
     B = [[F(0)] for _ in range(n)]; B[1][0] = F(1)
-    C = [[F(0)] * n]; C[0][0] = F(1); C[0][2] = F(1, 1000)
+    C = [[F(0)] * n]; C[0][0] = F(1); C[0][2] = eps
     lcs = L.LCS(A, B, C, [[0]])
-    x0 = [1, 0] + [F((-1) ** i, 2) for i in range(N)] + [0] * N
+    x0 = [1, 0] + [amplitude * (-1) ** i for i in range(N)] + [0] * N
+    return lcs, x0
+
+
+def s7a_quiet_long_coupled():
+    """slow oscillator q'' = -q/6400 (stop on y = q + eps*c0) + a chain of 15 carts (no stops):
+    one long quiet phase of ~126 time units (~503 units of ||A|| t) on Taylor steps."""
+    lcs, x0 = _quiet_coupled(F(1, 1000), F(1, 2))
     return lcs, x0, 127, {}
 
 def s7b_stiff_short():
@@ -431,19 +438,7 @@ def s10a_cyclic_wrapping(c=8, T=F(319, 10)):
 
 def s10b_chain_wrapping():
     """s7a with eps = 1 instead of 1/1000 (chain amplitude 1/100)."""
-    N = 15
-    n = 2 + 2 * N
-    A = [[F(0)] * n for _ in range(n)]
-    A[0][1] = 1; A[1][0] = F(-1, 6400)
-    K = _chain_K(N)
-    for i in range(N):
-        A[2 + i][2 + N + i] = 1
-        for j in range(N):
-            A[2 + N + i][2 + j] = -K[i][j]
-    B = [[F(0)] for _ in range(n)]; B[1][0] = F(1)
-    C = [[F(0)] * n]; C[0][0] = F(1); C[0][2] = F(1)
-    lcs = L.LCS(A, B, C, [[0]])
-    x0 = [1, 0] + [F((-1) ** i, 100) for i in range(N)] + [0] * N
+    lcs, x0 = _quiet_coupled(F(1), F(1, 100))
     return lcs, x0, 127, {}
 
 def s10c_skew_wrapping():
