@@ -2,7 +2,7 @@
 twice by two independent evaluation paths of lcs_exact, compared event by event.  Run from the
 repository root:
 
-    python benchmarks/battery.py                  # the 58 scenes, 2 workers (~3-5 min)
+    python benchmarks/battery.py                  # the 58 scenes, 2 workers (~1.5 min)
     python benchmarks/battery.py --scenes s3a_chain16,s12d_chain64
     python benchmarks/battery.py --all            # also the scenes of known limits
     python benchmarks/battery.py --write          # also replace the Battery section of docs/performance.md
@@ -83,6 +83,7 @@ except Exception as ex:
 res["time"] = time.perf_counter() - t0
 if tr is not None:
     res["certified"] = tr.certified
+    res["status"] = tr.status.name
     res["taylor"] = sum(1 for p in tr.phases if getattr(p.phase, "taylor", False))
     res["events"] = [dict(t=ball(e.time.ball(30)), trig=sorted(e.triggers), mb=sorted(e.mode_before or []),
                           ma=sorted(e.mode_after or [])) for e in tr.events]
@@ -132,8 +133,8 @@ def _narrow(a: list, rel: float) -> bool:
 def differences(a: dict, b: dict) -> list[str]:
     """What tells the two runs apart (empty: they agree)."""
     out = []
-    if a.get("error") != b.get("error"):
-        out.append(f"ends: {a.get('error', 'ok')} / {b.get('error', 'ok')}")
+    if a.get("error") != b.get("error") or a.get("status") != b.get("status"):
+        out.append(f"ends: {a.get('error', a.get('status'))} / {b.get('error', b.get('status'))}")
     ea, eb = a.get("events", []), b.get("events", [])
     if len(ea) != len(eb):
         out.append(f"{len(ea)} / {len(eb)} events")
