@@ -312,3 +312,39 @@ def test_positive_until_proves_rows_positive_without_a_search():
         st = TaylorSteps(M, fmpq(1), arb_mat([[0], [0], [2], [-6]]), 128)
         rows = TaylorRows(st, [fmpq_mat([[1, 0, 0, 0]])])
         assert rows.positive_until(0, 2, fmpq(1, 2)) and not rows.positive_until(0, 2, fmpq(2))
+
+
+def test_a_quiet_phase_is_proven_on_the_screen_and_the_others_are_searched(monkeypatch):
+    """The screen (Taylor steps of SCREEN_PREC bits) decides a phase without events alone, and
+    hands every other phase to the search at its own precision.  x = (cos t, -sin t, 1) and
+    y = x_0 + c x_2 = cos t + c: c = 2 stays >= 1 (no event in (0, 10], no step at the search's
+    precision computed); c = 1/2 crosses at 2 pi / 3 (acos(-1/2), a guess on the screen: the
+    search finds it to 30 digits); c = 1 only touches 0 at t = pi (no guess crosses, but no
+    enclosure shows y > 0 there: the search proves the touch, which is no event)."""
+    import mpmath as mp
+
+    import lcs_exact.phases.flow as flow
+    from lcs_exact import LCS
+    from lcs_exact.phases.flow import theta
+
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 1)
+    seen = []
+    quiet = flow._quiet
+
+    def spy(phase, end):
+        seen.append((quiet(phase, end), phase))
+        return seen[-1][0]
+
+    monkeypatch.setattr(flow, "_quiet", spy)
+    A, B, D = [[0, 1, 0], [-1, 0, 0], [0, 0, 0]], [[0], [0], [0]], [[1]]
+    results = {}
+    for c in ("2", "1/2", "1"):
+        results[c] = theta(LCS(A, B, [[1, 0, c]], D), [1, 0, 1], set(), 10)
+    assert [ok for ok, _ in seen] == [True, False, False]
+    searched = [len(ph._rows.steps._w) for _, ph in seen]  # steps at the search's precision
+    assert searched[0] == 0 and searched[1] > 0 and searched[2] > 0
+    assert results["2"] is None and results["1"] is None
+    with mp.workdps(40):
+        want = mp.acos(mp.mpf(-1) / 2)
+    got = results["1/2"].decimal(30).split(" ")[0]
+    assert abs(mp.mpf(got) - want) < mp.mpf(10) ** -29

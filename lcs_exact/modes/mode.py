@@ -103,7 +103,9 @@ class DerivedData:
     * ``constraints``: the monitored functions of a phase in the mode, their rows' norms and the
       rows stacked (``phase.Phase``: a tuple of ``Constraint``, a list of ||g||_1, an fmpq_mat);
     * ``balls``: (prec, A_I, the stacked rows) as ``arb_mat`` balls of ``prec`` bits, kept at the
-      highest precision asked (``phase.Phase``'s Taylor steps: balls of more bits serve fewer).
+      highest precision asked (``phase.Phase``'s Taylor steps: balls of more bits serve fewer);
+    * ``screen_balls``: (A_I, the stacked rows) as balls of ``phase.SCREEN_PREC`` bits (the
+      phases' screens for events).
     """
 
     family: Any = None
@@ -114,6 +116,7 @@ class DerivedData:
     input_rows: Any = None
     constraints: Any = None
     balls: Any = None
+    screen_balls: Any = None
 
 
 class Mode:

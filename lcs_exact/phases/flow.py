@@ -36,6 +36,9 @@ __all__ = ["Hit", "first_root", "next_event", "compare_roots", "theta", "horizon
 #: precision at which roots are searched for (escalated when a decision needs more); the
 #: bracket found is then refined to the run's working precision by interval Newton alone
 SEARCH_PREC = 192
+#: the most Taylor steps a phase's screen for events looks over (:func:`_quiet`; a longer horizon
+#: is searched at the search's precision directly)
+SCREEN_MAX_STEPS = 128
 
 
 class _Finder:
@@ -302,7 +305,11 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
     limit = hb
     search = min(prec, SEARCH_PREC)
     if phase.taylor:  # the steps at the bits the event's root is refined to as well (one set, not two)
-        phase.taylor_rows(search + ROOT_GUARD)
+        phase.taylor_rows(search + ROOT_GUARD)  # (lazy: its steps are computed when read)
+        # the screen, where no early crossing is foreseen (a phase of 10^-50 in a cluster of
+        # impacts ends long before a screen's first step)
+        if phase.first_step is None and _quiet(phase, hb):
+            return None
     index = {id(c): i for i, c in enumerate(phase.constraints)}
     for est, c in _by_estimate(phase, hb, search):
         if est is None and _positive_until(phase, index[id(c)], c, limit, search):
@@ -346,6 +353,31 @@ def _positive_until(phase: Phase, i: int, c: Constraint, end: fmpq, prec: int) -
         return False
     sign, order = phase.start_order(c)
     return sign > 0 and phase.taylor_rows(prec).positive_until(i, order, end)
+
+
+def _quiet(phase: Phase, end: fmpq) -> bool:
+    """No event in (0, end], proven on the phase's screen (Taylor steps of SCREEN_PREC bits,
+    :meth:`~lcs_exact.phases.phase.Phase.screen_rows`): no constraint's guess crosses 0 there, and
+    every constraint not identically 0 is proven > 0 on (0, end] (Lemma 5.1's start, then the
+    steps' enclosures).  False: not proven (a guess crosses, a sign needs more bits, or the
+    search's tie rules apply), and the search runs at its own precision; a guess that crosses
+    costs the screen one step."""
+    if phase.policy.allow_unresolved:  # the search's assumed zeros must see every constraint
+        return False
+    live = []
+    for i, c in enumerate(phase.constraints):
+        sign, order = phase.start_order(c)
+        if sign < 0:
+            return False  # the search reports it
+        if sign > 0:
+            live.append((i, order))
+    rows = phase.screen_rows()
+    if len(rows.steps.pieces(fmpq(0), end)) > SCREEN_MAX_STEPS:
+        return False
+    guesses = rows.guess_crossings(0.0, _float(end), [i for i, _ in live])
+    if any(g is not None for g in guesses):
+        return False
+    return all(rows.positive_until(i, order, end, SCREEN_MAX_STEPS) for i, order in live)
 
 
 def _before(first: Real, H: Real) -> bool:

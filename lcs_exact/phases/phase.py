@@ -24,6 +24,7 @@ from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
 
 from ..numbers import calcium
 from ..numbers import Policy, dyadic_lower, workprec
+from ..errors import LCSError
 from ..modes import format_mode
 from ..numbers import RationalReal, as_real, ca_from_state, ca_state
 from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, TaylorSteps, algebraic_vector, ca_matvec, first_step, orbit_start
@@ -49,6 +50,10 @@ TAYLOR_MAX_BITS = 1024
 #: the most units of ||A_I|| t a phase's search steps over (4 units a step; 128 steps cost about
 #: what the spectral data of a mode of n = 128 cost: a longer quiet horizon takes that path)
 TAYLOR_MAX_SPAN = 4 * 128
+#: the precision of a phase's screen for events (:meth:`Phase.screen_rows`): every constraint
+#: proven > 0 up to the horizon on Taylor steps of this many bits means no event, and the steps at
+#: the search's precision are never built (a quiet phase to t_end was a quarter of a 32-state chain)
+SCREEN_PREC = 64
 #: bits of accuracy a run may lose before its event states on Taylor steps take the centered form
 #: (from the mode's spectral data): plain balls lose ~2.2 bits an event against ~1.2, which a long
 #: run pays in re-anchoring at a growing precision; a short run does not pay for the spectral data
@@ -168,6 +173,7 @@ class Phase:
         self._powers: dict = {}
         self._orders: dict = {}
         self._rows: TaylorRows | None = None
+        self._screen: TaylorRows | None = None
         self._first: fmpq | None | bool = False  # the Taylor steps' first step (False: not guessed yet)
         self._modal = None
         self._modal_prec = 0
@@ -206,7 +212,7 @@ class Phase:
         return out
 
     def __getstate__(self):
-        state = {**self.__dict__, "_modal": None, "_modal_prec": 0, "_rows": None}  # ball caches, as above
+        state = {**self.__dict__, "_modal": None, "_modal_prec": 0, "_rows": None, "_screen": None}  # ball caches, as above
         if isinstance(self.exact_start, list):  # Calcium numbers travel as exact descriptions (sweeps)
             state["exact_start"] = ("ca", [ca_state(c) for c in self.exact_start])
         return state
@@ -262,6 +268,32 @@ class Phase:
             steps = TaylorSteps(self.M, norm, x0, prec, self.zero_coordinates(), self._first, balls=Ma)
             self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms, G, balls=Ga)
         return self._rows
+
+    @property
+    def first_step(self) -> fmpq | None:
+        """The length of the Taylor steps' first step (:func:`~lcs_exact.numbers.first_step`: a
+        constraint foreseen to cross 0 long before a regular step), None for the uniform grid;
+        guessed when the first steps are built (:meth:`taylor_rows`)."""
+        if self._first is False:
+            raise LCSError("internal inconsistency: the first step is read before the Taylor steps are built")
+        return self._first
+
+    def screen_rows(self) -> TaylorRows:
+        """The constraints' polynomials on Taylor steps of SCREEN_PREC bits on the uniform grid (no
+        first-step guess): a cheap first look at a phase, whose proofs of f > 0 are as rigorous as
+        those at any precision (balls), and whose midpoints are good enough for guesses where the
+        constraints are not near a cancellation.  Built once a phase."""
+        if self._screen is None:
+            G = self.mode.derived.constraints[2]
+            kept = self.mode.derived.screen_balls
+            if kept is None:
+                with workprec(SCREEN_PREC):
+                    kept = self.mode.derived.screen_balls = (arb_mat(self.M), arb_mat(G))
+            x0 = self.base.arb(max(SCREEN_PREC, self.base.anchor_prec))
+            steps = TaylorSteps(self.M, self.mode.closed_loop_norm, x0, SCREEN_PREC, self.zero_coordinates(),
+                                balls=kept[0])
+            self._screen = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms, G, balls=kept[1])
+        return self._screen
 
     def _mode_balls(self, prec: int, G: fmpq_mat) -> tuple[arb_mat, arb_mat]:
         """A_I and the constraints' rows as balls of ``prec`` bits or more, kept on the mode (a
