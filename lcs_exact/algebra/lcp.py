@@ -23,7 +23,7 @@ from typing import Any
 from flint import arb_mat, ctx, fmpq, fmpq_mat
 
 from ..errors import LCSError, ShapeError
-from .rational import MAX_P_TEST_K, check_enumerable, pivot_tableau, sign_of_form, submatrix, to_matrix, to_vector, zeros
+from .rational import MAX_P_TEST_K, check_enumerable, pivot_tableau, selection_matrix, sign_of_form, submatrix, to_matrix, to_vector, zeros
 
 __all__ = ["LCPSolution", "p_matrix_violation", "is_p_matrix", "murty", "lemke", "solve_lcp",
            "all_solutions"]
@@ -272,10 +272,8 @@ def _solution(m: fmpq_mat, q_forms: fmpq_mat, a: list[int]) -> tuple[fmpq_mat, f
     k, n = q_forms.nrows(), q_forms.ncols()
     u = zeros(k, n)
     if a:
-        ua = (-submatrix(m, a, a).solve(submatrix(q_forms, a, None))).entries()
-        at = {i: r for r, i in enumerate(a)}
-        zero = [0] * n
-        u = fmpq_mat(k, n, [e for i in range(k) for e in (ua[at[i] * n:(at[i] + 1) * n] if i in at else zero)])
+        ua = -submatrix(m, a, a).solve(submatrix(q_forms, a, None))
+        u = selection_matrix(a, k).transpose() * ua  # rows a of u: a product, not k x n Python entries
     return u, q_forms + m * u
 
 

@@ -227,11 +227,12 @@ def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
                 if col is not None:
                     z = z + col * row
         v = stage_lcp(N, z, x, sorted(I), sorted(J))
-        ve = v.entries()
-        for l in range(k):
+        for l in range(k):  # the rows of v on J are 0 (the stage's LCP): read only the others
             j = i - eta[l]
-            if j >= -n + 1 and any(ve[l * n:(l + 1) * n]):
-                urows[l, j] = fmpq_mat(1, n, ve[l * n:(l + 1) * n])
+            if j >= -n + 1 and l not in J:
+                row = submatrix(v, [l], None)
+                if not is_zero(row):
+                    urows[l, j] = row
         y = z + N * v
         rest = [l for l in range(k) if l not in I and l not in J]
         vpos = _positive(v, rest, x)
