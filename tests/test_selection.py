@@ -138,3 +138,33 @@ def test_exact_real_states_are_decided_like_rational_ones():
     both = {frozenset(), frozenset({0})}
     assert lcs.select_modes([1]) == both and lcs.select_modes([-1]) == set()
     assert lcs.select_modes([sp.sqrt(2) - 1]) == both and lcs.select_modes([1 - sp.sqrt(2)]) == set()
+
+
+def test_ldcp_with_two_relative_degrees_is_the_laurent_series_of_the_rcp():
+    """Constraints of relative degree 1 (y_0 = p, p' = q + u_0) and 2 (y_1 = q, q'' = p + u_1):
+    eta = (1, 2), N = I.  From x0 = (-1, -1, -1) both are violated: mode {0, 1}, whose inputs
+    u_I(s) = -G_II(s)^{-1} C (sI - A)^{-1} x0 are computed here with SymPy; every determined
+    coefficient u_l^j (of s^-j, j <= kappa - eta_l) of LDCP_kappa equals that series'."""
+    A = [[0, 1, 0], [0, 0, 1], [1, 0, 0]]
+    B = [[0, 0], [0, 1], [1, 0]]
+    C = [[0, 0, 1], [1, 0, 0]]
+    lcs = LCS(A, B, C, [[0, 0], [0, 0]])
+    assert tuple(lcs.leading_column_indices()) == (1, 2)
+    x0 = [-1, -1, -1]
+    kappa = 5
+    sol = lcs.ldcp(x0, kappa)
+    S, t = sp.symbols("s t")
+    R = (S * sp.eye(3) - sp.Matrix(A)).inv()
+    G = sp.Matrix(C) * R * sp.Matrix(B)
+    u = -(G.inv() * sp.Matrix(C) * R * sp.Matrix(x0))
+    want = {}
+    for l in range(2):
+        ser = sp.series(sp.simplify(u[l].subs(S, 1 / t)), t, 0, kappa + 1).removeO()
+        for j in range(-2, kappa + 1):
+            want[l, j] = sp.Rational(sp.expand(ser).coeff(t, j))  # u^j: the coefficient of s^-j = t^j
+    assert sol.active == {0, 1}
+    for l, eta in ((0, 1), (1, 2)):
+        for j in range(-2, kappa - eta + 1):
+            got = sol.u[j][l, 0]
+            assert Fraction(int(got.p), int(got.q)) == Fraction(int(want[l, j].p), int(want[l, j].q)), (l, j)
+    assert any(want[1, j] != 0 for j in range(-2, 1))  # an impulse in u_1: the test sees the earlier stages

@@ -11,6 +11,7 @@ enters only through :func:`~lcs_exact.rational.sign_of_form`.  Results:
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from itertools import combinations
 from typing import Any
@@ -21,7 +22,7 @@ from ..errors import IllPosed
 from ..interfaces import SystemLike
 from ..algebra import murty
 from .mode import format_mode
-from ..algebra import MAX_KAPPA, is_zero, selection_matrix, sign_of_form, submatrix, to_int, zeros
+from ..algebra import MAX_KAPPA, hstack, is_zero, selection_matrix, sign_of_form, submatrix, to_int, zeros
 from ..numbers import as_state
 
 __all__ = ["LDCPSolution", "ldcp", "ldcp_modes", "impulse_forms", "lcp_sequence", "stage_lcp", "require_N_P"]
@@ -203,42 +204,80 @@ def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
     """The stages i = 1..kappa of Theorem 6.9 (see :func:`ldcp`), growing I and J in place.
 
     Yields (i, u, y^i): u maps (l, j) to the row u_l^j (a 1 x n form) for the nonzero unknowns
-    found so far, y^i is k x n.  Only nonzero rows of u and nonzero columns of the Markov
-    parameters enter y^i = C A^{i-1} x + sum_j H_{i-j} u^j: on long runs of large systems most
-    of the k * kappa^2 / 2 products are zero."""
+    found so far (a mapping read on demand: mode selection never reads it), y^i is k x n.  Stage s
+    finds the unknowns v_l = u_l^{s - eta_l} as the rows of one k x n matrix V_s, so the known
+    part of a later stage, y^i = C A^{i-1} x + sum_j H_{i-j} u^j, is C A^{i-1} + sum_s H'_{i-s} V_s
+    with H'_d the k x k matrix whose column l is column l of H_{d + eta_l}: one product a stage,
+    not one a row (on long runs of large systems most of the columns are zero)."""
     n, k = lcs.n, lcs.k
     eta = lcs.leading_column_indices()
     wp = lcs.well_posedness()  # N, computed once with the report
     N = wp.N if wp.N is not None else lcs.leading_column_matrix()
-    cols: dict[tuple[int, int], fmpq_mat | None] = {}  # (d, l) -> column l of H_d, None if zero
+    shifted: dict[int, fmpq_mat | None] = {}  # d -> H'_d, None if zero
 
-    def hcol(d: int, l: int):
-        if (d, l) not in cols:
-            col = submatrix(lcs.markov(d), None, [l])
-            cols[d, l] = None if is_zero(col) else col
-        return cols[d, l]
+    def h_shifted(d: int):
+        if d not in shifted:
+            if len(set(eta)) == 1:  # one relative degree (a mechanical system's contacts): H_{d + eta}
+                H = lcs.markov(d + eta[0])
+            else:
+                H = hstack(*[submatrix(lcs.markov(d + eta[l]), None, [l]) for l in range(k)], nrows=k)
+            shifted[d] = None if is_zero(H) else H
+        return shifted[d]
 
-    urows: dict[tuple[int, int], fmpq_mat] = {}
+    stages: list[tuple[int, fmpq_mat]] = []  # (s, V_s); row l of V_s is u_l^{s - eta_l}
     for i in range(1, kappa + 1):
         z = lcs.output_map(i - 1)  # C A^{i-1}
-        for (l, j), row in urows.items():
-            if j < i - eta[l]:
-                col = hcol(i - j, l)
-                if col is not None:
-                    z = z + col * row
+        for s, V in stages:
+            H = h_shifted(i - s)
+            if H is not None:
+                z = z + H * V
         v = stage_lcp(N, z, x, sorted(I), sorted(J))
-        for l in range(k):  # the rows of v on J are 0 (the stage's LCP): read only the others
-            j = i - eta[l]
-            if j >= -n + 1 and l not in J:
-                row = submatrix(v, [l], None)
-                if not is_zero(row):
-                    urows[l, j] = row
+        # rows whose unknown u_l^{i - eta_l} precedes the window -n+1 .. of (5.10) are not unknowns
+        low = [l for l in range(k) if i - eta[l] < -n + 1]
+        stages.append((i, v if not low else _zero_rows(v, low)))
         y = z + N * v
         rest = [l for l in range(k) if l not in I and l not in J]
         vpos = _positive(v, rest, x)
         I.update(vpos)
         J.update(_positive(y, [l for l in rest if l not in vpos], x))
-        yield i, urows, y
+        yield i, _StageRows(list(stages), eta, n), y
+
+
+class _StageRows(Mapping):
+    """(l, j) -> the row u_l^j (1 x n) of the stages so far, nonzero rows only, read on demand."""
+
+    def __init__(self, stages: list, eta: list, n: int):
+        self._stages, self._eta, self._n = stages, eta, n
+        self._rows: dict | None = None
+
+    def _data(self) -> dict:
+        if self._rows is None:
+            self._rows = {}
+            n = self._n
+            for s, V in self._stages:
+                e = V.entries()
+                for l in range(V.nrows()):
+                    if any(e[l * n:(l + 1) * n]):
+                        self._rows[l, s - self._eta[l]] = fmpq_mat(1, n, e[l * n:(l + 1) * n])
+        return self._rows
+
+    def __getitem__(self, key):
+        return self._data()[key]
+
+    def __iter__(self):
+        return iter(self._data())
+
+    def __len__(self):
+        return len(self._data())
+
+
+def _zero_rows(v: fmpq_mat, rows: list[int]) -> fmpq_mat:
+    """v with ``rows`` set to 0 (a copy)."""
+    v = fmpq_mat(v)
+    for l in rows:
+        for c in range(v.ncols()):
+            v[l, c] = 0
+    return v
 
 
 def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_mat:
