@@ -377,5 +377,10 @@ class Mode:
 
 def _pivot_rows(V: fmpq_mat) -> list[int]:
     """The row of each column's leading 1 in a canonical basis (columns of rref rows, transposed)."""
-    n, e, d = V.nrows(), V.entries(), V.ncols()
-    return [next(i for i in range(n) if e[i * d + c] != 0) for c in range(d)]
+    Vt, out, j = V.transpose(), [], 0
+    for c in range(V.ncols()):  # V^T is in reduced row echelon form: its leading ones move right
+        while Vt[c, j] == 0:
+            j += 1
+        out.append(j)
+        j += 1
+    return out
