@@ -397,3 +397,24 @@ def test_projection_along_the_annihilator_is_P_I(mask):
     if W.nrows():
         assert projection_along(vstack(W, submatrix(W, [0], None)), T) is None  # dependent rows
         assert projection_along(W, fmpq_mat(12, T.ncols())) is None  # W T singular
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_kernel_basis_has_unit_rows_and_spans_the_kernel(seed):
+    """kernel_basis(m) = (K, free): m K = 0, K[free, :] = I, and K spans the kernel the
+    reference's nullspace (Fractions) spans; kernel(m) is its canonical form."""
+    from lcs_exact.algebra import kernel_basis
+    rng = random.Random(seed)
+    r, c = rng.randint(1, 6), rng.randint(2, 9)
+    rows = [[Fraction(rng.choice([0, 0, 1, -2, 3]), rng.randint(1, 4)) for _ in range(c)] for _ in range(r)]
+    if seed == 0:
+        rows[-1] = rows[0][:]  # a dependent row
+    m = fmpq_mat(r, c, [fmpq(x.numerator, x.denominator) for row in rows for x in row])
+    K, free = kernel_basis(m)
+    Kl = mat(K)
+    assert all(x == 0 for row in mm(rows, Kl) for x in row)
+    assert [[Kl[f][j] for j in range(len(free))] for f in free] == eye(len(free))
+    ref = nullspace(rows, c)
+    assert len(free) == len(ref) == c - rank(rows)
+    assert same_span(columns(K), ref)
+    assert kernel(m) == image(K)

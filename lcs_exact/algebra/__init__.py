@@ -15,7 +15,7 @@ from .rational import (MAX_DIMENSION, MAX_HORIZON_FAST, MAX_HORIZON_SLOW, MAX_KA
                        to_short, to_vector, vector_entries, vstack, zeros)
 from .matrixfunctions import adjugate_coefficients, eigenvalue_moduli, norm_inf, poly_at_matrix, polys_at_matrix
 from .ratfunc import laurent_coefficients, RationalFunction, RationalMatrix, resolvent
-from .subspaces import (image, in_row_span, intersection, invariant_forms, kernel, left_kernel,
+from .subspaces import (image, in_row_span, intersection, invariant_forms, kernel, kernel_basis, left_kernel,
                         orbit_zero_forms, projected_forms, projection, projection_along, pulled_back_forms, rank, row_basis, RowSpan, solve_any)
 from .lcp import all_solutions, is_p_matrix, murty, p_matrix_violation, solve_lcp
 from .polyhedra import eliminate, find_point
@@ -26,6 +26,6 @@ __all__ = ["MAX_DIMENSION", "MAX_HORIZON_FAST", "MAX_HORIZON_SLOW", "MAX_KAPPA",
            "matrix_to_sympy", "poly_at_matrix", "polys_at_matrix", "selection_matrix", "sign_of_form", "submatrix", "to_fmpq", "to_int", "to_matrix",
            "to_short", "to_vector", "vector_entries", "vstack", "zeros", "laurent_coefficients",
            "RationalFunction", "RationalMatrix", "resolvent", "image", "in_row_span", "intersection",
-           "invariant_forms", "kernel", "left_kernel", "orbit_zero_forms", "projected_forms", "projection", "projection_along", "pulled_back_forms",
+           "invariant_forms", "kernel", "kernel_basis", "left_kernel", "orbit_zero_forms", "projected_forms", "projection", "projection_along", "pulled_back_forms",
            "rank", "row_basis", "RowSpan", "solve_any", "all_solutions", "is_p_matrix", "murty",
            "p_matrix_violation", "solve_lcp", "eliminate", "find_point"]

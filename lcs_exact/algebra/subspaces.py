@@ -12,7 +12,7 @@ from ..errors import ShapeError
 from .rational import hstack, identity, is_zero, submatrix, vstack, zeros
 
 __all__ = [
-    "rref", "rank", "kernel", "image", "left_kernel", "subspace_sum", "intersection",
+    "rref", "rank", "kernel", "kernel_basis", "image", "left_kernel", "subspace_sum", "intersection",
     "complement", "contains", "same_subspace", "solve_any", "projection",
     "row_basis", "in_row_span", "RowSpan", "orbit_zero_forms", "invariant_forms", "pulled_back_forms",
     "projected_forms", "projection_along",
@@ -56,17 +56,35 @@ def kernel(m: fmpq_mat) -> fmpq_mat:
     [0, 1, 0, 0]
     [0, 0, 0, 1]
     """
+    return image(kernel_basis(m)[0])
+
+
+def kernel_basis(m: fmpq_mat) -> tuple[fmpq_mat, list[int]]:
+    """(K, free): a basis of Ker m read off rref(m) - column c is 1 at row free[c], where every
+    other column is 0, and -rref(m)[i, free[c]] at the i-th pivot - without the second echelon
+    form that makes :func:`kernel`'s basis canonical (for a caller that needs a basis with unit
+    rows, not the canonical one).
+
+    Parameters
+    ----------
+    m : fmpq_mat
+
+    >>> K, free = kernel_basis(fmpq_mat([[1, 2, 0], [0, 0, 1]]))
+    >>> K.transpose(), free
+    ([-2, 1, 0], [1])
+    """
     n = m.ncols()
     if m.nrows() == 0:
-        return identity(n)
+        return identity(n), list(range(n))
     r, piv = rref(m)
-    free = [j for j in range(n) if j not in piv]
+    pivots = set(piv)
+    free = [j for j in range(n) if j not in pivots]
     out = fmpq_mat(n, len(free))
     for c, f in enumerate(free):
         out[f, c] = 1
         for i, p in enumerate(piv):
             out[p, c] = -r[i, f]
-    return image(out)
+    return out, free
 
 
 def image(m: fmpq_mat) -> fmpq_mat:

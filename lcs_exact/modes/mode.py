@@ -33,7 +33,7 @@ from ..errors import LCSError, NotAutonomous
 from ..numbers import Spectrum
 from ..interfaces import SystemLike
 from ..algebra import hstack, matrix_to_sympy, norm_inf, submatrix, vstack, zeros
-from ..algebra import image, intersection, kernel, left_kernel, projection, projection_along, rank, row_basis, solve_any
+from ..algebra import image, intersection, kernel, kernel_basis, left_kernel, projection, projection_along, rank, row_basis, solve_any
 
 __all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
 
@@ -298,7 +298,10 @@ class Mode:
     def _F(self) -> fmpq_mat:
         self.require_state_determined()
         n, m = self.lcs.n, len(self.I)
-        V, W = self._V, self._W
+        W = self._W
+        # a basis of V_I with unit rows (not the canonical one: its second echelon form is not
+        # needed here): x = V a + T b with a = (P_I x)[units]
+        V, units = kernel_basis(W)
         if m == 0:
             return zeros(0, n)
         # for each basis vector v of V: [W L; N] u = -[W A; M] v (unique when the mode is
@@ -310,9 +313,8 @@ class Mode:
             raise LCSError(f"internal inconsistency: V_I of mode {format_mode(self.I)} is not invariant")
         if not V.ncols():
             return zeros(m, n)
-        # x = V a + T b with a = (P_I x) at the pivot rows of V (V is a canonical basis: its
-        # column c is 1 at row piv_c, where the other columns are 0): F_I = U P_I[piv, :]
-        return U * submatrix(self._P, _pivot_rows(V), None)
+        # column c of V is 1 at row units[c], where the other columns are 0: F_I = U P_I[units, :]
+        return U * submatrix(self._P, units, None)
 
     def closed_loop(self) -> fmpq_mat:
         """A_I = ``A + B_.I F_I``: x' = A_I x on V_I."""
@@ -374,13 +376,3 @@ class Mode:
             s += rf",\ P_I = {f(self.projection())}"
         return f"${s}$"
 
-
-def _pivot_rows(V: fmpq_mat) -> list[int]:
-    """The row of each column's leading 1 in a canonical basis (columns of rref rows, transposed)."""
-    Vt, out, j = V.transpose(), [], 0
-    for c in range(V.ncols()):  # V^T is in reduced row echelon form: its leading ones move right
-        while Vt[c, j] == 0:
-            j += 1
-        out.append(j)
-        j += 1
-    return out
