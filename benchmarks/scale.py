@@ -2,9 +2,9 @@
 solvers run, every ratio taken within one run, each measurement printed next to the issue's
 target (reported, not judged).  Run from the repository root:
 
-    python benchmarks/scale.py            # full: N = 8, 16, 24, 32 (5 repeats) and 64 (3) (~20-25 min)
-    python benchmarks/scale.py --quick    # N = 8, 16, 24, 32, fewer repeats (~3-4 min)
-    python benchmarks/scale.py --quick --chain 64   # only the chain, only N = 64 (~2 min a repeat)
+    python benchmarks/scale.py            # full: N = 8, 16, 24, 32 (5 repeats) and 64 (3) (~4 min)
+    python benchmarks/scale.py --quick    # N = 8, 16, 24, 32, fewer repeats (~2 min)
+    python benchmarks/scale.py --quick --chain 64   # only the chain, only N = 64 (~30 s a repeat)
     python benchmarks/scale.py --write    # also replace the "Scale" section of docs/performance.md
     python benchmarks/scale.py --profile 32   # only: where the time of the N = 32 chain goes
 
@@ -662,7 +662,7 @@ def profile(N):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="N up to 32, fewer repeats (~3-4 min)")
+    ap.add_argument("--quick", action="store_true", help="N up to 32, fewer repeats (~2 min)")
     ap.add_argument("--chain", metavar="N,N,...", help="only the chain, at these N (e.g. 16,32,64)")
     ap.add_argument("--write", action="store_true", help="replace the Scale section of docs/performance.md")
     ap.add_argument("--profile", type=int, metavar="N", help="only: where the time of the N-cart chain goes")

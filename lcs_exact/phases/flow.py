@@ -372,7 +372,7 @@ def _quiet(phase: Phase, end: fmpq) -> bool:
         if sign > 0:
             live.append((i, order))
     rows = phase.screen_rows()
-    if len(rows.steps.pieces(fmpq(0), end)) > SCREEN_MAX_STEPS:
+    if rows.steps.locate(end) >= SCREEN_MAX_STEPS:
         return False
     guesses = rows.guess_crossings(0.0, _float(end), [i for i, _ in live])
     if any(g is not None for g in guesses):

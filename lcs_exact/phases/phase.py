@@ -289,7 +289,7 @@ class Phase:
             if kept is None:
                 with workprec(SCREEN_PREC):
                     kept = self.mode.derived.screen_balls = (arb_mat(self.M), arb_mat(G))
-            x0 = self.base.arb(max(SCREEN_PREC, self.base.anchor_prec))
+            x0 = self.base.arb(SCREEN_PREC)  # the anchor, whatever its precision
             steps = TaylorSteps(self.M, self.mode.closed_loop_norm, x0, SCREEN_PREC, self.zero_coordinates(),
                                 balls=kept[0])
             self._screen = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms, G, balls=kept[1])
