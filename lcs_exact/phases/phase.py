@@ -284,6 +284,7 @@ class Phase:
         those at any precision (balls), and whose midpoints are good enough for guesses where the
         constraints are not near a cancellation.  Built once a phase."""
         if self._screen is None:
+            self.policy.check_deadline(lambda: f" while screening mode {format_mode(self.mode.I)} for events")
             G = self.mode.derived.constraints[2]
             kept = self.mode.derived.screen_balls
             if kept is None:
