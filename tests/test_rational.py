@@ -673,7 +673,8 @@ def test_rational_matrix_shapes():
 
 
 @settings(max_examples=80, deadline=None)
-@given(st.integers(1, 5), st.lists(st.fractions(max_denominator=5).filter(lambda q: abs(q) < 9), min_size=0, max_size=14),
+@given(st.integers(1, 5), st.lists(st.fractions(min_value=-9, max_value=9, max_denominator=5).filter(lambda q: abs(q) < 9),
+                                   min_size=0, max_size=14),
        st.lists(st.integers(-4, 4), min_size=25, max_size=25))
 def test_poly_at_matrix_is_horners_rule(n, coeffs, entries):
     """Paterson-Stockmeyer p(S) equals p(S) by Horner's rule in exact arithmetic, for every degree
