@@ -251,18 +251,26 @@ def _chain_K(N, wall=1):
     K[0][0] = 1 + wall
     return K
 
-def _quiet_coupled(eps, amplitude):
-    """slow oscillator q'' = -q/6400 (stop on y = q + eps*c0) + a chain of 15 carts (no stops),
-    the carts started at +-amplitude."""
-    N = 15
-    n = 2 + 2 * N
+def _slow_oscillator_and_chain(off, N):
+    """A of q'' = -q/6400 (states 0, 1) and a free chain of N carts (positions from ``off``,
+    velocities after them); states between 2 and ``off`` are constant."""
+    n = off + 2 * N
     A = [[F(0)] * n for _ in range(n)]
     A[0][1] = 1; A[1][0] = F(-1, 6400)
     K = _chain_K(N)
     for i in range(N):
-        A[2 + i][2 + N + i] = 1
+        A[off + i][off + N + i] = 1
         for j in range(N):
-            A[2 + N + i][2 + j] = -K[i][j]
+            A[off + N + i][off + j] = -K[i][j]
+    return A
+
+
+def _quiet_coupled(eps, amplitude):
+    """slow oscillator q'' = -q/6400 (stop on y = q + eps*c0) + a chain of 15 carts (no stops),
+    the carts started at +-amplitude."""
+    N = 15
+    A = _slow_oscillator_and_chain(2, N)
+    n = len(A)
     B = [[F(0)] for _ in range(n)]; B[1][0] = F(1)
     C = [[F(0)] * n]; C[0][0] = F(1); C[0][2] = eps
     lcs = L.LCS(A, B, C, [[0]])
@@ -569,14 +577,8 @@ def s13b_slow_neargraze(depth=25):
     """slow oscillator q = -sin(t/80) with y = q + (1 - 10^-depth) (exo state), dip at t = 40 pi,
     plus chain 15 coupled into y by 1/1000 c0... (n = 33)"""
     N = 15
-    n = 3 + 2 * N
-    A = [[F(0)] * n for _ in range(n)]
-    A[0][1] = 1; A[1][0] = F(-1, 6400)
-    K = _chain_K(N)
-    for i in range(N):
-        A[3 + i][3 + N + i] = 1
-        for j in range(N):
-            A[3 + N + i][3 + j] = -K[i][j]
+    A = _slow_oscillator_and_chain(3, N)
+    n = len(A)
     B = [[F(0)] for _ in range(n)]; B[1][0] = F(1)
     C = [[fmpq(0)] * n]; C[0][0] = fmpq(1); C[0][2] = 1 - fmpq(1, 10 ** depth)
     lcs = L.LCS(A, B, C, [[0]])
