@@ -74,7 +74,7 @@ class TaylorRows:
             ws = self.steps.columns(len(self._coeffs))
             with workprec(self.prec):
                 cols = [(self._G * w).entries() for w in ws]
-            self._coeffs.append([[c[i] for c in cols] for i in range(len(self.rows))])
+            self._coeffs.append(list(map(list, zip(*cols))) if cols else [])  # rows of the columns' table
         return self._coeffs[k]
 
     def poly(self, i: int, k: int, d: int) -> arb_poly:
