@@ -407,8 +407,13 @@ def orbit_zero_forms(M: fmpq_mat, q: fmpq_mat) -> fmpq_mat:
     return left_kernel(hstack(*cols))
 
 
-def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
+def invariant_forms(R: fmpq_mat, M: fmpq_mat, known: fmpq_mat | None = None) -> fmpq_mat:
     """The largest subspace U of rowspan(R) with U M in U (rows): R x = 0 implies U e^{Mt} x = 0.
+
+    With ``known``, forms whose span is invariant already (K M in span K) and that vanish at x
+    too: the largest invariant subspace of span(R) + span(K), computed modulo span(K) (a mode's
+    annihilator is invariant under A_I, section 3: the few forms of R beyond it are iterated,
+    not all of them).
 
     Parameters
     ----------
@@ -416,8 +421,20 @@ def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
         Forms (rows) vanishing at x.
     M : fmpq_mat
         n x n.
+    known : fmpq_mat, optional
+        Forms (rows) vanishing at x with an M-invariant span (the caller's fact).
+
+    Examples
+    --------
+    >>> M = fmpq_mat([[0, 1, 0], [-1, 0, 0], [0, 0, 2]])
+    >>> invariant_forms(fmpq_mat([[1, 0, 0], [0, 0, 1]]), M)      # e_3 only: e_1 M = e_2
+    [0, 0, 1]
+    >>> invariant_forms(fmpq_mat([[1, 0, 0]]), M, fmpq_mat([[0, 0, 1]]))
+    [0, 0, 1]
     """
     n = M.nrows()
+    if known is not None and known.nrows():
+        return _invariant_modulo(R, M, known)
     U = R
     while U.nrows():
         # U in reduced row echelon form: a row y reduces modulo span(U) to y - y[:, piv] U, so
@@ -434,6 +451,34 @@ def invariant_forms(R: fmpq_mat, M: fmpq_mat) -> fmpq_mat:
         a = left_kernel(Res)
         U = a * U if a.nrows() else zeros(0, n)
     return U
+
+
+def _invariant_modulo(R: fmpq_mat, M: fmpq_mat, known: fmpq_mat) -> fmpq_mat:
+    """:func:`invariant_forms` of span(R) + span(K), K invariant: forms are reduced modulo K
+    (zero at its pivot columns), and the iteration U <- {a U : a U M in span(U) + span(K)} runs
+    on the reduced forms; the answer is K with the last U."""
+    n = M.nrows()
+    K, kp = rref(known)
+    K = submatrix(K, range(len(kp)), None)
+    SK = _selection(kp, n)
+
+    def modulo_K(X: fmpq_mat) -> fmpq_mat:  # X minus its part in span K (K is 1 at its pivots)
+        return X - (X * SK) * K
+
+    U = modulo_K(R)
+    while True:
+        r, piv = rref(U)
+        if not piv:
+            return K
+        U = submatrix(r, range(len(piv)), None)  # zero at K's pivots, so its own pivots are others
+        Y = modulo_K(U * M)
+        Res = Y - (Y * _selection(piv, n)) * U
+        if is_zero(Res):
+            return vstack(K, U)
+        a = left_kernel(Res)
+        if not a.nrows():
+            return K
+        U = a * U
 
 
 def _selection(cols: list[int], n: int) -> fmpq_mat:
