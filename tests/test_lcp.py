@@ -16,7 +16,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from lcs_exact.errors import LCSError, ShapeError
-from lcs_exact.algebra.lcp import (LCPSolution, all_solutions, is_p_matrix, lemke, murty, p_matrix_violation,
+from lcs_exact.algebra.lcp import (LCPSolution, all_solutions, basis_inputs, is_p_matrix, lemke, murty, murty_signs,
+                                   p_matrix_violation,
                            solve_lcp)
 
 from reference.lcp import lcp_solutions
@@ -431,3 +432,21 @@ def test_p_matrix_test_of_interleaved_blocks_above_the_enumeration_limit():
     bad = p_matrix_violation(rows)
     assert bad == (5, 17)
     assert det([[rows[i][j] for j in bad] for i in bad]) <= 0
+
+
+@given(p_matrix(kmax=4), st.data())
+@PROP
+def test_murty_signs_are_the_signs_of_the_solution(m, data):
+    """murty_signs: the basis of murty and, per row, the sign of u_i (in the basis) or y_i (off
+    it) at x, from the solution's exact values U x, Y x computed here; basis_inputs is murty's U."""
+    k = len(m)
+    n = data.draw(st.integers(1, 3))
+    Q = [data.draw(vector(n, -2, 2)) for _ in range(k)]
+    x = [Fraction(data.draw(st.integers(-3, 3)), data.draw(st.integers(1, 3))) for _ in range(n)]
+    M, Qm, xm = fmat(m), fmat(Q), fmat([[v] for v in x])
+    basis, U, Y = murty(M, Qm, xm)
+    got_basis, signs = murty_signs(M, Qm, xm)
+    assert got_basis == basis
+    u, y = vec(U * xm), vec(Y * xm)
+    assert signs == [int((u[i] if i in basis else y[i]) > 0) for i in range(k)]
+    assert basis_inputs(M, Qm, sorted(basis)) == U

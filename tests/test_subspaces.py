@@ -355,12 +355,14 @@ def test_invariant_forms_are_the_largest_invariant_part(n, r, seed):
     """invariant_forms(R, M) = {u : u M^j in rowspan(R) for every j}, computed here as the forms
     vanishing on the Krylov space K + M K + ... + M^(n-1) K of K = Ker R (reference rational
     arithmetic); M with small entries, R random rows, sometimes an invariant part planted (R
-    holds e, e M, ..., e M^(n-1) for its first row e)."""
+    holds e, e M, ..., e M^(n-1) for its first row e; then also with those rows passed as the
+    ``known`` invariant forms and the rest as R: the same span)."""
     rnd = random.Random(seed)
+    planted = False
     Mr = [[Fraction(rnd.randint(-2, 2)) if rnd.random() < 0.6 else Fraction(0) for _ in range(n)] for _ in range(n)]
     Rr = [[Fraction(rnd.randint(-2, 2)) for _ in range(n)] for _ in range(r)]
     if r and rnd.random() < 0.5:  # plant an M-invariant row span: e and e M, ..., e M^(n-1)
-        e = Rr[0]
+        e, planted = Rr[0], True
         for _ in range(n - 1):
             e = [sum(e[i] * Mr[i][j] for i in range(n)) for j in range(n)]
             Rr.append(e)
@@ -375,6 +377,11 @@ def test_invariant_forms_are_the_largest_invariant_part(n, r, seed):
         krylov += layer
     want = nullspace(krylov, n) if krylov else [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
     assert same_span(got, want)
+    if planted:
+        known, rest = [Rr[0]] + Rr[r:], Rr[1:r]
+        as_mat = lambda rows: fmpq_mat(len(rows), n, [fmpq(x.numerator, x.denominator) for row in rows for x in row])
+        U = invariant_forms(as_mat(rest) if rest else fmpq_mat(0, n), M, as_mat(known))
+        assert same_span([[Fraction(int(U[i, j].p), int(U[i, j].q)) for j in range(n)] for i in range(U.nrows())], want)
 
 
 @pytest.mark.parametrize("mask", [0, 0b1, 0b11, 0b101, 0b11111, 0b111111])

@@ -17,7 +17,7 @@ from .matrixfunctions import adjugate_coefficients, eigenvalue_moduli, norm_inf,
 from .ratfunc import laurent_coefficients, RationalFunction, RationalMatrix, resolvent
 from .subspaces import (image, in_row_span, intersection, invariant_forms, kernel, kernel_basis, left_kernel,
                         orbit_zero_forms, projected_forms, projection, projection_along, pulled_back_forms, rank, row_basis, RowSpan, solve_any)
-from .lcp import all_solutions, is_p_matrix, murty, p_matrix_violation, solve_lcp
+from .lcp import all_solutions, is_p_matrix, basis_inputs, murty, murty_signs, p_matrix_violation, solve_lcp
 from .polyhedra import eliminate, find_point
 
 __all__ = ["MAX_DIMENSION", "MAX_HORIZON_FAST", "MAX_HORIZON_SLOW", "MAX_KAPPA", "MAX_MARKOV_INDEX",
@@ -27,5 +27,5 @@ __all__ = ["MAX_DIMENSION", "MAX_HORIZON_FAST", "MAX_HORIZON_SLOW", "MAX_KAPPA",
            "to_short", "to_vector", "vector_entries", "vstack", "zeros", "laurent_coefficients",
            "RationalFunction", "RationalMatrix", "resolvent", "image", "in_row_span", "intersection",
            "invariant_forms", "kernel", "kernel_basis", "left_kernel", "orbit_zero_forms", "projected_forms", "projection", "projection_along", "pulled_back_forms",
-           "rank", "row_basis", "RowSpan", "solve_any", "all_solutions", "is_p_matrix", "murty",
+           "rank", "row_basis", "RowSpan", "solve_any", "all_solutions", "is_p_matrix", "murty", "murty_signs", "basis_inputs",
            "p_matrix_violation", "solve_lcp", "eliminate", "find_point"]

@@ -25,7 +25,7 @@ from flint import arb_mat, ctx, fmpq, fmpq_mat
 from ..errors import LCSError, ShapeError
 from .rational import MAX_P_TEST_K, check_enumerable, pivot_tableau, selection_matrix, sign_of_form, submatrix, to_matrix, to_vector, zeros
 
-__all__ = ["LCPSolution", "p_matrix_violation", "is_p_matrix", "murty", "lemke", "solve_lcp",
+__all__ = ["LCPSolution", "p_matrix_violation", "is_p_matrix", "murty", "murty_signs", "basis_inputs", "lemke", "solve_lcp",
            "all_solutions"]
 
 
@@ -196,6 +196,28 @@ def murty(m: fmpq_mat, q_forms: fmpq_mat, x: Any = None, *, max_pivots: int | No
     max_pivots : int, optional
         A bound on the pivots (LimitExceeded beyond it); None: no bound but Murty's finiteness.
     """
+    basis, _ = murty_signs(m, q_forms, x, max_pivots=max_pivots)
+    return basis, *_solution(m, q_forms, sorted(basis))
+
+
+def murty_signs(m: fmpq_mat, q_forms: fmpq_mat, x: Any = None, *,
+                max_pivots: int | None = None) -> tuple[frozenset, list[int]]:
+    """The basis of :func:`murty`'s solution and the certified sign at x of each row's unknown
+    in it: u_i (i in the basis) or y_i (off it), each 0 or 1 (none is negative at the solution).
+    The signs are those the last pivoting pass read, so a caller that needs only which u and y
+    are positive (the LDCP stages of mode selection) reads no form again.
+
+    Parameters
+    ----------
+    m : fmpq_mat
+        The k x k P-matrix M.
+    q_forms : fmpq_mat
+        Q (k x n), with q = Q x; with ``x=None`` the k x 1 vector q itself.
+    x : state, optional
+        The point at which the signs of the forms are decided (None: Q is q).
+    max_pivots : int, optional
+        A bound on the pivots; None: no bound but Murty's finiteness.
+    """
     k = q_forms.nrows()
     if m.nrows() != k or m.ncols() != k:
         raise ShapeError(f"LCP: M is {m.nrows()}x{m.ncols()} but q has {k} rows")
@@ -203,11 +225,12 @@ def murty(m: fmpq_mat, q_forms: fmpq_mat, x: Any = None, *, max_pivots: int | No
         max_pivots = 2 ** k + 1
     values = _values(q_forms, x)
     basis: set[int] = set()
+    signs: list[int] = [0] * k
     for _ in range(max_pivots + 1):
         a = sorted(basis)
-        bad = _first_negative(m, q_forms, x, values, a)
+        bad = _first_negative(m, q_forms, x, values, a, signs)
         if bad is None:
-            return frozenset(basis), *_solution(m, q_forms, a)
+            return frozenset(basis), signs
         basis ^= {bad}
     raise LCSError(f"Murty's method did not terminate in {max_pivots} pivots: M is not a P-matrix")
 
@@ -223,13 +246,18 @@ def _values(q_forms: fmpq_mat, x: Any):
     return balls(q_forms) if balls is not None else None
 
 
-def _first_negative(m: fmpq_mat, q_forms: fmpq_mat, x: Any, values, a: list[int]) -> int | None:
-    """The least index whose u (in the basis a) or y (off it) is negative at x, None if none."""
+def _first_negative(m: fmpq_mat, q_forms: fmpq_mat, x: Any, values, a: list[int],
+                    signs: list[int] | None = None) -> int | None:
+    """The least index whose u (in the basis a) or y (off it) is negative at x, None if none
+    (then ``signs``, when given, holds every row's sign: the pass read them all)."""
     if values is None:  # no values: the forms themselves (k x n)
         U, Y = _solution(m, q_forms, a)
         for i in range(m.nrows()):
-            if sign_of_form(submatrix(U if i in a else Y, [i], None), x) < 0:
+            s = sign_of_form(submatrix(U if i in a else Y, [i], None), x)
+            if s < 0:
                 return i
+            if signs is not None:
+                signs[i] = s
         return None
     q, prec = values
     k = m.nrows()
@@ -241,7 +269,7 @@ def _first_negative(m: fmpq_mat, q_forms: fmpq_mat, x: Any, values, a: list[int]
                 ua = (submatrix(m, a, a) if prec is None else arb_mat(submatrix(m, a, a))).solve(
                     type(q)(len(a), 1, [q[i, 0] for i in a]))
             except ZeroDivisionError:  # a ball solve not certified: the forms decide
-                return _first_negative(m, q_forms, x, None, a)
+                return _first_negative(m, q_forms, x, None, a, signs)
             for r, i in enumerate(a):
                 u[i] = -ua[r, 0]
         X: list = []  # M_aa^{-1} Q_a, solved once for the rows whose ball holds 0
@@ -252,6 +280,8 @@ def _first_negative(m: fmpq_mat, q_forms: fmpq_mat, x: Any, values, a: list[int]
                 s = sign_of_form(_row(m, q_forms, a, i, X), x)
             if s < 0:
                 return i
+            if signs is not None:
+                signs[i] = s
     return None
 
 
@@ -269,12 +299,33 @@ def _row(m: fmpq_mat, q_forms: fmpq_mat, a: list[int], i: int, X: list) -> fmpq_
 
 def _solution(m: fmpq_mat, q_forms: fmpq_mat, a: list[int]) -> tuple[fmpq_mat, fmpq_mat]:
     """(U, Y) in the basis a: U_a = -M_aa^{-1} Q_a, U = 0 off it, Y = Q + M U (exact forms)."""
-    k, n = q_forms.nrows(), q_forms.ncols()
-    u = zeros(k, n)
-    if a:
-        ua = -submatrix(m, a, a).solve(submatrix(q_forms, a, None))
-        u = selection_matrix(a, k).transpose() * ua  # rows a of u: a product, not k x n Python entries
+    u = basis_inputs(m, q_forms, a)
+    if not a:  # u = 0, y = q (no k x k by k x n product)
+        return u, fmpq_mat(q_forms)
     return u, q_forms + m * u
+
+
+def basis_inputs(m: fmpq_mat, q_forms: fmpq_mat, a) -> fmpq_mat:
+    """U of LCP(Q x, M) in the basis a (sorted indices): U_a = -M_aa^{-1} Q_a and U = 0 off a,
+    as k x n forms (the u of :func:`murty` once :func:`murty_signs` gave the basis).
+
+    Parameters
+    ----------
+    m : fmpq_mat
+        k x k.
+    q_forms : fmpq_mat
+        k x n.
+    a : sequence of int
+        The basis, sorted.
+
+    >>> basis_inputs(fmpq_mat([[2, 1], [1, 2]]), fmpq_mat([[-2], [1]]), [0]).tolist()
+    [[1], [0]]
+    """
+    k, n = q_forms.nrows(), q_forms.ncols()
+    if not a:
+        return zeros(k, n)
+    ua = -submatrix(m, a, a).solve(submatrix(q_forms, a, None))
+    return selection_matrix(a, k).transpose() * ua  # rows a of u: a product, not k x n Python entries
 
 
 # ---------------------------------------------------------------------------------------------

@@ -20,7 +20,7 @@ from flint import fmpq_mat
 
 from ..errors import IllPosed
 from ..interfaces import SystemLike
-from ..algebra import murty
+from ..algebra import basis_inputs, murty_signs
 from .mode import format_mode
 from ..algebra import MAX_KAPPA, hstack, is_zero, selection_matrix, sign_of_form, submatrix, to_int, zeros
 from ..numbers import as_state
@@ -166,7 +166,7 @@ def ldcp_modes(lcs: SystemLike, x: fmpq_mat) -> set:
     k = lcs.k
     I: set[int] = set()
     J: set[int] = set()
-    for _ in lcp_sequence(lcs, x, lcs.n, I, J):
+    for _ in lcp_sequence(lcs, x, lcs.n, I, J, outputs=False):
         if len(I) + len(J) == k:
             break
     K = sorted(set(range(k)) - I - J)
@@ -192,7 +192,7 @@ def impulse_forms(lcs: SystemLike, x) -> list[fmpq_mat]:
     U = [zeros(k, n) for _ in range(n)]
     I: set[int] = set()
     J: set[int] = set()
-    for i, urows, _ in lcp_sequence(lcs, x, max(max(eta), 1), I, J):
+    for i, urows, _ in lcp_sequence(lcs, x, max(max(eta), 1), I, J, outputs=False):
         for (l, j), row in urows.items():
             if j == i - eta[l] and j <= 0:
                 for c in range(n):
@@ -200,7 +200,7 @@ def impulse_forms(lcs: SystemLike, x) -> list[fmpq_mat]:
     return U
 
 
-def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
+def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set, outputs: bool = True):
     """The stages i = 1..kappa of Theorem 6.9 (see :func:`ldcp`), growing I and J in place.
 
     Yields (i, u, y^i): u maps (l, j) to the row u_l^j (a 1 x n form) for the nonzero unknowns
@@ -208,7 +208,8 @@ def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
     finds the unknowns v_l = u_l^{s - eta_l} as the rows of one k x n matrix V_s, so the known
     part of a later stage, y^i = C A^{i-1} x + sum_j H_{i-j} u^j, is C A^{i-1} + sum_s H'_{i-s} V_s
     with H'_d the k x k matrix whose column l is column l of H_{d + eta_l}: one product a stage,
-    not one a row (on long runs of large systems most of the columns are zero)."""
+    not one a row (on long runs of large systems most of the columns are zero).  ``outputs``
+    False: y^i is not formed (None; mode selection and the impulse read only I, J and u)."""
     n, k = lcs.n, lcs.k
     eta = lcs.leading_column_indices()
     wp = lcs.well_posedness()  # N, computed once with the report
@@ -231,15 +232,15 @@ def lcp_sequence(lcs: SystemLike, x: fmpq_mat, kappa: int, I: set, J: set):
             H = h_shifted(i - s)
             if H is not None:
                 z = z + H * V
-        v = stage_lcp(N, z, x, sorted(I), sorted(J))
+        v, signs = _stage(N, z, x, sorted(I), sorted(J))
         # rows whose unknown u_l^{i - eta_l} precedes the window -n+1 .. of (5.10) are not unknowns
         low = [l for l in range(k) if i - eta[l] < -n + 1]
         stages.append((i, v if not low else _zero_rows(v, low)))
-        y = z + N * v
-        rest = [l for l in range(k) if l not in I and l not in J]
-        vpos = _positive(v, rest, x)
+        y = z + N * v if outputs else None
+        # I and J grow by the rows of K = rest whose v or y the stage's LCP certified positive
+        vpos = {l for l, (sv, _) in signs.items() if sv > 0}
         I.update(vpos)
-        J.update(_positive(y, [l for l in rest if l not in vpos], x))
+        J.update(l for l, (_, sy) in signs.items() if sy > 0 and l not in vpos)
         yield i, _StageRows(list(stages), eta, n), y
 
 
@@ -282,10 +283,19 @@ def _zero_rows(v: fmpq_mat, rows: list[int]) -> fmpq_mat:
 
 def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_mat:
     """One stage of the LCP sequence: v with v_J = 0, (z + N v)_I = 0, LCP on K (forms, k x n)."""
+    return _stage(N, z, x, I, J)[0]
+
+
+def _stage(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> tuple[fmpq_mat, dict]:
+    """(v, signs) of :func:`stage_lcp`: ``signs`` maps each l in K to the certified signs at x
+    of (v_l, y_l), y = z + N v, as the LCP on K read them (on K, y_K = q + M v_K of the Schur
+    complement LCP; v_l = 0 off its basis and y_l = 0 on it): the stage's new I and J without
+    evaluating any form again."""
     k, n = z.nrows(), z.ncols()
     K = [l for l in range(k) if l not in I and l not in J]
     v = zeros(k, n)
     vK = zeros(0, n)
+    signs: dict = {}
     if K:
         if I:
             # eliminate v_I = -N_II^{-1} (z_I + N_IK v_K): Schur complement LCP on K
@@ -294,29 +304,21 @@ def stage_lcp(N: fmpq_mat, z: fmpq_mat, x, I: list[int], J: list[int]) -> fmpq_m
             b = NII.solve(submatrix(N, I, K))  # N_II^{-1} N_IK
             q = submatrix(z, K, None) - submatrix(N, K, I) * a
             M = submatrix(N, K, K) - submatrix(N, K, I) * b
+        elif len(K) == k:  # the whole LCP (the first stage): no copies
+            q, M = z, N
         else:
             q, M = submatrix(z, K, None), submatrix(N, K, K)
         if len(K) == 1:  # a 1 x 1 LCP (M > 0): Murty's first step decides it (no pivoting tableau)
-            vK = -q / M[0, 0] if sign_of_form(q, x) < 0 else zeros(1, n)
+            sq = sign_of_form(q, x)
+            vK = -q / M[0, 0] if sq < 0 else zeros(1, n)
+            signs[K[0]] = (1, 0) if sq < 0 else (0, sq)
         else:
-            _, vK, _ = murty(M, q, x)
-        v = selection_matrix(K, k).transpose() * vK
+            basis, ss = murty_signs(M, q, x)
+            vK = basis_inputs(M, q, sorted(basis))
+            signs = {l: ((ss[r], 0) if r in basis else (0, ss[r])) for r, l in enumerate(K)}
+        v = vK if len(K) == k else selection_matrix(K, k).transpose() * vK
     if I:
         NII = submatrix(N, I, I)
         rhs = submatrix(z, I, None) + (submatrix(N, I, K) * vK if K else zeros(len(I), n))
         v = v - selection_matrix(I, k).transpose() * NII.solve(rhs)
-    return v
-
-
-def _positive(F: fmpq_mat, rows: list[int], x) -> set[int]:
-    """The rows l of F (of ``rows``) with F_l x > 0: one product of balls for all of them (the
-    state's ball), the exact sign of a row's form only where its ball holds 0 with a radius
-    (:meth:`~lcs_exact.vectors.ExactVector.signs_of_rows`)."""
-    if not rows:
-        return set()
-    if isinstance(x, fmpq_mat):
-        V = F * x
-        return {l for l in rows if V[l, 0] > 0}
-    batch = getattr(x, "signs_of_rows", None)  # an exact vector; a family of states asks row by row
-    signs = batch(F, rows) if batch is not None else (sign_of_form(submatrix(F, [l], None), x) for l in rows)
-    return {l for l, s in zip(rows, signs) if s > 0}
+    return v, signs
