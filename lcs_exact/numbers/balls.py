@@ -390,7 +390,7 @@ def dyadic(x: arb) -> fmpq:
     if abs(e) > MAX_DYADIC_EXPONENT:
         raise Unsupported(f"a number of magnitude 2^{e} arose (beyond 2^(+-{MAX_DYADIC_EXPONENT}), "
                           "docs/limits.md): the system's rates or entries are too far apart")
-    return fmpq(m * 2 ** e) if e >= 0 else fmpq(m, 2 ** (-e))
+    return fmpq(m << e) if e >= 0 else fmpq(m, 1 << -e)
 
 
 def dyadic_lower(x: arb) -> fmpq:

@@ -88,10 +88,23 @@ class TaylorRows:
 
     def value(self, i: int, k: int, theta: arb, d: int) -> arb:
         """f_i^{(d)}(t_k + theta h), |theta| <= 1."""
+        return self.values(i, k, theta, (d,))[0]
+
+    def values(self, i: int, k: int, theta: arb, orders) -> list[arb]:
+        """[f_i^{(d)}(t_k + theta h) for d in orders], |theta| <= 1 (one precision context and
+        one step length for all the orders: the root search asks 2-5 at a point)."""
         st = self.steps
+        g1 = self._g1[i]
+        out = []
         with workprec(self.prec):
-            v = self.poly(i, k, d)(theta) + arb(0, (self._g1[i] * st.tail_at(k, d, theta)).upper())
-            return v / arb(st.length(k)) ** d if d else v
+            h = None
+            for d in orders:
+                v = self.poly(i, k, d)(theta) + arb(0, (g1 * st.tail_at(k, d, theta)).upper())
+                if d:
+                    h = arb(st.length(k)) if h is None else h
+                    v = v / h ** d
+                out.append(v)
+        return out
 
     def positive_until(self, i: int, order: int, end: fmpq, max_steps: int = 16) -> bool:
         """f_i > 0 on (0, end], proven on the steps' polynomials (False: not proven), where
@@ -184,12 +197,12 @@ class TaylorSum:
             k = st.locate(t)
             with workprec(self.prec):
                 th = arb(t - st.start(k)) / arb(st.length(k))
-            return [self.rows.value(self.i, k, th, d) for d in orders]
+            return self.rows.values(self.i, k, th, orders)
         lo, hi = dyadic_lower(t), dyadic_upper(t)
         out = None
         for k, a, b in st.pieces(lo, hi):
             th = st.theta(k, arb(a).union(arb(b)) if (a, b) != (lo, hi) else t)
-            vs = [self.rows.value(self.i, k, th, d) for d in orders]
+            vs = self.rows.values(self.i, k, th, orders)
             out = vs if out is None else [x.union(y) for x, y in zip(out, vs)]
         return out
 
