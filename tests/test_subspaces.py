@@ -425,3 +425,32 @@ def test_kernel_basis_has_unit_rows_and_spans_the_kernel(seed):
     assert len(free) == len(ref) == c - rank(rows)
     assert same_span(columns(K), ref)
     assert kernel(m) == image(K)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(1, 6), st.integers(0, 4), st.integers(0, 10 ** 6))
+def test_rows_inside_a_span_at_once(n, r, seed):
+    """RowSpan.rows_inside(F): the rows of F in span(R), against the reference rank test
+    rank([R; f]) == rank(R) row by row; F mixes combinations of R's rows (inside), random rows
+    (mostly outside), zero rows and rows whose product with the probe column vanishes."""
+    from lcs_exact.algebra import RowSpan
+    rnd = random.Random(seed)
+    Rr = [[Fraction(rnd.randint(-2, 2)) for _ in range(n)] for _ in range(r)]
+    Fr = []
+    for _ in range(6):
+        kind = rnd.randrange(4)
+        if kind == 0 and Rr:
+            cs = [Fraction(rnd.randint(-3, 3), rnd.randint(1, 3)) for _ in Rr]
+            Fr.append([sum(c * row[j] for c, row in zip(cs, Rr)) for j in range(n)])
+        elif kind == 1:
+            Fr.append([Fraction(0)] * n)
+        elif kind == 2 and n >= 2:  # f p = 0 for the probe p (p_0 f_0 + p_1 f_1 = 0), f != 0
+            p0, p1 = 7919 % 65521 + 1, (7919 * 2) % 65521 + 1
+            Fr.append([Fraction(p1), Fraction(-p0)] + [Fraction(0)] * (n - 2))
+        else:
+            Fr.append([Fraction(rnd.randint(-2, 2)) for _ in range(n)])
+    R = fmpq_mat(len(Rr), n, [fmpq(x.numerator, x.denominator) for row in Rr for x in row]) if Rr else fmpq_mat(0, n)
+    F = fmpq_mat(len(Fr), n, [fmpq(x.numerator, x.denominator) for row in Fr for x in row])
+    want = [i for i, f in enumerate(Fr) if rank(Rr + [f]) == rank(Rr)] if Rr else \
+        [i for i, f in enumerate(Fr) if not any(f)]
+    assert RowSpan(R).rows_inside(F) == want

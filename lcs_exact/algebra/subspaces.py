@@ -6,6 +6,8 @@ is the zero subspace, an n x 0 matrix).  Every function returns such a basis, re
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 from flint import fmpq_mat
 
 from ..errors import ShapeError
@@ -320,6 +322,25 @@ class RowSpan:
     def __contains__(self, form: fmpq_mat) -> bool:
         return is_zero(self._residual(form))
 
+    def rows_inside(self, F: fmpq_mat) -> list[int]:
+        """The indices of the rows of F that lie in the span: one product for all of them, a
+        row's residual read only where its product with a fixed integer column is 0 (a nonzero
+        value proves the row outside; a zero one is checked exactly).
+
+        Parameters
+        ----------
+        F : fmpq_mat
+            Rows (m x n).
+
+        >>> RowSpan(fmpq_mat([[1, 1, 0], [0, 0, 1]])).rows_inside(fmpq_mat([[2, 2, 5], [1, 0, 0], [0, 0, 0]]))
+        [0, 2]
+        """
+        if F.nrows() == 0:
+            return []
+        res = self._residual(F)
+        probe = (res * _probe_column(self.n)).entries()
+        return [i for i, v in enumerate(probe) if v == 0 and is_zero(submatrix(res, [i], None))]
+
     def _residual(self, form: fmpq_mat) -> fmpq_mat:
         # the rref rows are 1 at their own pivot and 0 at the others: subtracting f[p] times row
         # p for every pivot p at once is one product in C (a row at a time in Python cost ~1 ms
@@ -491,6 +512,13 @@ def _invariant_modulo(R: fmpq_mat, M: fmpq_mat, known: fmpq_mat) -> fmpq_mat:
         if not a.nrows():
             return K
         U = a * U
+
+
+@lru_cache(maxsize=16)
+def _probe_column(n: int) -> fmpq_mat:
+    """An n x 1 column of distinct integers (a row r with r p != 0 is not zero; r p = 0 is a
+    question for the row's entries)."""
+    return fmpq_mat(n, 1, [(7919 * (i + 1)) % 65521 + 1 for i in range(n)])
 
 
 def _selection(cols: list[int], n: int) -> fmpq_mat:

@@ -386,9 +386,18 @@ class Phase:
         return self._orders[key]
 
     def _start_order(self, c: Constraint) -> tuple[int, int]:
+        if "_vanishing_rows" not in self.__dict__:  # the constraints' rows tested at once
+            G = self.mode.derived.constraints[2]
+            inside = set(self.zero_span.rows_inside(G)) if self.zero_forms.nrows() else set()
+            self._vanishing_rows = {(d.kind, d.index, d.label): r in inside for r, d in enumerate(self.constraints)}
+        vanishes = self._vanishing_rows.get((c.kind, c.index, c.label))
+        if vanishes:
+            # the forms vanishing on the phase span an A_I-invariant space (the largest invariant
+            # one in those known at the start): g A_I^j vanishes with g, f = 0 on the whole phase
+            return 0, -1
         for j in range(self.lcs.n):
             form = self.gM(c, j)
-            if form in self.zero_span:
+            if (j or vanishes is None) and form in self.zero_span:
                 continue
             s = self.base.sign_of_form(form)
             if s:
