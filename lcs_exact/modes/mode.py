@@ -32,7 +32,7 @@ from flint import fmpq_mat, nmod_mat
 from ..errors import LCSError, NotAutonomous
 from ..numbers import Spectrum
 from ..interfaces import SystemLike
-from ..algebra import hstack, matrix_to_sympy, norm_inf, submatrix, vstack, zeros
+from ..algebra import hstack, matrix_to_sympy, norm_inf, selection_matrix, submatrix, vstack, zeros
 from ..algebra import image, intersection, kernel, kernel_basis, left_kernel, projection, projection_along, rank, row_basis, solve_any
 
 __all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
@@ -313,8 +313,10 @@ class Mode:
             raise LCSError(f"internal inconsistency: V_I of mode {format_mode(self.I)} is not invariant")
         if not V.ncols():
             return zeros(m, n)
-        # column c of V is 1 at row units[c], where the other columns are 0: F_I = U P_I[units, :]
-        return U * submatrix(self._P, units, None)
+        # column c of V is 1 at row units[c], where the other columns are 0: F_I = U P_I[units, :],
+        # formed as (U S) P_I with S the 0/1 rows e_units[c] (|I| x n x n, not d x n x n with
+        # d = dim V_I taking the rows of P_I)
+        return (U * selection_matrix(units, n)) * self._P
 
     def closed_loop(self) -> fmpq_mat:
         """A_I = ``A + B_.I F_I``: x' = A_I x on V_I."""
