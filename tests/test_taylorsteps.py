@@ -348,3 +348,43 @@ def test_a_quiet_phase_is_proven_on_the_screen_and_the_others_are_searched(monke
         want = mp.acos(mp.mpf(-1) / 2)
     got = results["1/2"].decimal(30).split(" ")[0]
     assert abs(mp.mpf(got) - want) < mp.mpf(10) ** -29
+
+
+def test_a_phase_bounded_by_its_event_rebuilds_short_steps_with_the_same_values():
+    """The first phase of 16 carts (n = 32, Taylor steps; q0 = (1, -1, 1, ...)/2 but cart 14 at
+    1/100 from its stop, v0 = 0): once next_event has bracketed the event (cart 14 reaches the
+    stop near t = 0.14, pushed at about unit acceleration: sqrt(2 / 100)), steps built at
+    a higher precision take a first step longer than the event (the search's grid is uniform,
+    h = 1) and fewer terms; the state at the event at 600 bits holds x(theta) = e^{A theta} x0
+    computed here with mpmath at 700 bits (A the free chain's matrix, theta the root's midpoint,
+    its radius far below the state's)."""
+    import mpmath
+    from lcs_exact.numbers import Policy, as_exact_vector
+    from lcs_exact.phases.flow import next_event
+    from lcs_exact.phases.phase import Phase
+    from lcs_exact.numbers import as_real
+    N = 16
+    lcs = cart_chain(N)
+    x0 = [Fraction((-1) ** i, 2) for i in range(N)] + [0] * N
+    x0[14] = Fraction(1, 100)
+    phase = Phase(lcs.mode(set()), as_exact_vector(x0, lcs.n), Policy())
+    assert phase.taylor
+    hit = next_event(phase, as_real(10), 128)
+    theta = hit.theta
+    assert [c.name for c in hit.constraints] == ["y_7"] and 0.1 < float(theta.hi) < 0.2
+    assert phase.first_step is None and theta.hi < phase._end <= 2 * theta.hi
+    steps = phase.taylor_rows(600).steps
+    assert theta.hi < steps.length(0) < 1 and steps.locate(theta.hi) == 0
+    uniform = phase_module.TaylorSteps(phase.M, phase.mode.closed_loop_norm, phase.base.arb(600), 600)
+    assert steps.order(0) < uniform.order(0)
+    t = theta.arb(600)
+    x = phase.propagate(t, 600)
+    mpmath.mp.prec = 700
+    A = mpmath.matrix([[mpmath.mpf(int(lcs.A[i, j].p)) / int(lcs.A[i, j].q) for j in range(lcs.n)] for i in range(lcs.n)])
+    mid = t.mid().man_exp()
+    tm = mpmath.mpf(int(mid[0])) * mpmath.mpf(2) ** int(mid[1])
+    ref = mpmath.expm(A * tm) * mpmath.matrix([mpmath.mpf(v.numerator) / v.denominator for v in x0])
+    for i in range(lcs.n):
+        err = abs(mpmath.mpf(x[i, 0].mid().str(220, radius=False)) - ref[i])
+        assert err <= mpmath.mpf(x[i, 0].rad().str(5, radius=False)) * 2 + mpmath.mpf(2) ** -550
+        assert x[i, 0].rad() < arb(2) ** -500

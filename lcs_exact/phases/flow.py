@@ -327,6 +327,8 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
         if positive and r.simple:  # > 0 before its root (f decreases through it), later than the event's
             strict.append(c)
         limit = min(limit, r.hi)
+        if phase.taylor and len(found) == 1:  # later searches, comparisons and refinements of the
+            phase.ends_by(limit)  # roots found (each below the limit when found) stay below it
     if not found:
         return None
     first_c, first = found[0]

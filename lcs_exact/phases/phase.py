@@ -180,6 +180,7 @@ class Phase:
         self._rows: TaylorRows | None = None
         self._screen: TaylorRows | None = None
         self._first: fmpq | None | bool = False  # the Taylor steps' first step (False: not guessed yet)
+        self._end: fmpq | None = None  # an upper bound of the times the phase is evaluated at later
         self._modal = None
         self._modal_prec = 0
         self._functions: dict = {}
@@ -275,11 +276,29 @@ class Phase:
             x0, norm = self.base.arb(prec), self.mode.closed_loop_norm
             G = self.mode.derived.constraints[2]  # the constraints' rows, stacked once a mode
             Ma, Ga = self._mode_balls(prec, G)
-            if self._first is False:  # once a phase: the same grid at every precision
+            if self._first is False:  # once a phase: the grid of the search
                 self._first = first_step(self.M, G, x0, prec, norm, (Ma, Ga))
-            steps = TaylorSteps(self.M, norm, x0, prec, self.zero_coordinates(), self._first, balls=Ma)
+            first = self._first
+            if self._end is not None:  # steps built once the phase's end is bounded reach only so far
+                first = self._end if first is None else min(first, self._end)
+            steps = TaylorSteps(self.M, norm, x0, prec, self.zero_coordinates(), first, balls=Ma)
             self._rows = TaylorRows(steps, [c.g for c in self.constraints], self.row_norms, G, balls=Ga)
         return self._rows
+
+    def ends_by(self, t: fmpq) -> None:
+        """Every later evaluation of the phase is at times <= t (its event is bracketed below t):
+        steps built from now on, at higher precisions (the event's refinement, the history of a
+        later start), take a first step longer than t, so that one step of low order holds the
+        whole phase (an event at 0.0129 of a step of length 1: 130 terms at 1224 bits, not 268).
+        Only the cost depends on it: the grid covers every t >= 0 whatever its first step.
+
+        Parameters
+        ----------
+        t : fmpq
+            A positive bound."""
+        if t > 0:
+            end = 2 * t  # TaylorSteps rounds a first step down to a power of two: still > t
+            self._end = end if self._end is None else min(self._end, end)
 
     @property
     def first_step(self) -> fmpq | None:
