@@ -388,3 +388,22 @@ def test_a_phase_bounded_by_its_event_rebuilds_short_steps_with_the_same_values(
         err = abs(mpmath.mpf(x[i, 0].mid().str(220, radius=False)) - ref[i])
         assert err <= mpmath.mpf(x[i, 0].rad().str(5, radius=False)) * 2 + mpmath.mpf(2) ** -550
         assert x[i, 0].rad() < arb(2) ** -500
+
+
+def test_a_root_ball_rounded_below_zero_is_evaluated_from_zero():
+    """A root bracketed in (10^-185, 3 10^-89] as a 149-bit ball reaches below 0 by rounding; on
+    a grid whose first step is 10^-185 that is outside step 0's series (LCSError), and a phase's
+    time (nonnegative=True) is taken from 0: the rotation's state over [0, 3 10^-89] holds
+    (cos t, -sin t) = (1 - t^2/2 + ..., -t + ...), i.e. (1, 0) within 10^-40 and 3.1 10^-89."""
+    from lcs_exact.errors import LCSError
+    from lcs_exact.numbers.balls import dyadic_lower
+    with workprec(149):
+        t = arb(fmpq(1, 10 ** 185)).union(arb(fmpq(3, 10 ** 89)))
+        assert dyadic_lower(t) < 0
+        st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 149, first=fmpq(1, 10 ** 185))
+        with pytest.raises(LCSError, match="internal inconsistency"):
+            st.state(t)
+        x = st.state(t, nonnegative=True)
+        for s in (fmpq(0), fmpq(1, 10 ** 100), fmpq(3, 10 ** 89)):
+            assert x[0, 0].contains(arb(s).cos()) and x[1, 0].contains(-arb(s).sin())
+        assert x[0, 0].rad() < 1e-40 and x[1, 0].rad() < 3.1e-89

@@ -331,14 +331,20 @@ class TaylorSteps:
         with workprec(self.prec):
             return (t - arb(self.start(k))) / arb(self.length(k))
 
-    def state(self, t: arb) -> arb_mat:
+    def state(self, t: arb, nonnegative: bool = False) -> arb_mat:
         """A ball of x(t) for a ball t >= 0 (an enclosure over it when wide).
 
         Parameters
         ----------
         t : arb
+        nonnegative : bool, optional
+            The time t is >= 0 (the caller's fact: a phase's time): a ball reaching below 0 (a
+            root's bracket (10^-185, 10^-89] as a ball, its lower end rounded below 0) is taken
+            from 0.
         """
         lo, hi = _bounds(t)
+        if nonnegative and lo < 0 <= hi:
+            lo = fmpq(0)
         out = None
         for k, a, b in self.pieces(lo, hi):
             th = self.theta(k, arb(a).union(arb(b)) if (a, b) != (lo, hi) else t)

@@ -255,8 +255,8 @@ class Phase:
     def propagate(self, dt: arb, prec: int) -> arb_mat:
         """e^{A_I dt} v at a ball dt (v the phase's start, or the base of a scaled start), at
         ``prec`` bits: Taylor steps, or one exponential per eigenvalue from the modal data."""
-        if self.taylor:
-            return self.taylor_rows(prec).steps.state(dt)
+        if self.taylor:  # dt >= 0: a root's ball may reach below 0 by rounding
+            return self.taylor_rows(prec).steps.state(dt, nonnegative=True)
         with workprec(prec):
             return self.spectrum.apply(dt, self.base.arb(prec), prec, self.modal(prec))
 
