@@ -353,14 +353,21 @@ def test_murty_not_p_matrix_stops():
         murty(fmat([[-1, 0], [0, 1]]), fmat([[-1], [1]]), max_pivots=20)
 
 
-@given(p_matrix(kmax=4), st.data())
-@PROP
-def test_murty_with_linear_forms(m, data):
+def _forms_and_point(m, data):
+    """(n, Q, x, M, Qm, xm): k x n forms Q with entries in [-2, 2], n in 1..3, and a rational
+    point x, as lists and as fmpq matrices."""
     k = len(m)
     n = data.draw(st.integers(1, 3))
     Q = [data.draw(vector(n, -2, 2)) for _ in range(k)]
     x = [Fraction(data.draw(st.integers(-3, 3)), data.draw(st.integers(1, 3))) for _ in range(n)]
-    M, Qm, xm = fmat(m), fmat(Q), fmat([[v] for v in x])
+    return n, Q, x, fmat(m), fmat(Q), fmat([[v] for v in x])
+
+
+@given(p_matrix(kmax=4), st.data())
+@PROP
+def test_murty_with_linear_forms(m, data):
+    k = len(m)
+    n, Q, x, M, Qm, xm = _forms_and_point(m, data)
     basis, U, Y = murty(M, Qm, xm)
     assert (U.nrows(), U.ncols(), Y.nrows(), Y.ncols()) == (k, n, k, n)
     # Y = Q + M U as forms (exactly, for every x), and U x, Y x solve LCP(Q x, M)
@@ -440,10 +447,7 @@ def test_murty_signs_are_the_signs_of_the_solution(m, data):
     """murty_signs: the basis of murty and, per row, the sign of u_i (in the basis) or y_i (off
     it) at x, from the solution's exact values U x, Y x computed here; basis_inputs is murty's U."""
     k = len(m)
-    n = data.draw(st.integers(1, 3))
-    Q = [data.draw(vector(n, -2, 2)) for _ in range(k)]
-    x = [Fraction(data.draw(st.integers(-3, 3)), data.draw(st.integers(1, 3))) for _ in range(n)]
-    M, Qm, xm = fmat(m), fmat(Q), fmat([[v] for v in x])
+    _, _, _, M, Qm, xm = _forms_and_point(m, data)
     basis, U, Y = murty(M, Qm, xm)
     got_basis, signs = murty_signs(M, Qm, xm)
     assert got_basis == basis

@@ -209,14 +209,8 @@ def murty_signs(m: fmpq_mat, q_forms: fmpq_mat, x: Any = None, *,
 
     Parameters
     ----------
-    m : fmpq_mat
-        The k x k P-matrix M.
-    q_forms : fmpq_mat
-        Q (k x n), with q = Q x; with ``x=None`` the k x 1 vector q itself.
-    x : state, optional
-        The point at which the signs of the forms are decided (None: Q is q).
-    max_pivots : int, optional
-        A bound on the pivots; None: no bound but Murty's finiteness.
+    m, q_forms, x, max_pivots
+        As in :func:`murty`: the k x k P-matrix M, Q with q = Q x, the point, a pivot bound.
     """
     k = q_forms.nrows()
     if m.nrows() != k or m.ncols() != k:
