@@ -124,11 +124,13 @@ def test_feedback_of_chain_modes_keeps_the_state_in_V_and_y_I_at_zero(mask):
     ([[Fraction(1, 2), Fraction(1, 4)], [-1, Fraction(-1, 2)]], True),  # A^2 = 0, rational entries
     ([[0, 1], [-1, 0]], False),                                 # a rotation
     ([[0, 2 ** 61 - 1], [1, 0]], False),  # det(sI - A) = s^2 - (2^61 - 1): s^2 modulo that prime
+    ([[0, 0, 2 ** 61 - 1], [1, 0, 0], [0, 1, 0]], False),  # s^3 - (2^61 - 1): tr A = tr A^2 = 0 too
 ])
 def test_closed_loop_nilpotent_against_the_powers(A, nilpotent):
-    """Mode.closed_loop_nilpotent (the characteristic polynomial modulo a prime first) against
-    A^n = 0 computed here with Fractions; the last matrix is nilpotent modulo the prime the test
-    reads first, so its answer comes from the polynomial over Q."""
+    """Mode.closed_loop_nilpotent (tr A and tr A^2 first, then the characteristic polynomial
+    modulo a prime) against A^n = 0 computed here with Fractions; the last matrix has
+    tr A = tr A^2 = 0 and is nilpotent modulo the prime the test reads next, so its answer comes
+    from the polynomial over Q."""
     n = len(A)
     P = [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
     for _ in range(n):
@@ -136,3 +138,52 @@ def test_closed_loop_nilpotent_against_the_powers(A, nilpotent):
     assert all(x == 0 for row in P for x in row) == nilpotent
     lcs = LCS(A, [[1]] + [[0]] * (n - 1), [[1] + [0] * (n - 1)], [[1]])
     assert lcs.mode(set()).closed_loop_nilpotent == nilpotent
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_closed_loop_norm_and_nilpotency_of_every_mode(seed):
+    """||A_I||_inf and the nilpotency of A_I (Mode.closed_loop_norm from the rows A_I shares with
+    A and the others; closed_loop_nilpotent from traces, then the characteristic polynomial)
+    against the definitions computed here with Fractions from A_I: max_i sum_j |a_ij| and
+    A_I^n = 0.  Systems with a strictly upper triangular A (nilpotent; some modes stay so) and
+    random ones, every mode of k = 2 or 3."""
+    import random
+    from itertools import combinations
+    rnd = random.Random(seed)
+    n, k = rnd.randint(2, 5), rnd.randint(2, 3)
+    upper = seed % 2 == 0
+    A = [[Fraction(rnd.randint(-2, 2)) if (j > i or not upper) else Fraction(0) for j in range(n)] for i in range(n)]
+    B = [[Fraction(rnd.randint(-1, 1)) for _ in range(k)] for _ in range(n)]
+    C = [[Fraction(rnd.randint(-1, 1)) for _ in range(n)] for _ in range(k)]
+    D = [[Fraction(int(i == j) * rnd.randint(1, 2)) for j in range(k)] for i in range(k)]
+    lcs = LCS(A, B, C, D)
+    seen = 0
+    for r in range(k + 1):
+        for I in combinations(range(k), r):
+            mode = lcs.mode(set(I))
+            if not mode.is_autonomous:
+                continue
+            seen += 1
+            AI = [[Fraction(int(x.p), int(x.q)) for x in row] for row in mode.closed_loop().tolist()]
+            norm = mode.closed_loop_norm
+            assert Fraction(int(norm.p), int(norm.q)) == max(sum(abs(x) for x in row) for row in AI)
+            P = [[Fraction(int(i == j)) for j in range(n)] for i in range(n)]
+            for _ in range(n):
+                P = [[sum(P[i][m] * AI[m][j] for m in range(n)) for j in range(n)] for i in range(n)]
+            assert mode.closed_loop_nilpotent == all(x == 0 for row in P for x in row)
+    assert seen >= 1
+
+
+def test_closed_loop_norm_and_nilpotency_by_hand():
+    """Two systems x' = A x + (0, 1) u, y = x_1 + u (so u = -x_1 in mode {0}: F = (-1, 0)).
+    A = [[0, 1], [5, 0]]: A_I = [[0, 1], [4, 0]], ||A_I||_inf = 4 while A's row is 5 (the row the
+    feedback changes).  A = [[0, 1], [1, 0]]: A_I = [[0, 1], [0, 0]] is nilpotent although
+    tr A^2 = 2 (tr A_I^2 = tr A^2 + 2 tr F A L + tr (F L)^2 = 2 - 2 + 0), and A is not (its
+    eigenvalues are 1 and -1)."""
+    B, C, D = [[0], [1]], [[1, 0]], [[1]]
+    lcs = LCS([[0, 1], [5, 0]], B, C, D)
+    assert lcs.mode({0}).closed_loop().tolist() == [[0, 1], [4, 0]]
+    assert lcs.mode({0}).closed_loop_norm == 4 and lcs.mode(set()).closed_loop_norm == 5
+    lcs = LCS([[0, 1], [1, 0]], B, C, D)
+    assert lcs.mode({0}).closed_loop().tolist() == [[0, 1], [0, 0]]
+    assert lcs.mode({0}).closed_loop_nilpotent is True and lcs.mode(set()).closed_loop_nilpotent is False
