@@ -175,6 +175,9 @@ def main() -> None:
     ap.add_argument("--write", action="store_true", help="replace the Battery section of docs/performance.md")
     args = ap.parse_args()
     names = args.scenes.split(",") if args.scenes else scene_names(args.all)
+    unknown = sorted(set(names) - set(scene_names(True)))
+    if unknown:  # a misspelt name would run nothing on both paths and read as "agree"
+        ap.error(f"unknown scene(s): {', '.join(unknown)} (the names are the functions of battery_scenes.py)")
     t0 = time.perf_counter()
     lines: list[str] = []
 
