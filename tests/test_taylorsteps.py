@@ -407,3 +407,33 @@ def test_a_root_ball_rounded_below_zero_is_evaluated_from_zero():
         for s in (fmpq(0), fmpq(1, 10 ** 100), fmpq(3, 10 ** 89)):
             assert x[0, 0].contains(arb(s).cos()) and x[1, 0].contains(-arb(s).sin())
         assert x[0, 0].rad() < 1e-40 and x[1, 0].rad() < 3.1e-89
+
+
+def test_a_ball_rounded_past_a_step_end_is_evaluated_on_that_step():
+    """[0, 4] as a ball reaches 4 + 2^-28 by the rounding of its radius; the rotation's step is
+    h = 4, so the enclosure over it is step 0's series at theta <= 1 + 2^-30 (the tail widened by
+    tail_at), and step 1's columns are not computed for that rounding.  A ball reaching 4 + 1/8
+    (past 2^-16 of the step) opens step 1.  Both hold (cos t, -sin t) at 0, 2, 4 and at their upper
+    ends, and a row's values over the ball (TaylorSum.values) take the same single step."""
+    from lcs_exact.numbers.balls import dyadic_upper
+
+    with workprec(128):
+        t = arb(0).union(arb(4))
+        assert dyadic_upper(t) > 4
+        st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 128)
+        x = st.state(t)
+        assert len(st._w) == 1
+        for s in (fmpq(0), fmpq(2), fmpq(4), dyadic_upper(t)):
+            assert x[0, 0].contains(arb(s).cos()) and x[1, 0].contains(-arb(s).sin())
+        far = arb(0).union(arb(fmpq(33, 8)))
+        y = st.state(far)
+        assert len(st._w) == 2
+        assert y[1, 0].contains(-arb(fmpq(33, 8)).sin()) and y[0, 0].contains(arb(fmpq(33, 8)).cos())
+
+        rows = TaylorRows(TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 128),
+                          [fmpq_mat([[1, 0]])], [fmpq(1)], fmpq_mat([[1, 0]]))
+        f = rows.function(0)
+        v, dv = f.values(t, range(2))
+        assert len(rows.steps._w) == 1
+        for s in (fmpq(0), fmpq(4), dyadic_upper(t)):  # f = cos t, f' = -sin t
+            assert v.contains(arb(s).cos()) and dv.contains(-arb(s).sin())

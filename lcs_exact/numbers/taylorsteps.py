@@ -39,6 +39,8 @@ __all__ = ["TaylorSteps", "STEP_NORM", "taylor_order", "first_step"]
 #: at n = 64, 192 bits: 0.82 ms a unit of ||M|| t at 4, 1.4 ms at 2), its polynomials are of
 #: higher degree (about 70 at 192 bits)
 STEP_NORM = 4
+#: how far past its end a step's series is evaluated for a ball's rounding (:meth:`TaylorSteps.pieces`)
+SPILL_BITS = 16
 #: from this precision on, a step's columns are divided by j (linear in the words of a ball)
 #: instead of multiplied by the ball 1/j (quadratic): 18 against 37 us for 128 entries at 1200
 #: bits, 10 against 9 at 200
@@ -297,7 +299,7 @@ class TaylorSteps:
         q = t / self.h
         return int(q.p // q.q) + self.m
 
-    def pieces(self, lo: fmpq, hi: fmpq) -> list[tuple[int, fmpq, fmpq]]:
+    def pieces(self, lo: fmpq, hi: fmpq, spill: bool = False) -> list[tuple[int, fmpq, fmpq]]:
         """[(k, a, b)]: [lo, hi] cut at the grid, a piece [a, b] in step k.
 
         Parameters
@@ -305,6 +307,12 @@ class TaylorSteps:
         lo : fmpq
             At least -h_0 (step 0's series holds back to -h_0).
         hi : fmpq
+        spill : bool, optional
+            The last piece may pass its step's end by up to 2^-SPILL_BITS of the step's length
+            (theta <= 1 + 2^-SPILL_BITS, bounded by :meth:`tail_at`) rather than open the next
+            step: a ball's radius, rounded up, passes the end of the interval it encloses
+            ([0, 1] as a ball reaches 1 + 2^-30), and the next step's series (its J products)
+            would be computed for that rounding alone.
         """
         if lo < -self.length(0):
             raise LCSError(f"internal inconsistency: Taylor steps asked at t = {lo} < -h_0 = {-self.length(0)}")
@@ -313,7 +321,7 @@ class TaylorSteps:
         a = lo
         while True:
             end = self.start(k + 1)
-            if hi <= end:
+            if hi <= end or (spill and (hi - end) * 2 ** SPILL_BITS <= self.length(k)):
                 out.append((k, a, hi))
                 return out
             out.append((k, a, end))
@@ -346,7 +354,7 @@ class TaylorSteps:
         if nonnegative and lo < 0 <= hi:
             lo = fmpq(0)
         out = None
-        for k, a, b in self.pieces(lo, hi):
+        for k, a, b in self.pieces(lo, hi, spill=True):
             th = self.theta(k, arb(a).union(arb(b)) if (a, b) != (lo, hi) else t)
             x = self._at(k, th)
             out = x if out is None else arb_mat([[out[i, 0].union(x[i, 0])] for i in range(self.n)])

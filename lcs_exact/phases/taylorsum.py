@@ -200,7 +200,7 @@ class TaylorSum:
             return self.rows.values(self.i, k, th, orders)
         lo, hi = dyadic_lower(t), dyadic_upper(t)
         out = None
-        for k, a, b in st.pieces(lo, hi):
+        for k, a, b in st.pieces(lo, hi, spill=True):
             th = st.theta(k, arb(a).union(arb(b)) if (a, b) != (lo, hi) else t)
             vs = self.rows.values(self.i, k, th, orders)
             out = vs if out is None else [x.union(y) for x, y in zip(out, vs)]
