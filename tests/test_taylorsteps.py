@@ -332,8 +332,9 @@ def test_a_quiet_phase_is_proven_on_the_screen_and_the_others_are_searched(monke
     quiet = flow._quiet
 
     def spy(phase, end):
-        seen.append((quiet(phase, end), phase))
-        return seen[-1][0]
+        ok, guess = quiet(phase, end)
+        seen.append((ok, phase))
+        return ok, guess
 
     monkeypatch.setattr(flow, "_quiet", spy)
     A, B, D = [[0, 1, 0], [-1, 0, 0], [0, 0, 0]], [[0], [0], [0]], [[1]]
@@ -372,7 +373,9 @@ def test_a_phase_bounded_by_its_event_rebuilds_short_steps_with_the_same_values(
     hit = next_event(phase, as_real(10), 128)
     theta = hit.theta
     assert [c.name for c in hit.constraints] == ["y_7"] and 0.1 < float(theta.hi) < 0.2
-    assert phase.first_step is None and theta.hi < phase._end <= 2 * theta.hi
+    # the screen's guess (its first negative point after the crossing) gave the search a first step
+    # past the event, at most twice the guess; once bracketed, the phase ends by 2 theta.hi
+    assert theta.hi < phase.first_step < fmpq(1, 2) and theta.hi < phase._end <= 2 * theta.hi
     steps = phase.taylor_rows(600).steps
     assert theta.hi < steps.length(0) < 1 and steps.locate(theta.hi) == 0
     uniform = phase_module.TaylorSteps(phase.M, phase.mode.closed_loop_norm, phase.base.arb(600), 600)
@@ -437,3 +440,36 @@ def test_a_ball_rounded_past_a_step_end_is_evaluated_on_that_step():
         assert len(rows.steps._w) == 1
         for s in (fmpq(0), fmpq(4), dyadic_upper(t)):  # f = cos t, f' = -sin t
             assert v.contains(arb(s).cos()) and dv.contains(-arb(s).sin())
+
+
+def test_a_crossing_the_screen_foresees_early_in_a_step_gets_a_short_first_step(monkeypatch):
+    """x = (cos t, -sin t, 1) (||A|| = 1: regular steps of 4), y = x_0 + c x_2 = cos t + c.
+    c = -199/200 crosses 0 at acos(199/200) = 0.1000...: the screen's first negative point is
+    theta = 1.618/64 of the step (t = 0.101), so the search's steps start with h_0 = 1/8 (the
+    power of two at most twice the guess; then 1/8, 1/4, ..., up to 4) and its root, to 30 digits, is acos(199/200) (mpmath).
+    c = 1/2 crosses at 2 pi / 3, past half the step: the uniform grid stays."""
+    import mpmath as mp
+
+    import lcs_exact.phases.flow as flow
+    from lcs_exact import LCS
+    from lcs_exact.phases.flow import theta
+
+    monkeypatch.setattr(phase_module, "TAYLOR_MIN_N", 1)
+    seen = []
+    quiet = flow._quiet
+
+    def spy(phase, end):
+        seen.append(phase)
+        return quiet(phase, end)
+
+    monkeypatch.setattr(flow, "_quiet", spy)
+    A, B, D = [[0, 1, 0], [-1, 0, 0], [0, 0, 0]], [[0], [0], [0]], [[1]]
+    early = theta(LCS(A, B, [[1, 0, "-199/200"]], D), [1, 0, 1], set(), 10)
+    late = theta(LCS(A, B, [[1, 0, "1/2"]], D), [1, 0, 1], set(), 10)
+    short, uniform = seen[0]._rows.steps, seen[1]._rows.steps
+    assert short.h == 4 and short.length(0) == fmpq(1, 8) and short.m == 5 and short.start(short.m + 1) == 4
+    assert uniform.m == 0 and uniform.length(0) == 4
+    with mp.workdps(40):
+        want = {"early": mp.acos(mp.mpf(199) / 200), "late": 2 * mp.pi / 3}
+    for name, got in (("early", early), ("late", late)):
+        assert abs(mp.mpf(got.decimal(30).split(" ")[0]) - want[name]) < mp.mpf(10) ** -29

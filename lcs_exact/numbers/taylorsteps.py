@@ -114,6 +114,11 @@ class TaylorSteps:
         self._tails: dict = {}
 
     @property
+    def computed(self) -> int:
+        """How many steps' columns are computed so far."""
+        return len(self._w)
+
+    @property
     def J(self) -> int:
         """The order of a step of the regular length h."""
         return self.order(self.m + 1)

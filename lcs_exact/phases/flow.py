@@ -308,8 +308,12 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
         phase.taylor_rows(search + ROOT_GUARD)  # (lazy: its steps are computed when read)
         # the screen, where no early crossing is foreseen (a phase of 10^-50 in a cluster of
         # impacts ends long before a screen's first step)
-        if phase.first_step is None and _quiet(phase, hb):
-            return None
+        if phase.first_step is None:
+            quiet, guess = _quiet(phase, hb)
+            if quiet:
+                return None
+            if guess is not None:  # the screen foresees a crossing early in a regular step
+                phase.starts_near(guess)
     index = {id(c): i for i, c in enumerate(phase.constraints)}
     for est, c in _by_estimate(phase, hb, search):
         if est is None and _positive_until(phase, index[id(c)], c, limit, search):
@@ -357,29 +361,30 @@ def _positive_until(phase: Phase, i: int, c: Constraint, end: fmpq, prec: int) -
     return sign > 0 and phase.taylor_rows(prec).positive_until(i, order, end)
 
 
-def _quiet(phase: Phase, end: fmpq) -> bool:
-    """No event in (0, end], proven on the phase's screen (Taylor steps of SCREEN_PREC bits,
-    :meth:`~lcs_exact.phases.phase.Phase.screen_rows`): no constraint's guess crosses 0 there, and
-    every constraint not identically 0 is proven > 0 on (0, end] (Lemma 5.1's start, then the
-    steps' enclosures).  False: not proven (a guess crosses, a sign needs more bits, or the
-    search's tie rules apply), and the search runs at its own precision; a guess that crosses
-    costs the screen one step."""
+def _quiet(phase: Phase, end: fmpq) -> tuple[bool, float | None]:
+    """(quiet, guess): quiet when no event in (0, end] is proven on the phase's screen (Taylor
+    steps of SCREEN_PREC bits, :meth:`~lcs_exact.phases.phase.Phase.screen_rows`): no
+    constraint's guess crosses 0 there, and every constraint not identically 0 is proven > 0 on
+    (0, end] (Lemma 5.1's start, then the steps' enclosures).  Not quiet: not proven (a guess
+    crosses, a sign needs more bits, or the search's tie rules apply), and the search runs at its
+    own precision; a guess that crosses costs the screen one step, and the earliest guess is
+    returned (a float, for the search's grid only: no decision rests on it)."""
     if phase.policy.allow_unresolved:  # the search's assumed zeros must see every constraint
-        return False
+        return False, None
     live = []
     for i, c in enumerate(phase.constraints):
         sign, order = phase.start_order(c)
         if sign < 0:
-            return False  # the search reports it
+            return False, None  # the search reports it
         if sign > 0:
             live.append((i, order))
     rows = phase.screen_rows()
     if rows.steps.locate(end) >= SCREEN_MAX_STEPS:
-        return False
-    guesses = rows.guess_crossings(0.0, _float(end), [i for i, _ in live])
-    if any(g is not None for g in guesses):
-        return False
-    return all(rows.positive_until(i, order, end, SCREEN_MAX_STEPS) for i, order in live)
+        return False, None
+    guesses = [g for g in rows.guess_crossings(0.0, _float(end), [i for i, _ in live]) if g is not None]
+    if guesses:
+        return False, min(guesses)
+    return all(rows.positive_until(i, order, end, SCREEN_MAX_STEPS) for i, order in live), None
 
 
 def _before(first: Real, H: Real) -> bool:

@@ -23,7 +23,7 @@ from typing import Any
 from flint import acb_mat, arb, arb_mat, fmpq, fmpq_mat
 
 from ..numbers import calcium
-from ..numbers import Policy, dyadic_lower, workprec
+from ..numbers import Policy, dyadic_lower, dyadic_upper, workprec
 from ..errors import LCSError
 from ..modes import format_mode
 from ..numbers import RationalReal, as_real, ca_from_state, ca_state
@@ -299,6 +299,25 @@ class Phase:
         if t > 0:
             end = 2 * t  # TaylorSteps rounds a first step down to a power of two: still > t
             self._end = end if self._end is None else min(self._end, end)
+
+    def starts_near(self, t: float) -> None:
+        """A float guess t of the phase's first crossing (the screen's, :meth:`screen_rows`): when
+        the search's steps take the uniform grid and none is computed yet, they are built again
+        with a first step of about 2 t (a crossing at 0.0129 of a step of length 1: one step of
+        ~30 terms at 181 bits, not 71).  Only the cost depends on the guess: the grid covers
+        every t >= 0 whatever its first step.
+
+        Parameters
+        ----------
+        t : float
+            A positive guess."""
+        rows = self._rows
+        if self._first is None and rows is not None and not rows.steps.computed and \
+                0 < 2 * t < float(rows.steps.h):
+            with workprec(64):
+                self._first = dyadic_upper(2 * arb(t))
+            self._rows = None  # rebuilt (lazy: no step computed) at the precision it had
+            self.taylor_rows(rows.prec)
 
     @property
     def first_step(self) -> fmpq | None:
