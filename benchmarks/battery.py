@@ -90,7 +90,8 @@ if tr is not None:
     end = tr.t_last if "error" in res else T
     res["end"] = str(end)
     res["final"] = [ball(b) for b in tr.state(end).ball(25)]
-    last = Fraction(tr.t_last.ball(20).mid().str(12, radius=False)) if "error" in res else Fraction(str(T))
+    # t_last: where a stopped run ended, else T (which may be a closed form: 1 + pi/2)
+    last = Fraction(tr.t_last.ball(20).mid().str(12, radius=False))
     samples = {{}}
     for k in range(1, 6):
         ts = last * Fraction(k, 6) + Fraction(1, 997)
