@@ -14,7 +14,7 @@ the default run used Taylor steps, else ``taylor`` (every mode that is not stiff
 Taylor steps).  The two paths share the exact layer (mode selection, re-initialization, closed
 forms) but evaluate the phases independently: a wrong digit in either shows as a disagreement.
 For each scene the table gives both runs' times and events and the verdict: ``agree`` when the
-runs end the same way (status, error), have the same events (each time's 30-digit balls overlap,
+runs end the same way (status, error; a crash or a timeout of either run never agrees), have the same events (each time's 30-digit balls overlap,
 the same triggers, modes before and after), their states at the end and at five sample times
 overlap, and every ball is narrow (relative radius below 10^-29 for times and 10^-24 for states);
 otherwise the first differences.  Times are wall-clock seconds of ``simulate`` alone.
@@ -134,6 +134,9 @@ def _narrow(a: list, rel: float) -> bool:
 def differences(a: dict, b: dict) -> list[str]:
     """What tells the two runs apart (empty: they agree)."""
     out = []
+    for name, r in (("default", a), ("other", b)):  # a crash or a timeout is never an agreement
+        if str(r.get("error", "")).startswith(("crash", "timeout")):
+            out.append(f"{name} path: {r['error']}")
     if a.get("error") != b.get("error") or a.get("status") != b.get("status"):
         out.append(f"ends: {a.get('error', a.get('status'))} / {b.get('error', b.get('status'))}")
     ea, eb = a.get("events", []), b.get("events", [])
