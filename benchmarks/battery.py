@@ -14,10 +14,10 @@ the default run used Taylor steps, else ``taylor`` (every mode that is not stiff
 Taylor steps).  The two paths share the exact layer (mode selection, re-initialization, closed
 forms) but evaluate the phases independently: a wrong digit in either shows as a disagreement.
 For each scene the table gives both runs' times and events and the verdict: ``agree`` when the
-runs end the same way (status, error; a crash or a timeout of either run never agrees), have the same events (each time's 30-digit balls overlap,
-the same triggers, modes before and after), their states at the end and at five sample times
-overlap, and every ball is narrow (relative radius below 10^-29 for times and 10^-24 for states);
-otherwise the first differences.  Times are wall-clock seconds of ``simulate`` alone.
+runs end the same way (status, error; a crash or a timeout of either run never agrees), have the
+same events (each time's 30-digit balls overlap, the same triggers, modes before and after),
+their states at the end and at five sample times overlap, and every ball is narrow (relative
+radius below 10^-29 for times and 10^-24 for states); otherwise the first differences.  Times are wall-clock seconds of ``simulate`` alone.
 
 The battery found five slow paths that no test caught (2026-12-07: a flat-touch proof tried on
 wide intervals, 20-80 s against 1 s before); run it after changes to the engine's search.
