@@ -473,3 +473,18 @@ def test_a_crossing_the_screen_foresees_early_in_a_step_gets_a_short_first_step(
         want = {"early": mp.acos(mp.mpf(199) / 200), "late": 2 * mp.pi / 3}
     for name, got in (("early", early), ("late", late)):
         assert abs(mp.mpf(got.decimal(30).split(" ")[0]) - want[name]) < mp.mpf(10) ** -29
+
+
+def test_log2_floor_brackets_every_rational_between_powers_of_two():
+    """floor(log2 q) from bit lengths and one shifted comparison: 2^e <= q < 2^(e+1) in
+    Fractions, for powers of two (the steps' lengths), their neighbours and random rationals of
+    up to 80 digits over 80 digits."""
+    import random
+    from lcs_exact.numbers.taylorsteps import _log2_floor
+    rng = random.Random(7)
+    cases = [(2 ** i, 2 ** j) for i in (0, 1, 5, 300) for j in (0, 1, 7, 300)]
+    cases += [(2 ** i + d, 2 ** j) for i in (3, 64, 200) for j in (0, 9) for d in (-1, 1)]
+    cases += [(rng.randint(1, 10 ** rng.randint(1, 80)), rng.randint(1, 10 ** rng.randint(1, 80))) for _ in range(2000)]
+    for a, b in cases:
+        e = _log2_floor(fmpq(a, b))
+        assert Fraction(2) ** e <= Fraction(a, b) < Fraction(2) ** (e + 1), (a, b, e)

@@ -445,13 +445,15 @@ def _inverses(J: int, prec: int) -> tuple[arb, ...]:
 
 
 def _log2_floor(q: fmpq) -> int:
-    """floor(log2 q) for a rational q > 0."""
-    e = q.p.bit_length() - q.q.bit_length()
-    while fmpq(2) ** e > q:
-        e -= 1
-    while fmpq(2) ** (e + 1) <= q:
-        e += 1
-    return e
+    """floor(log2 q) for a rational q = a / b > 0: with e = bitlen(a) - bitlen(b),
+    2^(e-1) < q < 2^(e+1), so it is e when a >= b 2^e (shifts of integers), else e - 1.
+
+    >>> [_log2_floor(fmpq(x)) for x in (1, 2, 3, fmpq(1, 3), fmpq(3, 8), fmpq(1, 2 ** 300))]
+    [0, 1, 1, -2, -2, -300]
+    """
+    a, b = q.p, q.q
+    e = a.bit_length() - b.bit_length()
+    return e if (a >= b << e if e >= 0 else a << -e >= b) else e - 1
 
 
 def _bounds(t: arb) -> tuple[fmpq, fmpq]:
