@@ -488,3 +488,21 @@ def test_log2_floor_brackets_every_rational_between_powers_of_two():
     for a, b in cases:
         e = _log2_floor(fmpq(a, b))
         assert Fraction(2) ** e <= Fraction(a, b) < Fraction(2) ** (e + 1), (a, b, e)
+
+
+def test_positive_on_by_horner_then_by_the_composed_bound_and_never_wrongly():
+    """_positive_on(p, lo, hi, rho) proves p + rho > 0 on [lo, hi]: 2 + theta - theta^2 (>= 2 on
+    [0, 1]) already by Horner on the ball [0, 1] (2 + [0,1] - [0,1] = [1, 3]); 1/100 + theta^3
+    on [0, 1/3] is not shown by Horner with the radius (it is on the composed polynomial's
+    coefficients, all >= 0); theta - 1/2 on [0, 1] and 1 - theta on [0, 1] with rho = [+-1/2]
+    (min 1/2 - 1/2 = 0 at theta = 1) are never proven positive."""
+    from flint import arb_poly
+    from lcs_exact.phases.taylorsum import _positive_on
+    with workprec(128):
+        zero = arb(0)
+        assert _positive_on(arb_poly([2, 1, -1]), fmpq(0), fmpq(1), zero, 0)
+        cubic = arb_poly([fmpq(1, 100), 0, 0, 1])
+        assert not cubic(arb(0).union(arb(fmpq(1, 3)))) + arb(0, fmpq(1, 1000)) > 0  # Horner fails
+        assert _positive_on(cubic, fmpq(0), fmpq(1, 3), arb(0, fmpq(1, 1000)), 0)
+        assert not _positive_on(arb_poly([fmpq(-1, 2), 1]), fmpq(0), fmpq(1), zero, 3)
+        assert not _positive_on(arb_poly([1, -1]), fmpq(0), fmpq(1), arb(0, fmpq(1, 2)), 3)

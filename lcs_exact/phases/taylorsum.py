@@ -263,6 +263,8 @@ def _positive_on(p: arb_poly, lo: fmpq, hi: fmpq, rho: arb, depth: int) -> bool:
     q >= q_0 + sum_{j >= 1} min(0, q_j) (a ball's product with a wide ball of theta would lose the
     signs: c_0 + c_3 theta^3 with every c_j > 0 is not shown positive by Horner on [0, 0.34]);
     the interval is halved ``depth`` times at most where that bound does not show it."""
+    if p(arb(lo).union(arb(hi))) + rho > 0:  # Horner on the ball: enough far from 0
+        return True
     q = p(arb_poly([arb(lo), arb(hi - lo)])).coeffs()
     if not q:  # p = 0 exactly: nothing shows p + rho > 0
         return False
