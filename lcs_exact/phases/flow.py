@@ -200,13 +200,13 @@ def compare_roots(phase: Phase, a: RootReal, ca: Constraint, b: RootReal, cb: Co
     sources' ``clock`` by one closed form of absolute time for both (two rectifiers driven by
     sin t and sin 4t/3 switch together at t = 3 pi, after phases that start at times without a
     closed form)."""
-    if phase.proportional(ca.g, cb.g):
-        return 0
     if isinstance(a, RootReal) and isinstance(b, RootReal):  # disjoint brackets (lo, hi]: no refinement
-        if a.hi <= b.lo:
-            return -1
+        if a.hi <= b.lo:  # (and no exact test: proportional functions, positive at the start,
+            return -1  # share their first root, which both brackets hold)
         if b.hi <= a.lo:
             return 1
+    if phase.proportional(ca.g, cb.g):
+        return 0
     xa, xb = a.known_ca(), b.known_ca()
     if xa is not None and xb is not None:  # exact roots (polynomial phases): decided exactly
         s = (xa - xb).sign(real=True)
@@ -336,8 +336,15 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
     if not found:
         return None
     first_c, first = found[0]
+    order: dict = {}  # id(r) -> the order of r against the first root found so far
+
+    def against_first(c, r) -> int:
+        if order.get(id(r), (None,))[0] is not first:
+            order[id(r)] = (first, compare_roots(phase, r, c, first, first_c, clock))
+        return order[id(r)][1]
+
     for c, r in found[1:]:
-        if compare_roots(phase, r, c, first, first_c, clock) < 0:
+        if against_first(c, r) < 0:
             first_c, first = c, r
     if phase.policy.closed_forms == "eager":
         first.closed
@@ -346,8 +353,7 @@ def next_event(phase: Phase, H: Real, prec: int, clock: PhaseClock | None = None
         at = _at_horizon(phase, first, first_c, H, clock)
         if not at and (first - H).sign() > 0:
             return None
-    simultaneous = [first_c] + [c for c, r in found if r is not first and
-                                compare_roots(phase, r, c, first, first_c, clock) == 0]
+    simultaneous = [first_c] + [c for c, r in found if r is not first and against_first(c, r) == 0]
     return Hit(first, simultaneous, at, tuple(c for c in strict if c not in simultaneous))
 
 
