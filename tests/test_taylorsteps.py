@@ -34,11 +34,9 @@ def test_rotation_over_several_steps_holds_cos_and_sin():
         assert st.locate(fmpq(10)) == 2 and st.start(2) == 8
 
 
-def test_high_precision_steps_divide_and_stay_accurate():
-    """At DIVIDE_PREC bits and more the columns are divided by j: the rotation's state at t = 10
-    (third step) still holds (cos 10, -sin 10) to ~2^-590 at 600 bits."""
-    from lcs_exact.numbers.taylorsteps import DIVIDE_PREC
-    assert DIVIDE_PREC <= 600
+def test_high_precision_steps_stay_accurate():
+    """At 600 bits (J ~ 120 terms a step of ||M h|| = 4, unscaled columns M^j x up to 4^120) the
+    rotation's state at t = 10 (third step) still holds (cos 10, -sin 10) to ~2^-590."""
     with workprec(600):
         st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 600)
         x = st.state(arb(10))
@@ -342,7 +340,7 @@ def test_a_quiet_phase_is_proven_on_the_screen_and_the_others_are_searched(monke
     for c in ("2", "1/2", "1"):
         results[c] = theta(LCS(A, B, [[1, 0, c]], D), [1, 0, 1], set(), 10)
     assert [ok for ok, _ in seen] == [True, False, False]
-    searched = [len(ph._rows.steps._w) for _, ph in seen]  # steps at the search's precision
+    searched = [ph._rows.steps.computed for _, ph in seen]  # steps at the search's precision
     assert searched[0] == 0 and searched[1] > 0 and searched[2] > 0
     assert results["2"] is None and results["1"] is None
     with mp.workdps(40):
@@ -425,19 +423,19 @@ def test_a_ball_rounded_past_a_step_end_is_evaluated_on_that_step():
         assert dyadic_upper(t) > 4
         st = TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 128)
         x = st.state(t)
-        assert len(st._w) == 1
+        assert st.computed == 1
         for s in (fmpq(0), fmpq(2), fmpq(4), dyadic_upper(t)):
             assert x[0, 0].contains(arb(s).cos()) and x[1, 0].contains(-arb(s).sin())
         far = arb(0).union(arb(fmpq(33, 8)))
         y = st.state(far)
-        assert len(st._w) == 2
+        assert st.computed == 2
         assert y[1, 0].contains(-arb(fmpq(33, 8)).sin()) and y[0, 0].contains(arb(fmpq(33, 8)).cos())
 
         rows = TaylorRows(TaylorSteps(fmpq_mat([[0, 1], [-1, 0]]), fmpq(1), arb_mat([[1], [0]]), 128),
                           [fmpq_mat([[1, 0]])], [fmpq(1)], fmpq_mat([[1, 0]]))
         f = rows.function(0)
         v, dv = f.values(t, range(2))
-        assert len(rows.steps._w) == 1
+        assert rows.steps.computed == 1
         for s in (fmpq(0), fmpq(4), dyadic_upper(t)):  # f = cos t, f' = -sin t
             assert v.contains(arb(s).cos()) and dv.contains(-arb(s).sin())
 
@@ -506,3 +504,27 @@ def test_positive_on_by_horner_then_by_the_composed_bound_and_never_wrongly():
         assert _positive_on(cubic, fmpq(0), fmpq(1, 3), arb(0, fmpq(1, 1000)), 0)
         assert not _positive_on(arb_poly([fmpq(-1, 2), 1]), fmpq(0), fmpq(1), zero, 3)
         assert not _positive_on(arb_poly([1, -1]), fmpq(0), fmpq(1), arb(0, fmpq(1, 2)), 3)
+
+
+def test_unscaled_columns_factors_and_a_lazy_step_end():
+    """Step k keeps u_j = M^j x_k and the factors h^j / j!; their products are the columns
+    w_j = (M h)^j x_k / j! (here computed in Fractions: M the rotation, x_0 = (1, 0), h = 4), and
+    x_1 (the sum at theta = 1) is formed only when step 1 is asked for: it holds (cos 4, -sin 4)."""
+    M = [[0, 1], [-1, 0]]
+    with workprec(128):
+        st = TaylorSteps(fmpq_mat(M), fmpq(1), arb_mat([[1], [0]]), 128)
+        us, fs = st.unscaled(0), st.factors(0)
+        assert len(us) == len(fs) == st.order(0) and st.computed == 1 and len(st._x) == 1
+        v, fact = [Fraction(1), Fraction(0)], 1
+        for j, (u, f, w) in enumerate(zip(us, fs, st.columns(0))):
+            if j:
+                v, fact = [v[1], -v[0]], fact * j  # M v
+            for i in range(2):
+                assert u[i, 0].contains(fmpq(v[i].numerator, v[i].denominator))
+                want = v[i] * Fraction(4) ** j / fact
+                assert w[i, 0].contains(fmpq(want.numerator, want.denominator))
+            assert f.contains(fmpq(4 ** j, fact))
+        x1 = st.state_at(1)
+        assert len(st._x) == 2 and st.computed == 1
+        assert x1[0, 0].contains(arb(4).cos()) and x1[1, 0].contains(-arb(4).sin())
+        assert x1[0, 0].rad() < arb(2) ** -100

@@ -10,7 +10,10 @@ of sum_{j>=J} (M h theta)^j / j!, each term of norm at most s^j / j!).  Its d-th
 has the truncated sum's derivative and the tail ||x_k||_inf s^J e^s / (J - d)! (d < J; for d >= J
 every term is tail: ||x_k|| s^d e^s).  J products of a ball matrix with a ball vector a step, and
 a monitored row g gives its polynomial in theta from the products g w_j: every constraint of a
-phase (section 4.1) at once.
+phase (section 4.1) at once.  The products are kept unscaled, u_j = M^j x_k (w_j = u_j h^j / j!):
+the factors h^j / j! go to the rows' coefficients (m scalars a term, not n) and to the Horner
+sums of a state (a scalar h theta / j a level), and x_{k+1} is summed only when step k + 1 is
+asked for (a phase whose event falls in its first step never sums it).
 
 The grid is t_k = k h (h the largest power of two with ||M h|| <= STEP_NORM), or, given a first
 step h_0 = h / 2^m, the geometric start 0, h_0, 2 h_0, 4 h_0, ..., h followed by h, 2 h, ...: a
@@ -41,11 +44,6 @@ __all__ = ["TaylorSteps", "STEP_NORM", "taylor_order", "first_step"]
 STEP_NORM = 4
 #: how far past its end a step's series is evaluated for a ball's rounding (:meth:`TaylorSteps.pieces`)
 SPILL_BITS = 16
-#: from this precision on, a step's columns are divided by j (linear in the words of a ball)
-#: instead of multiplied by the ball 1/j (quadratic): 18 against 37 us for 128 entries at 1200
-#: bits, 10 against 9 at 200
-DIVIDE_PREC = 512
-
 
 @lru_cache(maxsize=1024)
 def taylor_order(s: float, prec: int) -> int:
@@ -107,16 +105,17 @@ class TaylorSteps:
                 balls = arb_mat(M)
         self._M = balls
         self._level: dict[int, tuple] = {}  # step length's exponent -> (J, s, h, e^s, [h/j])
+        self._factors: dict[int, tuple] = {}  # step length's exponent -> (h^j / j! for j < J)
         # x_k, the ball at t_k (x0 copied before its zero coordinates are set: it is the caller's)
         self._x = [self._clean(arb_mat(self.n, 1, x0.entries()) if self.zero else x0)]
-        self._w: list[list[arb_mat]] = []  # the columns w_0 .. w_{J-1} of step k
+        self._u: list[list[arb_mat]] = []  # the unscaled columns u_j = M^j x_k, j < J, of step k
         self._norms: list[arb] = []  # ||x_k||_inf bounds
         self._tails: dict = {}
 
     @property
     def computed(self) -> int:
         """How many steps' columns are computed so far."""
-        return len(self._w)
+        return len(self._u)
 
     @property
     def J(self) -> int:
@@ -180,39 +179,85 @@ class TaylorSteps:
         return x
 
     def columns(self, k: int) -> list[arb_mat]:
-        """[w_0, ..., w_{J_k - 1}] of step k (computing the steps before it).
+        """[w_0, ..., w_{J_k - 1}] of step k, w_j = (M h_k)^j x_k / j! (computing the steps before
+        it; the engine reads :meth:`unscaled` and :meth:`factors`).
 
         Parameters
         ----------
         k : int
             The step.
         """
-        while len(self._w) <= k:
+        with workprec(self.prec):
+            return [self._clean(u * f) for u, f in zip(self.unscaled(k), self.factors(k))]
+
+    def unscaled(self, k: int) -> list[arb_mat]:
+        """[u_0, ..., u_{J_k - 1}] of step k, u_j = M^j x_k (computing the steps before it).
+
+        Parameters
+        ----------
+        k : int
+            The step.
+        """
+        while len(self._u) <= k:
             self._advance()
-        return self._w[k]
+        return self._u[k]
+
+    def factors(self, k: int) -> tuple:
+        """(h_k^j / j! for j < J_k) as balls: w_j = u_j h_k^j / j!.
+
+        Parameters
+        ----------
+        k : int
+            The step.
+        """
+        e = self._exponent(k)
+        if e not in self._factors:
+            f, out = arb(1), [arb(1)]
+            with workprec(self.prec):
+                for hj in self._data(k)[4]:
+                    f = f * hj
+                    out.append(f)
+            self._factors[e] = tuple(out)
+        return self._factors[e]
 
     def _advance(self) -> None:
-        k = len(self._w)
-        x = self._x[k]
-        _, _, hb, _, scales = self._data(k)
+        k = len(self._u)
+        u = self.state_at(k)
         M = self._M
         with workprec(self.prec):
-            ws = [x]
-            w = x
-            if self.prec >= DIVIDE_PREC:  # w_j = M w_{j-1} h / j: a division by a word is cheaper
-                for j in range(1, len(scales) + 1):
-                    w = self._clean((M * w) * hb / j)
-                    ws.append(w)
-            else:
-                for hj in scales:  # h / j: an exact scaling of the ball 1/j
-                    w = self._clean((M * w) * hj)
-                    ws.append(w)
-            nxt = ws[0]
-            for w in ws[1:]:
-                nxt = nxt + w
-            nxt = nxt + self._radius(self.tail(k, 0))
-        self._w.append(ws)
-        self._x.append(self._clean(nxt))
+            us = [u]
+            for _ in range(1, self.order(k)):
+                u = self._clean(M * u)
+                us.append(u)
+        self._u.append(us)
+
+    def state_at(self, k: int) -> arb_mat:
+        """x_k, the ball at t_k: the sum of step k - 1 at theta = 1 with its tail (summed when
+        first asked for).
+
+        Parameters
+        ----------
+        k : int
+            The step.
+        """
+        while len(self._x) <= k:
+            j = len(self._x) - 1
+            self.unscaled(j)
+            x = self._horner(j, self._data(j)[4])
+            with workprec(self.prec):
+                x = x + self._radius(self.tail(j, 0))
+            self._x.append(self._clean(x))
+        return self._x[k]
+
+    def _horner(self, k: int, scales) -> arb_mat:
+        """sum_j u_j (h theta)^j / j! = u_0 + s_1 (u_1 + s_2 (u_2 + ...)) on step k, ``scales``
+        the balls s_j = h theta / j, j = 1 .. J - 1."""
+        us = self._u[k]
+        with workprec(self.prec):
+            acc = us[-1]
+            for j in range(len(us) - 1, 0, -1):
+                acc = us[j - 1] + acc * scales[j - 1]
+            return acc
 
     def _radius(self, rho: arb) -> arb_mat:
         """The column [-rho, rho]^n (a product of an exact column of ones with one ball: no n
@@ -241,9 +286,7 @@ class TaylorSteps:
             The step.
         """
         while len(self._norms) <= k:
-            if len(self._norms) >= len(self._x):
-                self._advance()
-            x = self._x[len(self._norms)]
+            x = self.state_at(len(self._norms))
             self._norms.append(max((abs(e).upper() for e in x.entries()), default=arb(0)))
         return self._norms[k]
 
@@ -366,13 +409,12 @@ class TaylorSteps:
         return out
 
     def _at(self, k: int, th: arb) -> arb_mat:
-        ws = self.columns(k)
+        self.unscaled(k)
         rho = self.tail_at(k, 0, th)
         with workprec(self.prec):
-            acc = ws[-1]
-            for w in reversed(ws[:-1]):  # Horner in theta
-                acc = acc * th + w
-            return self._clean(acc + self._radius(rho))
+            ht = self._data(k)[2] * th
+            x = self._horner(k, [ht * inv for inv in _inverses(self.order(k), self.prec)])
+            return self._clean(x + self._radius(rho))
 
 
 def first_step(M: fmpq_mat, G: fmpq_mat, x0: arb_mat, prec: int, norm: fmpq,

@@ -71,9 +71,10 @@ class TaylorRows:
     def coefficients(self, k: int) -> list[list[arb]]:
         """[[g_i w_j for j < J] for each row i] on step k."""
         while len(self._coeffs) <= k:
-            ws = self.steps.columns(len(self._coeffs))
-            with workprec(self.prec):
-                cols = [(self._G * w).entries() for w in ws]
+            j = len(self._coeffs)
+            us, fs = self.steps.unscaled(j), self.steps.factors(j)
+            with workprec(self.prec):  # g w_j = (g u_j) h^j / j!: m scalings, not n
+                cols = [((self._G * u) * f).entries() for u, f in zip(us, fs)]
             self._coeffs.append(list(map(list, zip(*cols))) if cols else [])  # rows of the columns' table
         return self._coeffs[k]
 
