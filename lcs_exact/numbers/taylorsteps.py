@@ -45,6 +45,7 @@ STEP_NORM = 4
 #: how far past its end a step's series is evaluated for a ball's rounding (:meth:`TaylorSteps.pieces`)
 SPILL_BITS = 16
 
+
 @lru_cache(maxsize=1024)
 def taylor_order(s: float, prec: int) -> int:
     """The order J with s^J e^s / J! below 2^-(prec + 8) (s = ||M h||): the tail of a step at the

@@ -263,8 +263,10 @@ def _positive_on(p: arb_poly, lo: fmpq, hi: fmpq, rho: arb, depth: int) -> bool:
     """p + rho > 0 on [lo, hi] (rho a ball around 0): with q(u) = p(lo + (hi - lo) u), u in [0, 1],
     q >= q_0 + sum_{j >= 1} min(0, q_j) (a ball's product with a wide ball of theta would lose the
     signs: c_0 + c_3 theta^3 with every c_j > 0 is not shown positive by Horner on [0, 0.34]);
-    the interval is halved ``depth`` times at most where that bound does not show it."""
-    if p(arb(lo).union(arb(hi))) + rho > 0:  # Horner on the ball: enough far from 0
+    the interval is halved ``depth`` times at most where that bound does not show it.  Horner on
+    the ball of [lo, hi] is tried first: it encloses p over a superset, and far from 0 it shows the
+    sign without the composition."""
+    if p(arb(lo).union(arb(hi))) + rho > 0:
         return True
     q = p(arb_poly([arb(lo), arb(hi - lo)])).coeffs()
     if not q:  # p = 0 exactly: nothing shows p + rho > 0
