@@ -172,16 +172,16 @@ class Mode:
         self.Ic = [i for i in range(lcs.k) if i not in I]
         self.derived = DerivedData()  # the data of the modules above; the mode's own: cached properties
 
-    # the quadruple (A, B_.I, C_I., D_II)
-    @property
+    # the quadruple (A, B_.I, C_I., D_II), taken once a mode (read by V_I, T_I, F_I, A_I, ...)
+    @cached_property
     def _L(self) -> fmpq_mat:
         return submatrix(self.lcs.B, None, self.I)
 
-    @property
+    @cached_property
     def _M(self) -> fmpq_mat:
         return submatrix(self.lcs.C, self.I, None)
 
-    @property
+    @cached_property
     def _N(self) -> fmpq_mat:
         return submatrix(self.lcs.D, self.I, self.I)
 
