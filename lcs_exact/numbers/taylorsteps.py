@@ -452,7 +452,8 @@ def first_step(M: fmpq_mat, G: fmpq_mat, x0: arb_mat, prec: int, norm: fmpq,
         v, cs = x0, []
         for j in range(4):
             cs.append((Ga * v).entries())
-            v = Ma * v * arb(fmpq(1, j + 1))
+            if j < 3:  # (M^4 x0 is not read)
+                v = Ma * v * arb(fmpq(1, j + 1))
     limit = arb(2) ** -6 / arb(norm)
     best = None
     with workprec(64):
