@@ -10,7 +10,7 @@ from flint import fmpq, fmpq_mat, fmpq_poly, fmpz, fmpz_mat
 
 from .rational import identity, zeros
 
-__all__ = ["adjugate_coefficients", "eigenvalue_moduli", "norm_inf", "poly_at_matrix", "polys_at_matrix"]
+__all__ = ["adjugate_coefficients", "eigenvalue_moduli", "norm_inf", "row_norms", "poly_at_matrix", "polys_at_matrix"]
 
 
 def eigenvalue_moduli(A: fmpq_mat, chi: fmpq_poly | None = None):
@@ -40,6 +40,21 @@ def eigenvalue_moduli(A: fmpq_mat, chi: fmpq_poly | None = None):
     return min(lows).union(min(ups)), max(lows).union(max(ups))
 
 
+def row_norms(m: fmpq_mat) -> list[fmpq]:
+    """[sum_j |m_ij| for each row i], exactly.
+
+    Parameters
+    ----------
+    m : fmpq_mat
+
+    >>> row_norms(fmpq_mat([[1, -2], [0, 0]]))
+    [3, 0]
+    """
+    c = m.ncols()
+    e = m.entries()  # row-major, one call (an entry read at a time costs twice as much)
+    return [sum((abs(x) for x in e[i * c:(i + 1) * c] if x), fmpq(0)) for i in range(m.nrows())]
+
+
 def norm_inf(m: fmpq_mat) -> fmpq:
     """The infinity norm max_i sum_j |m_ij|, exactly (0 for an empty matrix).
 
@@ -47,10 +62,7 @@ def norm_inf(m: fmpq_mat) -> fmpq:
     ----------
     m : fmpq_mat
     """
-    c = m.ncols()
-    e = m.entries()  # row-major, one call (an entry read at a time costs twice as much)
-    return max((sum((abs(x) for x in e[i * c:(i + 1) * c] if x), fmpq(0)) for i in range(m.nrows())),
-               default=fmpq(0))
+    return max(row_norms(m), default=fmpq(0))
 
 
 def adjugate_coefficients(A: fmpq_mat, chi: fmpq_poly | None = None) -> list[fmpq_mat]:

@@ -490,27 +490,19 @@ def _invariant_modulo(R: fmpq_mat, M: fmpq_mat, known: fmpq_mat) -> fmpq_mat:
     """:func:`invariant_forms` of span(R) + span(K), K invariant: forms are reduced modulo K
     (zero at its pivot columns), and the iteration U <- {a U : a U M in span(U) + span(K)} runs
     on the reduced forms; the answer is K with the last U."""
-    n = M.nrows()
-    K, kp = rref(known)
-    K = submatrix(K, range(len(kp)), None)
-    SK = _selection(kp, n)
-
-    def modulo_K(X: fmpq_mat) -> fmpq_mat:  # X minus its part in span K (K is 1 at its pivots)
-        return X - (X * SK) * K
-
-    U = modulo_K(R)
+    K = RowSpan(known)
+    U = K._residual(R)  # R minus its part in span K (zero at K's pivots)
     while True:
-        r, piv = rref(U)
-        if not piv:
-            return K
-        U = submatrix(r, range(len(piv)), None)  # zero at K's pivots, so its own pivots are others
-        Y = modulo_K(U * M)
-        Res = Y - (Y * _selection(piv, n)) * U
+        span = RowSpan(U)  # its rows are zero at K's pivots, so its own pivots are others
+        if not span.dim:
+            return K._basis
+        U = span._basis
+        Res = span._residual(K._residual(U * M))
         if is_zero(Res):
-            return vstack(K, U)
+            return vstack(K._basis, U)
         a = left_kernel(Res)
         if not a.nrows():
-            return K
+            return K._basis
         U = a * U
 
 

@@ -33,7 +33,7 @@ from flint import fmpq, fmpq_mat, nmod_mat
 from ..errors import LCSError, NotAutonomous
 from ..numbers import Spectrum
 from ..interfaces import SystemLike
-from ..algebra import hstack, matrix_to_sympy, norm_inf, selection_matrix, submatrix, vstack, zeros
+from ..algebra import hstack, matrix_to_sympy, norm_inf, row_norms, selection_matrix, submatrix, vstack, zeros
 from ..algebra import image, intersection, kernel, kernel_basis, left_kernel, projection, projection_along, rank, row_basis, solve_any
 
 __all__ = ["Mode", "format_mode", "latex_mode", "mode_order", "LATEX_MAX_N"]
@@ -49,10 +49,7 @@ def _system_data(lcs) -> tuple[list, fmpq, fmpq]:
     data = _SYSTEMS.get(lcs)
     if data is None:
         A = lcs.A
-        n = A.ncols()
-        e = A.entries()
-        norms = [sum((abs(x) for x in e[i * n:(i + 1) * n] if x), fmpq(0)) for i in range(A.nrows())]
-        data = (norms, _trace(A), _trace(A * A))
+        data = (row_norms(A), _trace(A), _trace(A * A))
         _SYSTEMS[lcs] = data
     return data
 
@@ -377,16 +374,14 @@ class Mode:
         a coefficient of det(sI - Z) that is nonzero modulo a prime is nonzero: most modes are
         told apart by the polynomial modulo 2^61 - 1 (2 ms at n = 128, against 7 ms and more over
         Q)."""
+        tr_A, tr_A2 = _system_data(self.lcs)[1:]
         if self.I:
             F, L = self._F, self._L
             FL = F * L
-            tr_A, tr_A2 = _system_data(self.lcs)[1:]
             if tr_A + _trace(FL) != 0 or tr_A2 + 2 * _trace(F * (self.lcs.A * L)) + _trace(FL * FL) != 0:
                 return False
-        else:
-            tr_A, tr_A2 = _system_data(self.lcs)[1:]
-            if tr_A != 0 or tr_A2 != 0:
-                return False
+        elif tr_A != 0 or tr_A2 != 0:
+            return False
         Z, _ = self._A_I.numer_denom()
         if any(c != 0 for c in nmod_mat(Z, _PRIME).charpoly().coeffs()[:-1]):
             return False

@@ -29,7 +29,7 @@ from ..modes import format_mode
 from ..numbers import RationalReal, as_real, ca_from_state, ca_state
 from ..numbers import ExactVector, ExpVector, RationalVector, ScaledVector, TaylorSteps, algebraic_vector, ca_matvec, first_step, orbit_start
 from ..algebra import eliminate
-from ..algebra import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, submatrix, to_fmpq, vstack, zeros
+from ..algebra import MAX_HORIZON_FAST, MAX_HORIZON_SLOW, is_zero, row_norms, submatrix, to_fmpq, vstack, zeros
 from .roots import ExpSum, RootReal, newton_ball
 from .taylorsum import TaylorRows, TaylorSum
 from ..algebra import RowSpan, invariant_forms, orbit_zero_forms, row_basis
@@ -160,9 +160,7 @@ class Phase:
             cons, G = self._constraints()
             n = self.M.ncols()
             G = vstack(*[c.g for c in cons], ncols=n) if G is None else G
-            e = G.entries()
-            mode.derived.constraints = (tuple(cons), [sum((abs(x) for x in e[r * n:(r + 1) * n] if x), fmpq(0))
-                                                      for r in range(len(cons))], G)
+            mode.derived.constraints = (tuple(cons), row_norms(G), G)
         self.constraints = list(mode.derived.constraints[0])
         q0 = self.base.known_rational()
         # A_I z = 0, proven: x(t) = z throughout, so every monitored function is constant (no
@@ -312,10 +310,12 @@ class Phase:
         t : float
             A positive guess."""
         rows = self._rows
-        if self._first is None and rows is not None and not rows.steps.computed and \
-                0 < 2 * t < float(rows.steps.h):
-            with workprec(64):
-                self._first = dyadic_upper(2 * arb(t))
+        if self._first is not None or rows is None or rows.steps.computed or not t > 0:
+            return
+        with workprec(64):
+            first = dyadic_upper(2 * arb(t))
+        if first < rows.steps.h:
+            self._first = first
             self._rows = None  # rebuilt (lazy: no step computed) at the precision it had
             self.taylor_rows(rows.prec)
 
